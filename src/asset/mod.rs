@@ -1,0 +1,1 @@
+//! Loading glTF 2.0 assets.

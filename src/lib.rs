@@ -1,0 +1,9 @@
+//! scanline-racer: an arcade racing demo whose every pixel comes from its own CPU scanline renderer.
+//!
+//! Modules and who may use whom are described in `ARCHITECTURE.md`: [`render`] is the renderer and depends
+//! on nothing else here; [`asset`] loads glTF files into the renderer's meshes and textures; [`cli`] is the
+//! command-line shell.
+
+pub mod asset;
+pub mod cli;
+pub mod render;

@@ -1,0 +1,334 @@
+//! Meshes as the renderer takes them: vertices, polygons of any vertex count, and materials.
+//!
+//! A polygon is a closed loop of vertex indices. Polygons that are not planar are split into a fan of
+//! triangles when the mesh is built (a non-planar polygon has no single depth plane or texture mapping);
+//! planar polygons are kept whole, and the fill stage splits the ones that are not y-monotone in a given view.
+
+use glam::{Vec2, Vec3, Vec4};
+use thiserror::Error;
+
+use super::texture::Sampler;
+
+/// How a material's alpha is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    #[default]
+    Opaque,
+    /// A pixel is drawn only where alpha is at least `cutoff`, and then drawn opaque.
+    Mask {
+        /// The glTF `alphaCutoff` (0.5 when the file does not say).
+        cutoff: f32,
+    },
+}
+
+/// The surface of a polygon: base colour, an optional texture, and how to draw it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Multiplies the texel and the vertex colour (glTF `baseColorFactor`).
+    pub base_color: Vec4,
+    /// Index into the draw list's textures, if textured.
+    pub texture: Option<usize>,
+    /// Wrap modes for the texture.
+    pub sampler: Sampler,
+    /// When false, polygons facing away from the camera are culled.
+    pub double_sided: bool,
+    /// Alpha handling.
+    pub alpha_mode: AlphaMode,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            base_color: Vec4::ONE,
+            texture: None,
+            sampler: Sampler::default(),
+            double_sided: false,
+            alpha_mode: AlphaMode::Opaque,
+        }
+    }
+}
+
+/// One vertex: position, texture coordinate and colour (RGBA, linear `0..=1`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    /// Position in model space.
+    pub position: Vec3,
+    /// Texture coordinate (glTF `TEXCOORD_0`).
+    pub uv: Vec2,
+    /// Vertex colour (glTF `COLOR_0`, white when absent).
+    pub color: Vec4,
+}
+
+impl Vertex {
+    /// A white vertex at `position` with texture coordinate `uv`.
+    #[must_use]
+    pub fn new(position: Vec3, uv: Vec2) -> Self {
+        Self { position, uv, color: Vec4::ONE }
+    }
+}
+
+/// A polygon: `count` indices starting at `first` in the mesh's index list, drawn with one material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Polygon {
+    /// Offset of the first index.
+    pub first: u32,
+    /// Number of vertices (at least 3).
+    pub count: u32,
+    /// Index into the mesh's materials.
+    pub material: u32,
+}
+
+/// Why a mesh could not be built.
+#[derive(Debug, Error, PartialEq, Eq)]
+pub enum MeshError {
+    /// A polygon refers to a vertex that does not exist.
+    #[error("polygon {polygon} uses vertex {index}, but the mesh has {vertices} vertices")]
+    IndexOutOfRange {
+        /// Polygon number in submission order.
+        polygon: usize,
+        /// The bad index.
+        index: u32,
+        /// Number of vertices.
+        vertices: usize,
+    },
+    /// A polygon refers to a material that does not exist.
+    #[error("polygon {polygon} uses material {material}, but the mesh has {materials} materials")]
+    MaterialOutOfRange {
+        /// Polygon number in submission order.
+        polygon: usize,
+        /// The bad material index.
+        material: u32,
+        /// Number of materials.
+        materials: usize,
+    },
+    /// The mesh is too large to index with `u32`.
+    #[error("mesh is too large ({what})")]
+    TooLarge {
+        /// What overflowed.
+        what: &'static str,
+    },
+}
+
+/// A bounding sphere in model space, for object culling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Centre.
+    pub center: Vec3,
+    /// Radius (0 for an empty mesh).
+    pub radius: f32,
+}
+
+/// An immutable mesh ready to draw.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    polygons: Vec<Polygon>,
+    materials: Vec<Material>,
+    bounds: Sphere,
+    /// Polygons given to the builder (before non-planar ones were split).
+    source_polygons: usize,
+}
+
+impl Mesh {
+    /// The vertices.
+    #[must_use]
+    pub fn vertices(&self) -> &[Vertex] {
+        &self.vertices
+    }
+    /// The polygon index list.
+    #[must_use]
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+    /// The polygons, in submission order (the order the ordering table registers them in).
+    #[must_use]
+    pub fn polygons(&self) -> &[Polygon] {
+        &self.polygons
+    }
+    /// The materials.
+    #[must_use]
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+    /// The bounding sphere (finite vertices only).
+    #[must_use]
+    pub fn bounds(&self) -> Sphere {
+        self.bounds
+    }
+    /// The vertex indices of polygon `p`.
+    #[must_use]
+    pub fn polygon_indices(&self, p: &Polygon) -> &[u32] {
+        let start = p.first as usize;
+        self.indices.get(start..start + p.count as usize).unwrap_or(&[])
+    }
+    /// Number of polygons handed to the builder, before non-planar ones were split into triangles.
+    #[must_use]
+    pub fn source_polygon_count(&self) -> usize {
+        self.source_polygons
+    }
+}
+
+/// Collects vertices and polygons, then validates them into a [`Mesh`].
+#[derive(Clone, Debug, Default)]
+pub struct MeshBuilder {
+    vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    polygons: Vec<Polygon>,
+    materials: Vec<Material>,
+}
+
+impl MeshBuilder {
+    /// An empty builder.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a material and returns its index.
+    pub fn material(&mut self, m: Material) -> u32 {
+        self.materials.push(m);
+        (self.materials.len() - 1) as u32
+    }
+
+    /// Adds a vertex and returns its index.
+    pub fn vertex(&mut self, v: Vertex) -> u32 {
+        self.vertices.push(v);
+        (self.vertices.len() - 1) as u32
+    }
+
+    /// Number of vertices added so far.
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Adds a polygon over existing vertex indices; fewer than three indices are ignored.
+    pub fn polygon(&mut self, indices: &[u32], material: u32) {
+        if indices.len() < 3 {
+            return;
+        }
+        let first = self.indices.len() as u32;
+        self.indices.extend_from_slice(indices);
+        self.polygons.push(Polygon { first, count: indices.len() as u32, material });
+    }
+
+    /// Validates indices and materials, splits non-planar polygons into triangles and computes bounds.
+    pub fn build(mut self) -> Result<Mesh, MeshError> {
+        if self.vertices.len() > u32::MAX as usize / 2 || self.indices.len() > u32::MAX as usize / 2 {
+            return Err(MeshError::TooLarge { what: "more than 2^31 vertices or indices" });
+        }
+        if self.materials.is_empty() {
+            self.materials.push(Material::default());
+        }
+        let source_polygons = self.polygons.len();
+        let mut indices = Vec::with_capacity(self.indices.len());
+        let mut polygons = Vec::with_capacity(self.polygons.len());
+        for (n, p) in self.polygons.iter().enumerate() {
+            if p.material as usize >= self.materials.len() {
+                return Err(MeshError::MaterialOutOfRange {
+                    polygon: n,
+                    material: p.material,
+                    materials: self.materials.len(),
+                });
+            }
+            let idx = &self.indices[p.first as usize..(p.first + p.count) as usize];
+            if let Some(&bad) = idx.iter().find(|&&i| i as usize >= self.vertices.len()) {
+                return Err(MeshError::IndexOutOfRange { polygon: n, index: bad, vertices: self.vertices.len() });
+            }
+            if idx.len() > 3 && !is_planar(idx.iter().map(|&i| self.vertices[i as usize].position)) {
+                for k in 1..idx.len() - 1 {
+                    let first = indices.len() as u32;
+                    indices.extend_from_slice(&[idx[0], idx[k], idx[k + 1]]);
+                    polygons.push(Polygon { first, count: 3, material: p.material });
+                }
+            } else {
+                let first = indices.len() as u32;
+                indices.extend_from_slice(idx);
+                polygons.push(Polygon { first, count: p.count, material: p.material });
+            }
+        }
+        let bounds = bounding_sphere(&self.vertices);
+        Ok(Mesh { vertices: self.vertices, indices, polygons, materials: self.materials, bounds, source_polygons })
+    }
+}
+
+/// True when every vertex lies on the polygon's best-fit plane, to a tolerance relative to its size.
+fn is_planar(points: impl Iterator<Item = Vec3> + Clone) -> bool {
+    let pts: Vec<Vec3> = points.collect();
+    let n = pts.len();
+    // Newell's method gives a robust normal for any polygon, convex or not.
+    let mut normal = Vec3::ZERO;
+    let mut centroid = Vec3::ZERO;
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        normal += Vec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+        centroid += a;
+    }
+    centroid /= n as f32;
+    let size = pts.iter().map(|p| (*p - centroid).length()).fold(0.0f32, f32::max);
+    let len = normal.length();
+    if !(len.is_finite() && size.is_finite()) || len <= f32::EPSILON * size * size {
+        // Degenerate (zero area) or non-finite: nothing to split; later stages drop it.
+        return true;
+    }
+    let normal = normal / len;
+    pts.iter().all(|p| (*p - centroid).dot(normal).abs() <= 1e-4 * size)
+}
+
+fn bounding_sphere(vertices: &[Vertex]) -> Sphere {
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for v in vertices.iter().filter(|v| v.position.is_finite()) {
+        min = min.min(v.position);
+        max = max.max(v.position);
+    }
+    if !(min.is_finite() && max.is_finite()) {
+        return Sphere { center: Vec3::ZERO, radius: 0.0 };
+    }
+    let center = (min + max) * 0.5;
+    let radius = vertices
+        .iter()
+        .filter(|v| v.position.is_finite())
+        .map(|v| (v.position - center).length())
+        .fold(0.0f32, f32::max);
+    Sphere { center, radius }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f32, y: f32, z: f32) -> Vertex {
+        Vertex::new(Vec3::new(x, y, z), Vec2::ZERO)
+    }
+
+    #[test]
+    fn non_planar_quads_become_triangles_planar_stay_whole() {
+        let mut b = MeshBuilder::new();
+        let q = [b.vertex(v(0., 0., 0.)), b.vertex(v(1., 0., 0.)), b.vertex(v(1., 1., 0.)), b.vertex(v(0., 1., 0.))];
+        b.polygon(&q, 0);
+        let r = [b.vertex(v(0., 0., 0.)), b.vertex(v(1., 0., 0.)), b.vertex(v(1., 1., 0.5)), b.vertex(v(0., 1., 0.))];
+        b.polygon(&r, 0);
+        let m = b.build().unwrap();
+        let counts: Vec<u32> = m.polygons().iter().map(|p| p.count).collect();
+        assert_eq!(counts, [4, 3, 3]);
+        assert_eq!(m.source_polygon_count(), 2);
+        assert!((m.bounds().radius - (0.5f32 * 0.5 * 2.0 + 0.25 * 0.25).sqrt()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bad_indices_are_typed_errors() {
+        let mut b = MeshBuilder::new();
+        b.vertex(v(0., 0., 0.));
+        b.polygon(&[0, 1, 2], 0);
+        assert_eq!(b.build().unwrap_err(), MeshError::IndexOutOfRange { polygon: 0, index: 1, vertices: 1 });
+        let mut b = MeshBuilder::new();
+        for _ in 0..3 {
+            b.vertex(v(0., 0., 0.));
+        }
+        b.polygon(&[0, 1, 2], 4);
+        assert!(matches!(b.build(), Err(MeshError::MaterialOutOfRange { .. })));
+    }
+}

@@ -1,0 +1,164 @@
+//! The software renderer: from a camera and a draw list to pixels in a caller-owned frame buffer.
+//!
+//! The renderer knows nothing of windows, input, UI or the game. [`Renderer::render`] takes `&mut [u32]`
+//! pixels (`0x00RRGGBB`, rows from the top), a [`Camera`] and a [`DrawList`], and returns [`Stats`].
+//! Stages, each in a file named after it: object culling ([`cull`]), transform and near-plane / guard-band
+//! clipping ([`clip`]), snapping to [`fixed::Fx28_4`] and back-face culling, splitting of non-monotone
+//! polygons ([`monotone`]), visibility ordering ([`ordering_table`], or a sort, or a z-buffer), the scanline
+//! walk ([`scanline`]) and span shading ([`span`], [`texture`]). The pipeline itself is in [`pipeline`].
+
+pub mod camera;
+pub mod clip;
+pub mod cull;
+pub mod fixed;
+pub mod mesh;
+pub mod monotone;
+pub mod ordering_table;
+pub mod pipeline;
+pub mod scanline;
+pub mod span;
+pub mod stats;
+pub mod texture;
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use camera::{Camera, Projection};
+pub use mesh::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Vertex};
+pub use ordering_table::BucketMapping;
+pub use pipeline::{RenderError, Renderer};
+pub use span::TextureMode;
+pub use stats::Stats;
+pub use texture::{Filter, Sampler, Texture, Wrap};
+
+/// How visibility is resolved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Per-pixel depth test (`1/w`): the accuracy reference.
+    ZBuffer,
+    /// Exact stable sort of polygons by key, drawn far to near.
+    Sort,
+    /// Ordering table chained far to near, painter's algorithm.
+    #[default]
+    BucketFar,
+    /// Ordering table chained near to far, each pixel shaded at most once.
+    BucketNear,
+}
+
+impl Method {
+    /// Every method, in the order the command line lists them.
+    pub const ALL: [Method; 4] = [Method::ZBuffer, Method::Sort, Method::BucketFar, Method::BucketNear];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::ZBuffer => "zbuffer",
+            Method::Sort => "sort",
+            Method::BucketFar => "bucket-far",
+            Method::BucketNear => "bucket-near",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| format!("unknown method '{s}' (expected zbuffer, sort, bucket-far or bucket-near)"))
+    }
+}
+
+/// The representative depth of a polygon for ordering.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DepthKey {
+    /// Mean of the vertices' depths (seed claim 2).
+    #[default]
+    Avg,
+    /// Nearest vertex (seed claim 3).
+    Min,
+    /// Farthest vertex.
+    Max,
+}
+
+impl FromStr for DepthKey {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "avg" => Ok(DepthKey::Avg),
+            "min" => Ok(DepthKey::Min),
+            "max" => Ok(DepthKey::Max),
+            _ => Err(format!("unknown key '{s}' (expected avg, min or max)")),
+        }
+    }
+}
+
+/// Default number of ordering-table buckets; see the README for why.
+pub const DEFAULT_BUCKETS: usize = 1024;
+
+/// Settings for one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Visibility method.
+    pub method: Method,
+    /// Ordering-table buckets (`bucket-far`, `bucket-near`).
+    pub buckets: usize,
+    /// Representative depth (`sort`, `bucket-*`).
+    pub key: DepthKey,
+    /// Depth-to-bucket mapping.
+    pub mapping: BucketMapping,
+    /// Texture-coordinate interpolation.
+    pub texture_mode: TextureMode,
+    /// Texture filtering.
+    pub filter: Filter,
+    /// Worker threads for the fill (0 = the cores available). Frames are identical for every count.
+    pub threads: usize,
+    /// Colour the frame is cleared to first, `0x00RRGGBB`; `None` draws over what is there.
+    pub background: Option<u32>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::default(),
+            buckets: DEFAULT_BUCKETS,
+            key: DepthKey::default(),
+            mapping: BucketMapping::default(),
+            texture_mode: TextureMode::default(),
+            filter: Filter::default(),
+            threads: 0,
+            background: Some(SKY_BLUE),
+        }
+    }
+}
+
+/// The default background, sky blue (135, 206, 235).
+pub const SKY_BLUE: u32 = 0x0087_ceeb;
+
+/// One placed mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`DrawList::meshes`].
+    pub mesh: usize,
+    /// Model space to world space.
+    pub model: glam::Mat4,
+}
+
+/// What to draw: meshes, the textures their materials refer to, and where to put them.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawList<'a> {
+    /// Meshes.
+    pub meshes: &'a [Mesh],
+    /// Textures, indexed by [`Material::texture`].
+    pub textures: &'a [Texture],
+    /// Instances, drawn in this order (it is the submission order the ordering table keeps within a bucket).
+    pub instances: &'a [Instance],
+}

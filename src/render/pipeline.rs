@@ -1,0 +1,476 @@
+//! The frame pipeline: ties the stages together, owns the per-frame scratch buffers, and splits the fill
+//! into horizontal bands drawn in parallel.
+//!
+//! Geometry (cull, transform, clip, snap, order) runs once per frame on the calling thread. The fill then
+//! runs in bands of rows, one per worker: every band walks the same ordered polygon list and draws only its
+//! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
+//! polygon's vertices, a row's pixels do not depend on which band drew it: frames are bit-identical for
+//! every thread count.
+
+use std::time::Instant;
+
+use glam::{Mat4, Vec4};
+use thiserror::Error;
+
+use super::clip::{CLIP_ATTRS, ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
+use super::cull::{Frustum, world_sphere};
+use super::fixed::Fx28_4;
+use super::mesh::AlphaMode;
+use super::monotone::triangulate;
+use super::ordering_table::{Direction, OrderingTable};
+use super::scanline::{ATTRS, ScreenVertex, fill_spans, is_y_monotone, signed_area2, slot};
+use super::span::{Row, Shading, SpanCounts, TextureMode, Visibility, draw_span};
+use super::texture::Sampler;
+use super::{Camera, DepthKey, DrawList, Method, RenderOptions, Stats};
+
+/// Why a frame could not be drawn.
+#[derive(Debug, Error, PartialEq, Eq)]
+pub enum RenderError {
+    /// The pixel slice is shorter than `width * height`.
+    #[error("frame buffer holds {len} pixels, but {width}x{height} needs {needed}")]
+    FrameTooSmall {
+        /// Pixels supplied.
+        len: usize,
+        /// Requested width.
+        width: usize,
+        /// Requested height.
+        height: usize,
+        /// `width * height` (saturated).
+        needed: usize,
+    },
+    /// The frame is too large for the fixed-point grid (more than 2^20 pixels on a side).
+    #[error("frame of {width}x{height} is larger than the renderer supports (2^20 on a side)")]
+    FrameTooLarge {
+        /// Requested width.
+        width: usize,
+        /// Requested height.
+        height: usize,
+    },
+    /// A worker thread of the fill stage panicked.
+    #[error("a fill worker thread failed")]
+    WorkerFailed,
+}
+
+/// A polygon (or a piece of one) ready for the fill stage.
+#[derive(Clone, Copy, Debug)]
+struct DrawPolygon {
+    first: u32,
+    count: u32,
+    key: f32,
+    texture: Option<u32>,
+    sampler: Sampler,
+    alpha_cutoff: Option<f32>,
+}
+
+/// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
+#[derive(Debug, Default)]
+pub struct Renderer {
+    clip_pos: Vec<Vec4>,
+    view_depth: Vec<f32>,
+    clip_in: Vec<ClipVertex>,
+    clip_out: Vec<ClipVertex>,
+    clip_scratch: Vec<ClipVertex>,
+    screen: Vec<ScreenVertex>,
+    piece: Vec<ScreenVertex>,
+    tris: Vec<[usize; 3]>,
+    polys: Vec<DrawPolygon>,
+    order: Vec<u32>,
+    depth: Vec<f32>,
+    coverage: Vec<u64>,
+    table: OrderingTable,
+}
+
+const MAX_SIDE: usize = 1 << 20;
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+impl Renderer {
+    /// A renderer with empty scratch buffers.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Draws `list` seen by `camera` into `frame` (`width * height` pixels, `0x00RRGGBB`, rows from the top).
+    ///
+    /// Any geometry is accepted: NaN, infinite or huge coordinates drop the polygon (counted in
+    /// [`Stats::polygons_invalid`]), a bad mesh index drops the instance, a bad texture index draws untextured.
+    /// A 0x0 frame draws nothing.
+    pub fn render(
+        &mut self,
+        frame: &mut [u32],
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Result<Stats, RenderError> {
+        let needed = width.saturating_mul(height);
+        if frame.len() < needed {
+            return Err(RenderError::FrameTooSmall { len: frame.len(), width, height, needed });
+        }
+        if width > MAX_SIDE || height > MAX_SIDE {
+            return Err(RenderError::FrameTooLarge { width, height });
+        }
+        let mut stats = Stats::default();
+        if needed == 0 {
+            return Ok(stats);
+        }
+        let t = Instant::now();
+        self.geometry(width, height, camera, list, options, &mut stats);
+        let t_order = Instant::now();
+        self.order(options);
+        stats.ms_order = ms(t_order);
+        let t_fill = Instant::now();
+        let counts = self.fill(&mut frame[..needed], width, height, list, options)?;
+        stats.ms_fill = ms(t_fill);
+        stats.pixels_shaded = counts.shaded;
+        stats.pixels_written = counts.written;
+        stats.pixels_rejected = counts.rejected;
+        stats.pieces_filled = self.polys.len() as u64;
+        debug_assert!(stats.ms_transform + stats.ms_clip <= ms(t) + 1.0);
+        Ok(stats)
+    }
+
+    /// Cull, transform, clip, project, snap, back-face cull; fills `self.polys` and `self.screen`.
+    fn geometry(
+        &mut self,
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+        stats: &mut Stats,
+    ) {
+        self.polys.clear();
+        self.screen.clear();
+        let clip_from_world = camera.clip_from_view(width, height) * camera.view;
+        let frustum = Frustum::new(&clip_from_world, camera.has_far_plane());
+        let volume = ClipVolume::new(width, height, camera.has_far_plane());
+        let perspective_attrs = options.texture_mode != TextureMode::Affine;
+        let (wf, hf) = (width as f32, height as f32);
+        for inst in list.instances {
+            stats.objects_in += 1;
+            let Some(mesh) = list.meshes.get(inst.mesh) else {
+                stats.objects_culled += 1;
+                continue;
+            };
+            let npoly = mesh.polygons().len() as u64;
+            stats.polygons_in += npoly;
+            let t_transform = Instant::now();
+            let (center, radius) = world_sphere(mesh.bounds(), &inst.model);
+            if center.is_finite() && radius.is_finite() && frustum.excludes(center, radius) {
+                stats.objects_culled += 1;
+                stats.polygons_in_culled_objects += npoly;
+                stats.ms_transform += ms(t_transform);
+                continue;
+            }
+            let clip_from_model: Mat4 = clip_from_world * inst.model;
+            let view_from_model: Mat4 = camera.view * inst.model;
+            let depth_row = view_from_model.row(2);
+            self.clip_pos.clear();
+            self.view_depth.clear();
+            for v in mesh.vertices() {
+                let p = v.position.extend(1.0);
+                self.clip_pos.push(clip_from_model * p);
+                self.view_depth.push(-depth_row.dot(p));
+            }
+            stats.ms_transform += ms(t_transform);
+            let t_clip = Instant::now();
+            for poly in mesh.polygons() {
+                let idx = mesh.polygon_indices(poly);
+                let material = mesh.materials().get(poly.material as usize).cloned().unwrap_or_default();
+                self.clip_in.clear();
+                let mut finite = true;
+                for &i in idx {
+                    let i = i as usize;
+                    let v = &mesh.vertices()[i];
+                    let pos = self.clip_pos[i];
+                    let c = v.color * material.base_color;
+                    finite &= pos.is_finite() && self.view_depth[i].is_finite();
+                    self.clip_in.push(ClipVertex {
+                        pos,
+                        attrs: [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, self.view_depth[i]],
+                    });
+                }
+                if !finite {
+                    stats.polygons_invalid += 1;
+                    continue;
+                }
+                match clip_polygon(&self.clip_in, &volume, &mut self.clip_out, &mut self.clip_scratch) {
+                    ClipResult::Outside => {
+                        stats.polygons_outside += 1;
+                        continue;
+                    }
+                    ClipResult::Clipped => stats.polygons_clipped += 1,
+                    ClipResult::Inside => {}
+                }
+                // Project and snap.
+                let first = self.screen.len();
+                let mut ok = true;
+                let mut key = match options.key {
+                    DepthKey::Avg => 0.0,
+                    DepthKey::Min => f32::INFINITY,
+                    DepthKey::Max => f32::NEG_INFINITY,
+                };
+                for cv in &self.clip_out {
+                    let p = cv.pos;
+                    let q = 1.0 / p.w;
+                    let sx = (p.x * q + 1.0) * 0.5 * wf;
+                    let sy = (1.0 - p.y * q) * 0.5 * hf;
+                    let (Some(x), Some(y)) = (Fx28_4::from_f32(sx), Fx28_4::from_f32(sy)) else {
+                        ok = false;
+                        break;
+                    };
+                    if !(p.w > 0.0 && q.is_finite()) {
+                        ok = false;
+                        break;
+                    }
+                    let depth = if camera.is_perspective() { q } else { 0.5 * (1.0 - p.z * q) };
+                    let a = &cv.attrs;
+                    let m = if perspective_attrs { q } else { 1.0 };
+                    let mut attrs = [0.0; ATTRS];
+                    attrs[slot::DEPTH] = depth;
+                    attrs[slot::Q] = m;
+                    attrs[slot::S] = a[0] * m;
+                    attrs[slot::T] = a[1] * m;
+                    for c in 0..4 {
+                        attrs[slot::RGBA + c] = a[2 + c] * m;
+                    }
+                    self.screen.push(ScreenVertex { x, y, attrs });
+                    let d = a[VIEW_DEPTH];
+                    key = match options.key {
+                        DepthKey::Avg => key + d,
+                        DepthKey::Min => key.min(d),
+                        DepthKey::Max => key.max(d),
+                    };
+                }
+                let n = self.screen.len() - first;
+                if !ok {
+                    self.screen.truncate(first);
+                    stats.polygons_invalid += 1;
+                    continue;
+                }
+                if options.key == DepthKey::Avg {
+                    key /= n as f32;
+                }
+                let area = signed_area2(&self.screen[first..]);
+                if area == 0 {
+                    self.screen.truncate(first);
+                    stats.polygons_degenerate += 1;
+                    continue;
+                }
+                if area > 0 && !material.double_sided {
+                    self.screen.truncate(first);
+                    stats.polygons_backface += 1;
+                    continue;
+                }
+                stats.polygons_drawn += 1;
+                let texture = material.texture.filter(|&t| t < list.textures.len()).map(|t| t as u32);
+                let alpha_cutoff = match material.alpha_mode {
+                    AlphaMode::Opaque => None,
+                    AlphaMode::Mask { cutoff } => Some(cutoff),
+                };
+                let base = DrawPolygon { first: first as u32, count: n as u32, key, texture, sampler: material.sampler, alpha_cutoff };
+                if is_y_monotone(&self.screen[first..]) {
+                    self.polys.push(base);
+                } else {
+                    stats.polygons_split += 1;
+                    self.tris.clear();
+                    self.piece.clear();
+                    self.piece.extend_from_slice(&self.screen[first..]);
+                    triangulate(&self.piece, area.signum(), &mut self.tris);
+                    self.screen.truncate(first);
+                    for t in &self.tris {
+                        let f = self.screen.len() as u32;
+                        self.screen.extend(t.iter().map(|&i| self.piece[i]));
+                        self.polys.push(DrawPolygon { first: f, count: 3, ..base });
+                    }
+                }
+            }
+            stats.ms_clip += ms(t_clip);
+        }
+    }
+
+    /// Fills `self.order` with polygon indices in drawing order.
+    fn order(&mut self, options: &RenderOptions) {
+        self.order.clear();
+        match options.method {
+            Method::ZBuffer => self.order.extend(0..self.polys.len() as u32),
+            Method::Sort => {
+                self.order.extend(0..self.polys.len() as u32);
+                let polys = &self.polys;
+                // Stable: polygons with equal keys keep submission order. Far (large key) first.
+                self.order.sort_by(|&a, &b| polys[b as usize].key.total_cmp(&polys[a as usize].key));
+            }
+            Method::BucketFar | Method::BucketNear => {
+                let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
+                for p in &self.polys {
+                    if p.key.is_finite() {
+                        near = near.min(p.key);
+                        far = far.max(p.key);
+                    }
+                }
+                let direction =
+                    if options.method == Method::BucketFar { Direction::FarToNear } else { Direction::NearToFar };
+                self.table.reset(options.buckets, options.mapping, near, far, direction);
+                for p in &self.polys {
+                    self.table.register(p.key);
+                }
+                self.table.chain();
+                self.order.extend(self.table.iter());
+            }
+        }
+    }
+
+    /// Clears the buffers the method needs and fills every polygon in order, in bands across threads.
+    fn fill(
+        &mut self,
+        frame: &mut [u32],
+        width: usize,
+        height: usize,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Result<SpanCounts, RenderError> {
+        if let Some(bg) = options.background {
+            frame.fill(bg);
+        }
+        let visibility = match options.method {
+            Method::ZBuffer => Visibility::DepthTest,
+            Method::BucketNear => Visibility::Coverage,
+            Method::Sort | Method::BucketFar => Visibility::Overwrite,
+        };
+        let words = width.div_ceil(64);
+        if visibility == Visibility::DepthTest {
+            self.depth.clear();
+            self.depth.resize(width * height, f32::NEG_INFINITY);
+        }
+        if visibility == Visibility::Coverage {
+            self.coverage.clear();
+            self.coverage.resize(words * height, 0);
+        }
+        let threads = match options.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n,
+        }
+        .clamp(1, height);
+        let rows_per_band = height.div_ceil(threads);
+        let depth: &mut [f32] = if visibility == Visibility::DepthTest { &mut self.depth } else { &mut [] };
+        let coverage: &mut [u64] = if visibility == Visibility::Coverage { &mut self.coverage } else { &mut [] };
+        let ctx = FillContext {
+            polys: &self.polys,
+            screen: &self.screen,
+            order: &self.order,
+            list,
+            options,
+            visibility,
+            width,
+            words,
+        };
+        let bands = split_bands(frame, depth, coverage, width, words, rows_per_band);
+        if bands.len() == 1 {
+            let mut total = SpanCounts::default();
+            for band in bands {
+                total = ctx.fill_band(band);
+            }
+            return Ok(total);
+        }
+        std::thread::scope(|s| {
+            let handles: Vec<_> = bands.into_iter().map(|band| s.spawn(|| ctx.fill_band(band))).collect();
+            let mut total = SpanCounts::default();
+            for h in handles {
+                let c = h.join().map_err(|_| RenderError::WorkerFailed)?;
+                total.shaded += c.shaded;
+                total.written += c.written;
+                total.rejected += c.rejected;
+            }
+            Ok(total)
+        })
+    }
+}
+
+/// The rows of one band and their buffers.
+struct Band<'a> {
+    y0: usize,
+    rows: usize,
+    color: &'a mut [u32],
+    depth: &'a mut [f32],
+    coverage: &'a mut [u64],
+}
+
+fn split_bands<'a>(
+    mut color: &'a mut [u32],
+    mut depth: &'a mut [f32],
+    mut coverage: &'a mut [u64],
+    width: usize,
+    words: usize,
+    rows_per_band: usize,
+) -> Vec<Band<'a>> {
+    let height = color.len() / width;
+    let mut bands = Vec::new();
+    let mut y0 = 0;
+    while y0 < height {
+        let rows = rows_per_band.min(height - y0);
+        let (c, rest) = std::mem::take(&mut color).split_at_mut(rows * width);
+        color = rest;
+        let (d, rest) = if depth.is_empty() { (&mut [][..], &mut [][..]) } else { std::mem::take(&mut depth).split_at_mut(rows * width) };
+        depth = rest;
+        let (v, rest) =
+            if coverage.is_empty() { (&mut [][..], &mut [][..]) } else { std::mem::take(&mut coverage).split_at_mut(rows * words) };
+        coverage = rest;
+        bands.push(Band { y0, rows, color: c, depth: d, coverage: v });
+        y0 += rows;
+    }
+    bands
+}
+
+/// Read-only state shared by the fill workers.
+struct FillContext<'a> {
+    polys: &'a [DrawPolygon],
+    screen: &'a [ScreenVertex],
+    order: &'a [u32],
+    list: &'a DrawList<'a>,
+    options: &'a RenderOptions,
+    visibility: Visibility,
+    width: usize,
+    words: usize,
+}
+
+impl FillContext<'_> {
+    fn fill_band(&self, band: Band<'_>) -> SpanCounts {
+        let Band { y0, rows, color, depth, coverage } = band;
+        let mut total = SpanCounts::default();
+        let (w, words) = (self.width, self.words);
+        for &pi in self.order {
+            let p = &self.polys[pi as usize];
+            let verts = &self.screen[p.first as usize..(p.first + p.count) as usize];
+            let shading = Shading {
+                texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
+                sampler: p.sampler,
+                filter: self.options.filter,
+                mode: self.options.texture_mode,
+                alpha_cutoff: p.alpha_cutoff,
+                visibility: self.visibility,
+            };
+            let band_rows = (y0 as i32, (y0 + rows) as i32);
+            fill_spans(verts, band_rows, w as i32, |span| {
+                let r = span.y as usize - y0;
+                let mut row = Row {
+                    color: &mut color[r * w..(r + 1) * w],
+                    depth: if depth.is_empty() { &mut [] } else { &mut depth[r * w..(r + 1) * w] },
+                    coverage: if coverage.is_empty() { &mut [] } else { &mut coverage[r * words..(r + 1) * words] },
+                };
+                let c = draw_span(span, &shading, &mut row);
+                total.shaded += c.shaded;
+                total.written += c.written;
+                total.rejected += c.rejected;
+            });
+        }
+        total
+    }
+}
+
+/// The clip attributes layout is shared with [`super::clip`]; keep them in step.
+const _: () = assert!(CLIP_ATTRS == 7);

@@ -1,0 +1,316 @@
+//! Scanline fill (seeds 001 and 002): walk a polygon's left and right edge chains at once and emit spans.
+//!
+//! The polygon must be y-monotone (every scan line cuts it in at most one span); the pipeline splits others
+//! before they get here. No edge table and no sorting: the top vertex is found while reading the vertex list,
+//! and the two chains are followed downwards from it, one edge at a time.
+//!
+//! **Sub-pixel and fill rules.** Vertices are in [`Fx28_4`] (1/16 pixel). Pixel `(x, y)` has its centre at
+//! `(x + 0.5, y + 0.5)`. A row `y` is covered when `top <= y + 0.5 < bottom`, and within it a pixel `x` is
+//! covered when `left <= x + 0.5 < right`: left and top edges are inclusive, right and bottom edges exclusive
+//! (the top-left rule of OpenGL and Direct3D). Edge positions at row centres are computed exactly with a
+//! quotient-and-remainder DDA on the fixed-point grid, starting from the exact intersection of the edge with
+//! the first row centre (the prestep), so a centre on an edge shared by two polygons belongs to exactly one.
+//! Attributes are evaluated at the exact sub-pixel row centre along each edge and then at each pixel centre
+//! across the span, directly from the start values rather than by accumulated stepping, so a row comes out
+//! bit-identical whichever band (thread) draws it.
+
+use super::fixed::Fx28_4;
+
+/// Number of interpolated attributes per vertex.
+pub const ATTRS: usize = 8;
+
+/// Attribute slots in [`ScreenVertex::attrs`].
+pub mod slot {
+    /// Depth for the z-buffer, larger is nearer (`1/w` for perspective, `(1 - z_ndc) / 2` for orthographic).
+    pub const DEPTH: usize = 0;
+    /// `1/w`, for perspective-correct interpolation (1 in affine mode).
+    pub const Q: usize = 1;
+    /// `u/w` (or `u` in affine mode).
+    pub const S: usize = 2;
+    /// `v/w` (or `v` in affine mode).
+    pub const T: usize = 3;
+    /// Red, green, blue, alpha divided by `w` (or plain in affine mode).
+    pub const RGBA: usize = 4;
+}
+
+/// A projected vertex: snapped screen position and the attributes interpolated across the polygon.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenVertex {
+    /// Screen x (pixels, right).
+    pub x: Fx28_4,
+    /// Screen y (pixels, down).
+    pub y: Fx28_4,
+    /// Interpolated attributes, see [`slot`].
+    pub attrs: [f32; ATTRS],
+}
+
+/// A horizontal run of covered pixels `x0..x1` on row `y`, with attributes at the centre of `x0` and their
+/// change per pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span {
+    /// Row.
+    pub y: i32,
+    /// First pixel (inclusive, already clipped to the frame).
+    pub x0: i32,
+    /// End pixel (exclusive, already clipped to the frame).
+    pub x1: i32,
+    /// Attributes at the centre of pixel `x0`.
+    pub a0: [f32; ATTRS],
+    /// Change of the attributes per pixel.
+    pub da: [f32; ATTRS],
+}
+
+/// Twice the signed area of a screen polygon in raw fixed-point units; positive when the vertex order
+/// runs clockwise on screen (y down), which is glTF's back face.
+#[must_use]
+pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
+    let n = v.len();
+    let mut a = 0i64;
+    for i in 0..n {
+        let p = &v[i];
+        let q = &v[(i + 1) % n];
+        a += i64::from(p.x.0) * i64::from(q.y.0) - i64::from(q.x.0) * i64::from(p.y.0);
+    }
+    a
+}
+
+/// True when every horizontal line cuts the polygon outline at most twice (y goes down once and up once).
+#[must_use]
+pub fn is_y_monotone(v: &[ScreenVertex]) -> bool {
+    let n = v.len();
+    let mut changes = 0;
+    let mut last = 0i32;
+    // Start from the last non-zero direction so the count is cyclic.
+    for i in 0..n {
+        let d = (v[(i + 1) % n].y.0 - v[i].y.0).signum();
+        if d != 0 {
+            last = d;
+        }
+    }
+    for i in 0..n {
+        let d = (v[(i + 1) % n].y.0 - v[i].y.0).signum();
+        if d != 0 {
+            if d != last {
+                changes += 1;
+            }
+            last = d;
+        }
+    }
+    changes <= 2
+}
+
+/// One edge of a chain, from an upper vertex to a lower one, positioned at a row.
+struct Edge {
+    /// Raw y of the lower vertex: the edge covers row centres strictly above it.
+    bottom: i32,
+    /// Index of the lower vertex, where the chain continues.
+    end: usize,
+    // Exact position: first covered pixel = q + (r != 0), the ceiling of (x_at_centre - 0.5).
+    q: i64,
+    r: i64,
+    sq: i64,
+    sr: i64,
+    d: i64,
+    // Float values for attributes.
+    x0: f32,
+    y0: f32,
+    dxdy: f32,
+    a0: [f32; ATTRS],
+    dady: [f32; ATTRS],
+}
+
+impl Edge {
+    fn new(a: &ScreenVertex, b: &ScreenVertex, end: usize, row: i32) -> Self {
+        let (x0, y0) = (i64::from(a.x.0), i64::from(a.y.0));
+        let (x1, y1) = (i64::from(b.x.0), i64::from(b.y.0));
+        let dy = y1 - y0;
+        debug_assert!(dy > 0);
+        let dx = x1 - x0;
+        let one = i64::from(Fx28_4::ONE);
+        let half = i64::from(Fx28_4::HALF);
+        let d = one * dy;
+        let yc = i64::from(row) * one + half;
+        // (x(yc) - half) / one with x(yc) = x0 + dx * (yc - y0) / dy, over the common denominator one * dy.
+        let n = (x0 - half) * dy + dx * (yc - y0);
+        let s = one * dx;
+        let fy = dy as f32 / one as f32;
+        let mut dady = [0.0; ATTRS];
+        for (i, v) in dady.iter_mut().enumerate() {
+            *v = (b.attrs[i] - a.attrs[i]) / fy;
+        }
+        Self {
+            bottom: b.y.0,
+            end,
+            q: n.div_euclid(d),
+            r: n.rem_euclid(d),
+            sq: s.div_euclid(d),
+            sr: s.rem_euclid(d),
+            d,
+            x0: a.x.to_f32(),
+            y0: a.y.to_f32(),
+            dxdy: (dx as f32) / (dy as f32),
+            a0: a.attrs,
+            dady,
+        }
+    }
+
+    #[inline]
+    fn pixel(&self) -> i64 {
+        self.q + i64::from(self.r != 0)
+    }
+
+    #[inline]
+    fn step(&mut self) {
+        self.q += self.sq;
+        self.r += self.sr;
+        if self.r >= self.d {
+            self.r -= self.d;
+            self.q += 1;
+        }
+    }
+
+    #[inline]
+    fn sample(&self, row: i32) -> (f32, [f32; ATTRS]) {
+        let t = row as f32 + 0.5 - self.y0;
+        let mut a = [0.0; ATTRS];
+        for (i, v) in a.iter_mut().enumerate() {
+            *v = self.a0[i] + t * self.dady[i];
+        }
+        (self.x0 + t * self.dxdy, a)
+    }
+}
+
+/// Finds the edge of a chain (walking from vertex `from` in steps of `dir`) that covers `row`.
+fn edge_for_row(v: &[ScreenVertex], from: usize, dir: usize, row: i32) -> Option<Edge> {
+    let n = v.len();
+    let yc = row * Fx28_4::ONE + Fx28_4::HALF;
+    let mut i = from;
+    for _ in 0..n {
+        let j = (i + dir) % n;
+        if v[j].y.0 < v[i].y.0 {
+            return None; // the chain turned upwards: not y-monotone
+        }
+        if v[j].y.0 > yc {
+            return Some(Edge::new(&v[i], &v[j], j, row));
+        }
+        i = j;
+    }
+    None
+}
+
+/// Emits the spans of a y-monotone polygon on rows `rows.0..rows.1`, clipped to `0..width`.
+///
+/// Zero-area polygons emit nothing. The vertex order may be either winding.
+pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: impl FnMut(&Span)) {
+    let n = v.len();
+    if n < 3 {
+        return;
+    }
+    let area = signed_area2(v);
+    if area == 0 {
+        return;
+    }
+    let mut top = 0;
+    let (mut ymin, mut ymax) = (v[0].y, v[0].y);
+    for (i, p) in v.iter().enumerate().skip(1) {
+        if p.y < ymin {
+            ymin = p.y;
+            top = i;
+        }
+        ymax = ymax.max(p.y);
+    }
+    let row_start = ymin.first_centre_at_or_after().max(rows.0);
+    let row_end = ymax.first_centre_at_or_after().min(rows.1);
+    if row_start >= row_end {
+        return;
+    }
+    // With y down, a positive area means the forward chain from the top runs down the right side.
+    let (ldir, rdir) = if area > 0 { (n - 1, 1) } else { (1, n - 1) };
+    let (Some(mut left), Some(mut right)) =
+        (edge_for_row(v, top, ldir, row_start), edge_for_row(v, top, rdir, row_start))
+    else {
+        return;
+    };
+    for row in row_start..row_end {
+        let yc = row * Fx28_4::ONE + Fx28_4::HALF;
+        if yc >= left.bottom {
+            match edge_for_row(v, left.end, ldir, row) {
+                Some(e) => left = e,
+                None => return,
+            }
+        }
+        if yc >= right.bottom {
+            match edge_for_row(v, right.end, rdir, row) {
+                Some(e) => right = e,
+                None => return,
+            }
+        }
+        let xs = left.pixel().max(0);
+        let xe = right.pixel().min(i64::from(width));
+        if xs < xe {
+            let (xl, al) = left.sample(row);
+            let (xr, ar) = right.sample(row);
+            let dx = xr - xl;
+            let inv = if dx > 1.0 / 64.0 { 1.0 / dx } else { 0.0 };
+            let off = xs as f32 + 0.5 - xl;
+            let mut a0 = [0.0; ATTRS];
+            let mut da = [0.0; ATTRS];
+            for i in 0..ATTRS {
+                da[i] = (ar[i] - al[i]) * inv;
+                a0[i] = al[i] + off * da[i];
+            }
+            emit(&Span { y: row, x0: xs as i32, x1: xe as i32, a0, da });
+        }
+        left.step();
+        right.step();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sv(x: i32, y: i32) -> ScreenVertex {
+        ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [0.0; ATTRS] }
+    }
+
+    fn covered(v: &[ScreenVertex], w: i32, h: i32) -> Vec<(i32, i32)> {
+        let mut out = vec![];
+        fill_spans(v, (0, h), w, |s| out.extend((s.x0..s.x1).map(|x| (x, s.y))));
+        out
+    }
+
+    #[test]
+    fn pixel_centres_on_edges_follow_top_left_rule() {
+        // A square from (1,1) to (3,3) with corners exactly on pixel corners: covers 2x2 pixels.
+        let sq = [sv(16, 16), sv(48, 16), sv(48, 48), sv(16, 48)];
+        assert_eq!(covered(&sq, 8, 8), [(1, 1), (2, 1), (1, 2), (2, 2)]);
+        // The same square shifted by half a pixel: its left/top edges pass through centres (included),
+        // its right/bottom edges through centres too (excluded).
+        let sq: Vec<_> = sq.iter().map(|p| sv(p.x.0 + 8, p.y.0 + 8)).collect();
+        assert_eq!(covered(&sq, 8, 8), [(1, 1), (2, 1), (1, 2), (2, 2)]);
+        // Reversed winding covers the same pixels.
+        let rev: Vec<_> = sq.iter().rev().copied().collect();
+        assert_eq!(covered(&rev, 8, 8), [(1, 1), (2, 1), (1, 2), (2, 2)]);
+    }
+
+    #[test]
+    fn sliver_thinner_than_a_pixel_covers_only_centres_inside() {
+        // A triangle 0.25 px wide around x = 2.5: its centres at x = 2.5 are inside for rows it spans.
+        let t = [sv(36, 0), sv(44, 0), sv(40, 160)];
+        let c = covered(&t, 8, 12);
+        assert!(c.iter().all(|&(x, _)| x == 2));
+        // Between x = 2.52 and 2.9 nothing is covered.
+        let t = [sv(41, 0), sv(46, 0), sv(44, 160)];
+        assert!(covered(&t, 8, 12).is_empty());
+    }
+
+    #[test]
+    fn monotone_detection() {
+        let convex = [sv(0, 0), sv(10, 0), sv(10, 10), sv(0, 10)];
+        assert!(is_y_monotone(&convex));
+        // A 'W' shape dips down twice.
+        let w = [sv(0, 0), sv(5, 10), sv(10, 2), sv(15, 10), sv(20, 0), sv(10, 20)];
+        assert!(!is_y_monotone(&w));
+    }
+}

@@ -1,0 +1,224 @@
+//! Textures and their sampling: wrap modes, nearest and bilinear filtering, any size.
+//!
+//! Texels are stored as packed `0xAARRGGBB` and used exactly as stored (no colour-space conversion), as the
+//! `render` command promises. Texture coordinates follow glTF: `(0, 0)` is the top-left corner of the image,
+//! `u` grows to the right and `v` downwards, and texel `i` spans `[i, i + 1) / size`.
+
+use thiserror::Error;
+
+/// How texture coordinates outside `[0, 1)` are folded back in (glTF sampler `wrapS` / `wrapT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// Tile the image (glTF 10497, the default).
+    #[default]
+    Repeat,
+    /// Clamp to the edge texel (glTF 33071).
+    ClampToEdge,
+    /// Tile with every other copy mirrored (glTF 33648).
+    MirroredRepeat,
+}
+
+/// Texture filtering used for every texture in a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Filter {
+    /// The texel that contains the sample point (the default: exact, cheap, the retro look).
+    #[default]
+    Nearest,
+    /// Weighted mean of the four nearest texel centres.
+    Bilinear,
+}
+
+/// The wrap modes of one texture reference.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sampler {
+    /// Wrap mode along `u`.
+    pub wrap_s: Wrap,
+    /// Wrap mode along `v`.
+    pub wrap_t: Wrap,
+}
+
+/// Why a texture could not be made.
+#[derive(Debug, Error, PartialEq, Eq)]
+pub enum TextureError {
+    /// Width or height is zero.
+    #[error("texture has a zero dimension ({width}x{height})")]
+    Empty {
+        /// Width in texels.
+        width: u32,
+        /// Height in texels.
+        height: u32,
+    },
+    /// The texel buffer does not hold `width * height` texels.
+    #[error("texture of {width}x{height} needs {expected} texels, got {actual}")]
+    WrongLength {
+        /// Width in texels.
+        width: u32,
+        /// Height in texels.
+        height: u32,
+        /// `width * height`.
+        expected: usize,
+        /// Texels supplied.
+        actual: usize,
+    },
+}
+
+/// An image the renderer samples from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Texture {
+    width: u32,
+    height: u32,
+    texels: Vec<u32>,
+}
+
+impl Texture {
+    /// Makes a texture from packed `0xAARRGGBB` texels in rows from the top.
+    pub fn new(width: u32, height: u32, texels: Vec<u32>) -> Result<Self, TextureError> {
+        if width == 0 || height == 0 {
+            return Err(TextureError::Empty { width, height });
+        }
+        let expected = width as usize * height as usize;
+        if texels.len() != expected {
+            return Err(TextureError::WrongLength { width, height, expected, actual: texels.len() });
+        }
+        Ok(Self { width, height, texels })
+    }
+
+    /// Makes a texture from 8-bit RGBA bytes in rows from the top.
+    pub fn from_rgba8(width: u32, height: u32, rgba: &[u8]) -> Result<Self, TextureError> {
+        let texels = rgba
+            .chunks_exact(4)
+            .map(|p| u32::from_be_bytes([p[3], p[0], p[1], p[2]]))
+            .collect();
+        Self::new(width, height, texels)
+    }
+
+    /// Width in texels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in texels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The packed texels, row by row from the top.
+    #[must_use]
+    pub fn texels(&self) -> &[u32] {
+        &self.texels
+    }
+
+    /// The packed texel at integer coordinates, wrapped by `sampler`.
+    #[inline]
+    #[must_use]
+    pub fn texel(&self, x: i32, y: i32, sampler: Sampler) -> u32 {
+        let x = wrap(x, self.width, sampler.wrap_s);
+        let y = wrap(y, self.height, sampler.wrap_t);
+        // `wrap` returns an index in `0..size`, so this never goes out of bounds.
+        self.texels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Nearest-texel sample at `(u, v)` as RGBA in `0..=1`.
+    #[inline]
+    #[must_use]
+    pub fn sample_nearest(&self, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
+        // `as i32` saturates and maps NaN to 0, so hostile coordinates still pick a real texel.
+        let x = (u * self.width as f32).floor() as i32;
+        let y = (v * self.height as f32).floor() as i32;
+        unpack(self.texel(x, y, sampler))
+    }
+
+    /// Bilinear sample at `(u, v)` as RGBA in `0..=1`; each of the four texels is wrapped on its own.
+    #[must_use]
+    pub fn sample_bilinear(&self, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
+        let fx = u * self.width as f32 - 0.5;
+        let fy = v * self.height as f32 - 0.5;
+        let x0f = fx.floor();
+        let y0f = fy.floor();
+        let (ax, ay) = (sanitize_frac(fx - x0f), sanitize_frac(fy - y0f));
+        let (x0, y0) = (x0f as i32, y0f as i32);
+        let t00 = unpack(self.texel(x0, y0, sampler));
+        let t10 = unpack(self.texel(x0.wrapping_add(1), y0, sampler));
+        let t01 = unpack(self.texel(x0, y0.wrapping_add(1), sampler));
+        let t11 = unpack(self.texel(x0.wrapping_add(1), y0.wrapping_add(1), sampler));
+        let mut out = [0.0; 4];
+        for c in 0..4 {
+            let top = t00[c] + (t10[c] - t00[c]) * ax;
+            let bottom = t01[c] + (t11[c] - t01[c]) * ax;
+            out[c] = top + (bottom - top) * ay;
+        }
+        out
+    }
+}
+
+fn sanitize_frac(f: f32) -> f32 {
+    if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }
+}
+
+/// Folds an integer texel coordinate into `0..size` by the wrap mode.
+#[inline]
+#[must_use]
+pub fn wrap(i: i32, size: u32, mode: Wrap) -> u32 {
+    let n = size as i64;
+    let i = i64::from(i);
+    let r = match mode {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m >= n { 2 * n - 1 - m } else { m }
+        }
+    };
+    r as u32
+}
+
+/// Splits a packed `0xAARRGGBB` texel into RGBA in `0..=1`.
+#[inline]
+#[must_use]
+pub fn unpack(t: u32) -> [f32; 4] {
+    const S: f32 = 1.0 / 255.0;
+    [
+        ((t >> 16) & 0xff) as f32 * S,
+        ((t >> 8) & 0xff) as f32 * S,
+        (t & 0xff) as f32 * S,
+        (t >> 24) as f32 * S,
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_modes() {
+        let w: Vec<u32> = (-5..7).map(|i| wrap(i, 3, Wrap::Repeat)).collect();
+        assert_eq!(w, [1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0]);
+        let c: Vec<u32> = (-2..5).map(|i| wrap(i, 3, Wrap::ClampToEdge)).collect();
+        assert_eq!(c, [0, 0, 0, 1, 2, 2, 2]);
+        let m: Vec<u32> = (-4..8).map(|i| wrap(i, 3, Wrap::MirroredRepeat)).collect();
+        assert_eq!(m, [2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1]);
+        assert!(wrap(i32::MAX, 7, Wrap::MirroredRepeat) < 7);
+        assert!(wrap(i32::MIN, 7, Wrap::Repeat) < 7);
+    }
+
+    #[test]
+    fn sampling_any_size_and_hostile_coordinates() {
+        let t = Texture::new(3, 2, vec![0xff00_0000, 0xffff_0000, 0xff00_ff00, 0xff00_00ff, 0xffff_ffff, 0x0000_0000])
+            .unwrap();
+        let s = Sampler::default();
+        assert_eq!(t.sample_nearest(0.5, 0.25, s), unpack(0xffff_0000));
+        assert_eq!(t.sample_nearest(0.9, 0.75, s), unpack(0));
+        assert_eq!(t.sample_nearest(1.5, -0.25, s), unpack(0xffff_ffff));
+        for v in [f32::NAN, f32::INFINITY, -f32::INFINITY, 1e30, -1e30] {
+            let _ = t.sample_nearest(v, v, s);
+            let _ = t.sample_bilinear(v, 0.3, s);
+        }
+        // Bilinear at a texel centre returns that texel exactly.
+        let b = t.sample_bilinear(0.5 / 3.0, 0.25, s);
+        assert_eq!(b, unpack(0xff00_0000));
+        assert!(Texture::new(0, 4, vec![]).is_err());
+        assert!(Texture::new(2, 2, vec![0; 3]).is_err());
+    }
+}
