@@ -1,0 +1,456 @@
+//! The glTF loader: document, buffers, images, node hierarchy, meshes, materials and cameras.
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+use std::path::Path;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use gltf::mesh::Mode;
+use thiserror::Error;
+
+use super::accessor::{Elements, read_floats, read_indices};
+use super::uri::{UriError, resolve};
+use crate::render::{
+    AlphaMode, Camera, DrawList, Instance, Material, Mesh, MeshBuilder, Projection, Sampler, Texture, Vertex, Wrap,
+};
+
+/// Largest glTF or GLB file accepted (1 GiB).
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+/// Largest texture side accepted.
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+/// Deepest node hierarchy accepted (deeper is taken as a cycle).
+pub const MAX_NODE_DEPTH: usize = 256;
+/// Most node visits in one scene (bounds a hierarchy that instances a subtree many times).
+pub const MAX_NODE_VISITS: usize = 1 << 20;
+
+/// Why an asset could not be loaded; every variant names the file.
+#[derive(Debug, Error)]
+pub enum AssetError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {reason}")]
+    Read {
+        /// The file.
+        file: String,
+        /// The I/O error.
+        reason: String,
+    },
+    /// The file is not valid glTF 2.0 (JSON, GLB container or schema).
+    #[error("{file}: not a valid glTF 2.0 file: {reason}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// What the parser reported.
+        reason: String,
+    },
+    /// A buffer could not be resolved or is shorter than declared.
+    #[error("{file}: buffer {index}: {reason}")]
+    Buffer {
+        /// The file.
+        file: String,
+        /// glTF buffer index.
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// An image could not be resolved or decoded.
+    #[error("{file}: image {index}: {reason}")]
+    Image {
+        /// The file.
+        file: String,
+        /// glTF image index.
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A mesh primitive has bad accessors or indices.
+    #[error("{file}: mesh {mesh} primitive {primitive}: {reason}")]
+    Primitive {
+        /// The file.
+        file: String,
+        /// glTF mesh index.
+        mesh: usize,
+        /// Primitive index within the mesh.
+        primitive: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The node hierarchy or a camera is unusable.
+    #[error("{file}: {reason}")]
+    Scene {
+        /// The file.
+        file: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// A camera placed in the scene by a node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneCamera {
+    /// The node's name, else the camera's name, else `camera N`.
+    pub name: String,
+    /// The camera's name in the file, if any.
+    pub camera_name: Option<String>,
+    /// The camera, with the node's world transform inverted as its view.
+    pub camera: Camera,
+}
+
+/// Everything loaded from one glTF file, ready to hand to the renderer.
+#[derive(Clone, Debug, Default)]
+pub struct LoadedScene {
+    /// Meshes (one per glTF mesh used by the scene).
+    pub meshes: Vec<Mesh>,
+    /// Base-colour textures.
+    pub textures: Vec<Texture>,
+    /// Placed meshes in node traversal order.
+    pub instances: Vec<Instance>,
+    /// Camera nodes in traversal order.
+    pub cameras: Vec<SceneCamera>,
+    /// Primitives skipped because they are points or lines.
+    pub skipped_primitives: usize,
+    /// World-space bounds of all finite vertex positions, if any.
+    pub bounds: Option<(Vec3, Vec3)>,
+}
+
+impl LoadedScene {
+    /// The draw list over this scene.
+    #[must_use]
+    pub fn draw_list(&self) -> DrawList<'_> {
+        DrawList { meshes: &self.meshes, textures: &self.textures, instances: &self.instances }
+    }
+
+    /// Total polygons over all instances.
+    #[must_use]
+    pub fn polygon_count(&self) -> usize {
+        self.instances.iter().filter_map(|i| self.meshes.get(i.mesh)).map(|m| m.polygons().len()).sum()
+    }
+
+    /// Picks a camera by traversal index or by node or camera name.
+    #[must_use]
+    pub fn find_camera(&self, sel: &str) -> Option<&SceneCamera> {
+        if let Ok(i) = sel.parse::<usize>() {
+            return self.cameras.get(i);
+        }
+        self.cameras.iter().find(|c| c.name == sel || c.camera_name.as_deref() == Some(sel))
+    }
+
+    /// A perspective camera that frames the scene's bounds for a view of the given aspect (width / height).
+    #[must_use]
+    pub fn framing_camera(&self, aspect: f32) -> Camera {
+        let (center, radius) = match self.bounds {
+            Some((lo, hi)) => ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6)),
+            None => (Vec3::ZERO, 1.0),
+        };
+        let yfov = 0.8f32;
+        let half_x = ((0.5 * yfov).tan() * aspect.clamp(0.05, 20.0)).atan();
+        let half = half_x.min(0.5 * yfov);
+        let dist = radius / half.sin() * 1.02;
+        let eye = center + Vec3::new(0.55, 0.45, 1.0).normalize() * dist;
+        let znear = ((dist - radius) * 0.9).max(dist * 1e-3);
+        Camera::look_at(eye, center, yfov, znear, Some(dist + radius * 1.1))
+    }
+}
+
+/// Loads a `.gltf` or `.glb` file.
+pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
+    let file = path.display().to_string();
+    let read_err = |e: std::io::Error| AssetError::Read { file: file.clone(), reason: e.to_string() };
+    let size = std::fs::metadata(path).map_err(read_err)?.len();
+    if size > MAX_FILE_BYTES {
+        return Err(AssetError::Read { file, reason: format!("{size} bytes is over the {MAX_FILE_BYTES}-byte limit") });
+    }
+    let bytes = std::fs::read(path).map_err(read_err)?;
+    let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    load_from_slice(&bytes, base, &file)
+}
+
+/// Loads glTF or GLB bytes; external files are resolved inside `base_dir`; `file` names the source in errors.
+pub fn load_from_slice(bytes: &[u8], base_dir: &Path, file: &str) -> Result<LoadedScene, AssetError> {
+    let gltf = gltf::Gltf::from_slice(bytes)
+        .map_err(|e| AssetError::Parse { file: file.to_string(), reason: one_line(&e.to_string()) })?;
+    let mut loader = Loader { file: file.to_string(), base_dir, buffers: vec![], images: BTreeMap::new(), out: LoadedScene::default() };
+    loader.load_buffers(&gltf)?;
+    loader.load_scene(&gltf.document)?;
+    Ok(loader.out)
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+struct Loader<'a> {
+    file: String,
+    base_dir: &'a Path,
+    buffers: Vec<Vec<u8>>,
+    /// glTF image index -> texture index (None when it failed to be wanted; errors are returned).
+    images: BTreeMap<usize, usize>,
+    out: LoadedScene,
+}
+
+impl Loader<'_> {
+    fn load_buffers(&mut self, gltf: &gltf::Gltf) -> Result<(), AssetError> {
+        for b in gltf.document.buffers() {
+            let err = |reason: String| AssetError::Buffer { file: self.file.clone(), index: b.index(), reason };
+            let data = match b.source() {
+                gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| err("refers to a GLB binary chunk that is missing".into()))?,
+                gltf::buffer::Source::Uri(uri) => resolve(uri, self.base_dir).map_err(|e: UriError| err(e.to_string()))?,
+            };
+            if data.len() < b.length() {
+                return Err(err(format!("holds {} bytes, but byteLength says {}", data.len(), b.length())));
+            }
+            self.buffers.push(data);
+        }
+        Ok(())
+    }
+
+    fn texture(&mut self, image: gltf::Image<'_>) -> Result<usize, AssetError> {
+        if let Some(&t) = self.images.get(&image.index()) {
+            return Ok(t);
+        }
+        let err = |reason: String| AssetError::Image { file: self.file.clone(), index: image.index(), reason };
+        let bytes: Vec<u8> = match image.source() {
+            gltf::image::Source::Uri { uri, .. } => resolve(uri, self.base_dir).map_err(|e| err(e.to_string()))?,
+            gltf::image::Source::View { view, .. } => {
+                let buf = self.buffers.get(view.buffer().index()).ok_or_else(|| err("buffer view refers to a missing buffer".into()))?;
+                let end = view.offset().checked_add(view.length()).ok_or_else(|| err("buffer view range overflows".into()))?;
+                buf.get(view.offset()..end).ok_or_else(|| err("buffer view runs past its buffer".into()))?.to_vec()
+            }
+        };
+        let texture = decode_image(&bytes).map_err(err)?;
+        self.out.textures.push(texture);
+        let t = self.out.textures.len() - 1;
+        self.images.insert(image.index(), t);
+        Ok(t)
+    }
+
+    fn load_scene(&mut self, doc: &gltf::Document) -> Result<(), AssetError> {
+        let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; doc.nodes().len()];
+                for n in doc.nodes() {
+                    for c in n.children() {
+                        is_child[c.index()] = true;
+                    }
+                }
+                doc.nodes().filter(|n| !is_child[n.index()]).collect()
+            }
+        };
+        let mut mesh_map: BTreeMap<usize, usize> = BTreeMap::new();
+        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+        let mut visits = 0usize;
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        while let Some((node, parent, depth)) = stack.pop() {
+            visits += 1;
+            if depth > MAX_NODE_DEPTH || visits > MAX_NODE_VISITS {
+                return Err(AssetError::Scene {
+                    file: self.file.clone(),
+                    reason: format!("node hierarchy is cyclic or too large (node {} at depth {depth})", node.index()),
+                });
+            }
+            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            if let Some(mesh) = node.mesh() {
+                let index = match mesh_map.get(&mesh.index()) {
+                    Some(&i) => i,
+                    None => {
+                        let m = self.mesh(&mesh)?;
+                        self.out.meshes.push(m);
+                        let i = self.out.meshes.len() - 1;
+                        mesh_map.insert(mesh.index(), i);
+                        i
+                    }
+                };
+                for v in self.out.meshes[index].vertices() {
+                    let p = world.transform_point3(v.position);
+                    if p.is_finite() {
+                        lo = lo.min(p);
+                        hi = hi.max(p);
+                    }
+                }
+                self.out.instances.push(Instance { mesh: index, model: world });
+            }
+            if let Some(cam) = node.camera() {
+                let camera = self.camera(&cam, world)?;
+                let name = node
+                    .name()
+                    .or(cam.name())
+                    .map_or_else(|| format!("camera {}", self.out.cameras.len()), str::to_string);
+                self.out.cameras.push(SceneCamera { name, camera_name: cam.name().map(str::to_string), camera });
+            }
+            let children: Vec<_> = node.children().collect();
+            for c in children.into_iter().rev() {
+                stack.push((c, world, depth + 1));
+            }
+        }
+        if lo.is_finite() && hi.is_finite() {
+            self.out.bounds = Some((lo, hi));
+        }
+        Ok(())
+    }
+
+    fn camera(&self, cam: &gltf::Camera<'_>, world: Mat4) -> Result<Camera, AssetError> {
+        let bad = |what: &str| AssetError::Scene { file: self.file.clone(), reason: format!("camera {}: {what}", cam.index()) };
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        let projection = match cam.projection() {
+            gltf::camera::Projection::Perspective(p) => {
+                if !(positive(p.yfov()) && p.yfov() < std::f32::consts::PI) {
+                    return Err(bad("yfov must be between 0 and pi"));
+                }
+                if !positive(p.znear()) || p.zfar().is_some_and(|f| !(f.is_finite() && f > p.znear())) {
+                    return Err(bad("znear must be positive and zfar beyond it"));
+                }
+                Projection::Perspective { yfov: p.yfov(), aspect: p.aspect_ratio().filter(|a| positive(*a)), znear: p.znear(), zfar: p.zfar() }
+            }
+            gltf::camera::Projection::Orthographic(o) => {
+                if !(o.xmag().is_finite() && o.xmag() != 0.0 && o.ymag().is_finite() && o.ymag() != 0.0) {
+                    return Err(bad("xmag and ymag must be finite and non-zero"));
+                }
+                if !(o.znear().is_finite() && o.znear() >= 0.0 && o.zfar().is_finite() && o.zfar() > o.znear()) {
+                    return Err(bad("znear must be at least 0 and zfar beyond it"));
+                }
+                Projection::Orthographic { xmag: o.xmag(), ymag: o.ymag(), znear: o.znear(), zfar: o.zfar() }
+            }
+        };
+        let view = world.inverse();
+        if !view.is_finite() {
+            return Err(bad("its node transform cannot be inverted"));
+        }
+        Ok(Camera { view, projection })
+    }
+
+    fn mesh(&mut self, mesh: &gltf::Mesh<'_>) -> Result<Mesh, AssetError> {
+        let mut b = MeshBuilder::new();
+        let file = self.file.clone();
+        for prim in mesh.primitives() {
+            let err = |reason: String| AssetError::Primitive { file: file.clone(), mesh: mesh.index(), primitive: prim.index(), reason };
+            if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                self.out.skipped_primitives += 1;
+                continue;
+            }
+            let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
+                self.out.skipped_primitives += 1;
+                continue;
+            };
+            let positions = read_floats(&pos_acc, &self.buffers).map_err(|e| err(format!("POSITION: {e}")))?;
+            if positions.width != 3 {
+                return Err(err("POSITION must be VEC3".into()));
+            }
+            let n = positions.len();
+            let gmat = prim.material();
+            let pbr = gmat.pbr_metallic_roughness();
+            let mut material = Material {
+                base_color: Vec4::from(pbr.base_color_factor()),
+                double_sided: gmat.double_sided(),
+                alpha_mode: match gmat.alpha_mode() {
+                    gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: gmat.alpha_cutoff().unwrap_or(0.5) },
+                    _ => AlphaMode::Opaque,
+                },
+                ..Material::default()
+            };
+            let mut uv_set = None;
+            if let Some(info) = pbr.base_color_texture() {
+                let tex = info.texture();
+                material.texture = Some(self.texture(tex.source())?);
+                let s = tex.sampler();
+                material.sampler = Sampler { wrap_s: wrap(s.wrap_s()), wrap_t: wrap(s.wrap_t()) };
+                uv_set = Some(info.tex_coord());
+            }
+            let uvs = match uv_set.and_then(|set| prim.get(&gltf::Semantic::TexCoords(set))) {
+                Some(acc) => {
+                    let e = read_floats(&acc, &self.buffers).map_err(|e| err(format!("TEXCOORD: {e}")))?;
+                    check_attr(&e, n, 2, "TEXCOORD").map_err(err)?;
+                    Some(e)
+                }
+                None => None,
+            };
+            let colors = match prim.get(&gltf::Semantic::Colors(0)) {
+                Some(acc) => {
+                    let e = read_floats(&acc, &self.buffers).map_err(|e| err(format!("COLOR_0: {e}")))?;
+                    if e.width != 3 && e.width != 4 {
+                        return Err(err("COLOR_0 must be VEC3 or VEC4".into()));
+                    }
+                    check_attr(&e, n, e.width, "COLOR_0").map_err(err)?;
+                    Some(e)
+                }
+                None => None,
+            };
+            let indices: Vec<u32> = match prim.indices() {
+                Some(acc) => read_indices(&acc, &self.buffers).map_err(|e| err(format!("indices: {e}")))?,
+                None => (0..n as u32).collect(),
+            };
+            if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
+                return Err(err(format!("index {bad} is out of range for {n} vertices")));
+            }
+            let base = b.vertex_count() as u32;
+            for i in 0..n {
+                let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
+                let uv = uvs.as_ref().map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
+                let color = colors.as_ref().map_or(Vec4::ONE, |e| {
+                    Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
+                });
+                b.vertex(Vertex { position, uv, color });
+            }
+            let m = b.material(material);
+            for t in triangles(prim.mode(), &indices) {
+                b.polygon(&[base + t[0], base + t[1], base + t[2]], m);
+            }
+        }
+        b.build().map_err(|e| AssetError::Primitive { file: self.file.clone(), mesh: mesh.index(), primitive: 0, reason: e.to_string() })
+    }
+}
+
+fn check_attr(e: &Elements, n: usize, width: usize, what: &str) -> Result<(), String> {
+    if e.width != width {
+        return Err(format!("{what} has {} components, expected {width}", e.width));
+    }
+    if e.len() != n {
+        return Err(format!("{what} has {} elements, POSITION has {n}", e.len()));
+    }
+    Ok(())
+}
+
+fn wrap(w: gltf::texture::WrappingMode) -> Wrap {
+    match w {
+        gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+    }
+}
+
+/// Triangles of a TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN index list, with glTF's winding rules.
+fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
+    match mode {
+        Mode::TriangleStrip => (0..idx.len().saturating_sub(2))
+            .map(|i| if i % 2 == 0 { [idx[i], idx[i + 1], idx[i + 2]] } else { [idx[i + 1], idx[i], idx[i + 2]] })
+            .collect(),
+        Mode::TriangleFan => (1..idx.len().saturating_sub(1)).map(|i| [idx[i], idx[i + 1], idx[0]]).collect(),
+        _ => idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+    }
+}
+
+/// Decodes PNG or JPEG bytes into a texture, refusing images over [`MAX_IMAGE_SIDE`] before decoding.
+fn decode_image(bytes: &[u8]) -> Result<Texture, String> {
+    let mut reader = image::ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_IMAGE_SIDE);
+    limits.max_image_height = Some(MAX_IMAGE_SIDE);
+    limits.max_alloc = Some(512 << 20);
+    reader.limits(limits);
+    let img = reader.decode().map_err(|e| one_line(&e.to_string()))?;
+    let rgba = img.to_rgba8();
+    Texture::from_rgba8(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_follow_gltf_winding() {
+        assert_eq!(triangles(Mode::TriangleStrip, &[0, 1, 2, 3]), [[0, 1, 2], [2, 1, 3]]);
+        assert_eq!(triangles(Mode::TriangleFan, &[0, 1, 2, 3]), [[1, 2, 0], [2, 3, 0]]);
+        assert_eq!(triangles(Mode::Triangles, &[0, 1, 2, 3]), [[0, 1, 2]]);
+        assert!(triangles(Mode::TriangleStrip, &[0]).is_empty());
+    }
+}

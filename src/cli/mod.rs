@@ -1,0 +1,85 @@
+//! The command-line shell: parses arguments, runs a command, reports errors in one line.
+//!
+//! This is the only place where the loader, the renderer and output files meet. Errors go to stderr as
+//! `scanline-racer: error: ...` with exit status 1; bad usage exits with 2 (clap's convention).
+
+mod render_cmd;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use thiserror::Error;
+
+pub use render_cmd::{RenderArgs, render_command};
+
+/// Top-level arguments.
+#[derive(Debug, Parser)]
+#[command(name = "scanline-racer", version, about = "An arcade racer drawn by its own CPU scanline renderer")]
+pub struct Cli {
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Draw a glTF scene to a PNG with the software renderer (headless).
+    Render(RenderArgs),
+}
+
+/// Why a command failed.
+#[derive(Debug, Error)]
+pub enum CliError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Asset(#[from] crate::asset::AssetError),
+    /// The renderer refused the frame.
+    #[error("render: {0}")]
+    Render(#[from] crate::render::RenderError),
+    /// `--camera` names no camera in the scene.
+    #[error("{file}: no camera '{wanted}' (the scene has {count} camera node(s){names})")]
+    NoSuchCamera {
+        /// The scene file.
+        file: String,
+        /// What was asked for.
+        wanted: String,
+        /// How many cameras exist.
+        count: usize,
+        /// Their names, for the message.
+        names: String,
+    },
+    /// An output file could not be written.
+    #[error("cannot write '{path}': {reason}")]
+    Write {
+        /// The output path.
+        path: String,
+        /// The error.
+        reason: String,
+    },
+    /// An argument value is out of range in a way clap cannot check.
+    #[error("{0}")]
+    BadArgument(String),
+    /// No interactive command exists yet.
+    #[error("{0}")]
+    NotAvailable(String),
+}
+
+/// Parses the process arguments, runs the command and returns the exit status.
+#[must_use]
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Render(args)) => render_command(&args),
+        None => Err(CliError::NotAvailable(
+            "the interactive game is not built yet; use `scanline-racer render SCENE.gltf` for headless frames".into(),
+        )),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("scanline-racer: error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}

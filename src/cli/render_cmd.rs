@@ -1,0 +1,283 @@
+//! `scanline-racer render`: draw a glTF scene headless, write a PNG, report statistics.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+
+use super::CliError;
+use crate::asset::{LoadedScene, load};
+use crate::render::{
+    BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, Method, RenderOptions, Renderer, Stats, TextureMode,
+};
+
+/// Texture interpolation names on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum TextureArg {
+    /// Perspective-correct at every pixel.
+    Perspective,
+    /// Exact every 16 pixels, linear between.
+    Subdivided,
+    /// Linear in screen space.
+    Affine,
+}
+
+/// Filter names on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FilterArg {
+    /// Nearest texel.
+    Nearest,
+    /// Bilinear.
+    Bilinear,
+}
+
+/// Bucket mapping names on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MappingArg {
+    /// Equal depth ranges.
+    Linear,
+    /// Equal 1/z ranges.
+    Reciprocal,
+}
+
+/// Arguments of `render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The glTF 2.0 scene (.gltf or .glb).
+    pub scene: PathBuf,
+    /// Camera node by index (in scene traversal order) or by node or camera name; default: the first camera
+    /// node, or a camera that frames the scene's bounds when there is none.
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Frame width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Frame height in pixels.
+    #[arg(long, default_value_t = 480)]
+    pub height: usize,
+    /// Visibility method: zbuffer, sort, bucket-far, bucket-near.
+    #[arg(long, default_value = "zbuffer")]
+    pub method: Method,
+    /// Ordering-table buckets (bucket-far, bucket-near).
+    #[arg(long, default_value_t = DEFAULT_BUCKETS)]
+    pub buckets: usize,
+    /// Representative depth for sort and buckets: avg, min, max.
+    #[arg(long, default_value = "avg")]
+    pub key: DepthKey,
+    /// Depth-to-bucket mapping.
+    #[arg(long, value_enum, default_value_t = MappingArg::Linear)]
+    pub mapping: MappingArg,
+    /// Texture-coordinate interpolation.
+    #[arg(long, value_enum, default_value_t = TextureArg::Perspective)]
+    pub texture: TextureArg,
+    /// Texture filtering.
+    #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
+    pub filter: FilterArg,
+    /// Worker threads for the fill (default: the cores available); frames are identical for every count.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Background colour as R,G,B (0-255 each).
+    #[arg(long, default_value = "135,206,235")]
+    pub background: String,
+    /// Output PNG (default: the scene's file name with .png, in the current directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Draw the frame N times and report the median time.
+    #[arg(long, default_value_t = 1)]
+    pub repeat: usize,
+    /// Print statistics: `json` prints one JSON object on stdout.
+    #[arg(long)]
+    pub stats: Option<StatsFormat>,
+}
+
+/// Statistics formats.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum StatsFormat {
+    /// One JSON object on stdout.
+    Json,
+}
+
+/// Parses `R,G,B` into `0x00RRGGBB`.
+pub fn parse_rgb(s: &str) -> Result<u32, CliError> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || CliError::BadArgument(format!("--background '{s}': expected R,G,B with each 0-255"));
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let mut rgb = 0u32;
+    for p in parts {
+        let v: u8 = p.parse().map_err(|_| bad())?;
+        rgb = (rgb << 8) | u32::from(v);
+    }
+    Ok(rgb)
+}
+
+impl RenderArgs {
+    /// The renderer options these arguments ask for.
+    pub fn options(&self) -> Result<RenderOptions, CliError> {
+        if self.buckets == 0 || self.buckets > 1 << 20 {
+            return Err(CliError::BadArgument(format!("--buckets {}: expected 1 to 1048576", self.buckets)));
+        }
+        Ok(RenderOptions {
+            method: self.method,
+            buckets: self.buckets,
+            key: self.key,
+            mapping: match self.mapping {
+                MappingArg::Linear => BucketMapping::Linear,
+                MappingArg::Reciprocal => BucketMapping::Reciprocal,
+            },
+            texture_mode: match self.texture {
+                TextureArg::Perspective => TextureMode::Perspective,
+                TextureArg::Subdivided => TextureMode::Subdivided,
+                TextureArg::Affine => TextureMode::Affine,
+            },
+            filter: match self.filter {
+                FilterArg::Nearest => Filter::Nearest,
+                FilterArg::Bilinear => Filter::Bilinear,
+            },
+            threads: self.threads,
+            background: Some(parse_rgb(&self.background)?),
+        })
+    }
+}
+
+/// The camera `--camera` selects, with its display name.
+pub fn pick_camera(
+    scene: &LoadedScene,
+    sel: Option<&str>,
+    file: &Path,
+    aspect: f32,
+) -> Result<(crate::render::Camera, String), CliError> {
+    match sel {
+        Some(sel) => match scene.find_camera(sel) {
+            Some(c) => Ok((c.camera, c.name.clone())),
+            None => {
+                let names: Vec<String> = scene.cameras.iter().take(8).map(|c| format!("'{}'", c.name)).collect();
+                Err(CliError::NoSuchCamera {
+                    file: file.display().to_string(),
+                    wanted: sel.to_string(),
+                    count: scene.cameras.len(),
+                    names: if names.is_empty() { String::new() } else { format!(": {}", names.join(", ")) },
+                })
+            }
+        },
+        None => Ok(match scene.cameras.first() {
+            Some(c) => (c.camera, c.name.clone()),
+            None => (scene.framing_camera(aspect), "framing".to_string()),
+        }),
+    }
+}
+
+/// Writes `0x00RRGGBB` pixels as an 8-bit RGB PNG.
+pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Result<(), CliError> {
+    let mut rgb = Vec::with_capacity(width * height * 3);
+    for &p in &pixels[..width * height] {
+        rgb.extend_from_slice(&[(p >> 16) as u8, (p >> 8) as u8, p as u8]);
+    }
+    let err = |e: &dyn std::fmt::Display| CliError::Write { path: path.display().to_string(), reason: e.to_string() };
+    let (w, h) = (u32::try_from(width).map_err(|e| err(&e))?, u32::try_from(height).map_err(|e| err(&e))?);
+    image::save_buffer_with_format(path, &rgb, w, h, image::ColorType::Rgb8, image::ImageFormat::Png).map_err(|e| err(&e))
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        0.0
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Runs `render`.
+pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
+    let options = args.options()?;
+    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
+        return Err(CliError::BadArgument(format!(
+            "--width {} --height {}: each must be 1 to 16384",
+            args.width, args.height
+        )));
+    }
+    if args.repeat == 0 || args.repeat > 100_000 {
+        return Err(CliError::BadArgument(format!("--repeat {}: expected 1 to 100000", args.repeat)));
+    }
+    let scene = load(&args.scene)?;
+    let aspect = args.width as f32 / args.height as f32;
+    let (camera, camera_name) = pick_camera(&scene, args.camera.as_deref(), &args.scene, aspect)?;
+    let mut frame = vec![0u32; args.width * args.height];
+    let mut renderer = Renderer::new();
+    let mut times = Vec::with_capacity(args.repeat);
+    let mut stats = Stats::default();
+    for _ in 0..args.repeat {
+        let t = Instant::now();
+        stats = renderer.render(&mut frame, args.width, args.height, &camera, &scene.draw_list(), &options)?;
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    let ms_min = times.iter().copied().fold(f64::INFINITY, f64::min);
+    let ms_median = median(&mut times);
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.png"))
+    });
+    write_png(&out, &frame, args.width, args.height)?;
+    if scene.skipped_primitives > 0 {
+        eprintln!("note: {} point/line primitive(s) skipped (only triangles are drawn)", scene.skipped_primitives);
+    }
+    match args.stats {
+        Some(StatsFormat::Json) => {
+            let threads = match options.threads {
+                0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+                n => n,
+            };
+            let json = serde_json::json!({
+                "scene": args.scene.display().to_string(),
+                "out": out.display().to_string(),
+                "camera": camera_name,
+                "method": options.method.name(),
+                "buckets": options.buckets,
+                "key": format!("{:?}", options.key).to_lowercase(),
+                "texture": format!("{:?}", options.texture_mode).to_lowercase(),
+                "filter": format!("{:?}", options.filter).to_lowercase(),
+                "threads": threads,
+                "width": args.width,
+                "height": args.height,
+                "frames": args.repeat,
+                "ms_median": ms_median,
+                "ms_min": ms_min,
+                "ms_transform": stats.ms_transform,
+                "ms_clip": stats.ms_clip,
+                "ms_order": stats.ms_order,
+                "ms_fill": stats.ms_fill,
+                "objects_in": stats.objects_in,
+                "objects_culled": stats.objects_culled,
+                "polygons_in": stats.polygons_in,
+                "polygons_in_culled_objects": stats.polygons_in_culled_objects,
+                "polygons_outside": stats.polygons_outside,
+                "polygons_clipped": stats.polygons_clipped,
+                "polygons_backface": stats.polygons_backface,
+                "polygons_degenerate": stats.polygons_degenerate,
+                "polygons_invalid": stats.polygons_invalid,
+                "polygons_split": stats.polygons_split,
+                "polygons_drawn": stats.polygons_drawn,
+                "pixels_shaded": stats.pixels_shaded,
+                "pixels_written": stats.pixels_written,
+                "pixels_rejected": stats.pixels_rejected,
+            });
+            println!("{json}");
+        }
+        None => eprintln!(
+            "wrote {} ({}x{}, {}, {} of {} polygons drawn, {:.2} ms median over {} frame(s))",
+            out.display(),
+            args.width,
+            args.height,
+            options.method,
+            stats.polygons_drawn,
+            stats.polygons_in,
+            ms_median,
+            args.repeat
+        ),
+    }
+    Ok(())
+}

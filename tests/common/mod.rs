@@ -1,0 +1,142 @@
+//! Helpers shared by the integration tests: a small deterministic RNG, an independent reference
+//! rasterizer on the 1/16-pixel grid, and scene builders.
+#![allow(dead_code)]
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use scanline_racer::render::{
+    Camera, DrawList, Instance, Material, Mesh, MeshBuilder, Projection, RenderOptions, Renderer, Stats, Texture,
+    Vertex,
+};
+
+/// xorshift64*: deterministic, no dependencies, good enough for test geometry.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    /// Uniform in `lo..hi`.
+    pub fn range(&mut self, lo: i64, hi: i64) -> i64 {
+        lo + (self.next_u64() % (hi - lo) as u64) as i64
+    }
+    pub fn unit(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// Reference coverage test, written independently of the renderer: edge functions on the 1/16 grid with
+/// the top-left rule (a pixel centre on an edge belongs to the triangle when the edge is a top or left edge).
+/// Points are `(x, y)` in 1/16 pixel, y down. Returns whether pixel `(px, py)`'s centre is covered.
+pub fn ref_covers(tri: [(i64, i64); 3], px: i64, py: i64) -> bool {
+    let [a, b, c] = tri;
+    let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+    if area == 0 {
+        return false;
+    }
+    // Orient clockwise on screen (positive area with y down).
+    let (b, c) = if area > 0 { (b, c) } else { (c, b) };
+    let p = (px * 16 + 8, py * 16 + 8);
+    [(a, b), (b, c), (c, a)].iter().all(|&(s, e)| {
+        let (dx, dy) = (e.0 - s.0, e.1 - s.1);
+        let f = dx * (p.1 - s.1) - dy * (p.0 - s.0);
+        let top_left = dy < 0 || (dy == 0 && dx > 0);
+        f > 0 || (f == 0 && top_left)
+    })
+}
+
+/// Per-pixel count of reference-covered triangles over a `w` x `h` frame.
+pub fn ref_counts(tris: &[[(i64, i64); 3]], w: usize, h: usize) -> Vec<u32> {
+    let mut counts = vec![0u32; w * h];
+    for t in tris {
+        let xs = t.iter().map(|p| p.0);
+        let ys = t.iter().map(|p| p.1);
+        let x0 = ((xs.clone().min().unwrap_or(0) - 8).div_euclid(16)).max(0);
+        let x1 = ((xs.max().unwrap_or(0) + 8).div_euclid(16) + 1).min(w as i64);
+        let y0 = ((ys.clone().min().unwrap_or(0) - 8).div_euclid(16)).max(0);
+        let y1 = ((ys.max().unwrap_or(0) + 8).div_euclid(16) + 1).min(h as i64);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                if ref_covers(*t, x, y) {
+                    counts[y as usize * w + x as usize] += 1;
+                }
+            }
+        }
+    }
+    counts
+}
+
+/// An orthographic camera under which world `(x, y)` maps exactly to pixel coordinates `(x, h - y)` when `w`
+/// and `h` are powers of two: dyadic inputs project without rounding, so tests know every snapped vertex.
+/// The eye is at world `z = 1000` looking down `-Z`: larger world `z` is nearer.
+pub fn pixel_camera(w: usize, h: usize) -> Camera {
+    assert!(w.is_power_of_two() && h.is_power_of_two());
+    let (hw, hh) = (w as f32 * 0.5, h as f32 * 0.5);
+    Camera {
+        view: Mat4::from_translation(Vec3::new(-hw, -hh, -1000.0)),
+        projection: Projection::Orthographic { xmag: hw, ymag: hh, znear: 1.0, zfar: 3000.0 },
+    }
+}
+
+/// World position for a pixel-space point `(x16, y16)` in 1/16 pixel (y down) at depth `z` (larger is nearer).
+pub fn pix(x16: i64, y16: i64, h: usize, z: f32) -> Vec3 {
+    Vec3::new(x16 as f32 / 16.0, h as f32 - y16 as f32 / 16.0, z)
+}
+
+/// A mesh of flat-coloured, double-sided triangles.
+pub fn tri_mesh(tris: &[[Vec3; 3]], colors: &[Vec4], double_sided: bool) -> Mesh {
+    let mut b = MeshBuilder::new();
+    let m = b.material(Material { double_sided, ..Material::default() });
+    for (i, t) in tris.iter().enumerate() {
+        let c = colors[i % colors.len()];
+        let idx: Vec<u32> = t.iter().map(|&p| b.vertex(Vertex { position: p, uv: Vec2::ZERO, color: c })).collect();
+        b.polygon(&idx, m);
+    }
+    b.build().expect("valid mesh")
+}
+
+/// Renders meshes with identity model matrices.
+pub fn render(
+    meshes: &[Mesh],
+    textures: &[Texture],
+    camera: &Camera,
+    w: usize,
+    h: usize,
+    options: &RenderOptions,
+) -> (Vec<u32>, Stats) {
+    let instances: Vec<Instance> = (0..meshes.len()).map(|mesh| Instance { mesh, model: Mat4::IDENTITY }).collect();
+    let mut frame = vec![0u32; w * h];
+    let stats = Renderer::new()
+        .render(&mut frame, w, h, camera, &DrawList { meshes, textures, instances: &instances }, options)
+        .expect("render");
+    (frame, stats)
+}
+
+/// Reads a PNG as `0x00RRGGBB` pixels.
+pub fn read_png(path: &std::path::Path) -> Option<(Vec<u32>, usize, usize)> {
+    let img = image::open(path).ok()?.to_rgb8();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let px = img.pixels().map(|p| (u32::from(p[0]) << 16) | (u32::from(p[1]) << 8) | u32::from(p[2])).collect();
+    Some((px, w, h))
+}
+
+/// Writes `0x00RRGGBB` pixels as PNG.
+pub fn write_png(path: &std::path::Path, px: &[u32], w: usize, h: usize) {
+    let rgb: Vec<u8> = px.iter().flat_map(|&p| [(p >> 16) as u8, (p >> 8) as u8, p as u8]).collect();
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    image::save_buffer(path, &rgb, w as u32, h as u32, image::ColorType::Rgb8).expect("write png");
+}
+
+/// Largest per-channel difference between two pixels.
+pub fn channel_diff(a: u32, b: u32) -> u32 {
+    (0..3).map(|s| ((a >> (8 * s)) & 0xff).abs_diff((b >> (8 * s)) & 0xff)).max().unwrap_or(0)
+}
+
+/// Path to the shared glTF samples beside the repository.
+pub fn samples() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/gltf-samples")
+}
