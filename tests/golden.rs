@@ -7,6 +7,8 @@
 //! difference image and prints where they are. To accept an intended change, regenerate on purpose with
 //! `UPDATE_GOLDENS=1 cargo test --test golden` and look at the new PNGs before committing them.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use std::path::{Path, PathBuf};
@@ -27,13 +29,48 @@ fn cases() -> Vec<Case> {
     let o = |method| RenderOptions { method, threads: 2, ..RenderOptions::default() };
     vec![
         Case { name: "courtyard-zbuffer", scene: court.clone(), camera: Some("eye cam"), options: o(Method::ZBuffer) },
-        Case { name: "courtyard-bucket-far-256", scene: court.clone(), camera: Some("0"), options: RenderOptions { buckets: 256, ..o(Method::BucketFar) } },
-        Case { name: "courtyard-plan-bucket-near", scene: court.clone(), camera: Some("plan"), options: o(Method::BucketNear) },
-        Case { name: "courtyard-affine", scene: court, camera: Some("eye cam"), options: RenderOptions { texture_mode: TextureMode::Affine, ..o(Method::ZBuffer) } },
-        Case { name: "duck-bilinear", scene: samples().join("Duck/Duck.gltf"), camera: None, options: RenderOptions { filter: Filter::Bilinear, ..o(Method::ZBuffer) } },
-        Case { name: "engine-sort", scene: samples().join("2CylinderEngine/2CylinderEngine.gltf"), camera: None, options: o(Method::Sort) },
-        Case { name: "avocado-subdivided", scene: samples().join("Avocado/Avocado.gltf"), camera: None, options: RenderOptions { texture_mode: TextureMode::Subdivided, ..o(Method::BucketFar) } },
-        Case { name: "box-vertex-colors", scene: samples().join("BoxVertexColors.gltf"), camera: None, options: o(Method::BucketNear) },
+        Case {
+            name: "courtyard-bucket-far-256",
+            scene: court.clone(),
+            camera: Some("0"),
+            options: RenderOptions { buckets: 256, ..o(Method::BucketFar) },
+        },
+        Case {
+            name: "courtyard-plan-bucket-near",
+            scene: court.clone(),
+            camera: Some("plan"),
+            options: o(Method::BucketNear),
+        },
+        Case {
+            name: "courtyard-affine",
+            scene: court,
+            camera: Some("eye cam"),
+            options: RenderOptions { texture_mode: TextureMode::Affine, ..o(Method::ZBuffer) },
+        },
+        Case {
+            name: "duck-bilinear",
+            scene: samples().join("Duck/Duck.gltf"),
+            camera: None,
+            options: RenderOptions { filter: Filter::Bilinear, ..o(Method::ZBuffer) },
+        },
+        Case {
+            name: "engine-sort",
+            scene: samples().join("2CylinderEngine/2CylinderEngine.gltf"),
+            camera: None,
+            options: o(Method::Sort),
+        },
+        Case {
+            name: "avocado-subdivided",
+            scene: samples().join("Avocado/Avocado.gltf"),
+            camera: None,
+            options: RenderOptions { texture_mode: TextureMode::Subdivided, ..o(Method::BucketFar) },
+        },
+        Case {
+            name: "box-vertex-colors",
+            scene: samples().join("BoxVertexColors.gltf"),
+            camera: None,
+            options: o(Method::BucketNear),
+        },
     ]
 }
 

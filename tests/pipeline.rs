@@ -1,6 +1,8 @@
 //! Pipeline behaviour: hostile coordinates, near-plane crossings, non-monotone polygons, method agreement,
 //! thread-count determinism, masks and texture modes.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use common::*;
@@ -126,10 +128,19 @@ fn non_monotone_polygon_renders_like_its_triangulation() {
     let (w, h) = (128usize, 128usize);
     let camera = pixel_camera(w, h);
     // A 'U' and a five-pointed star as single polygons (planar, not y-monotone), vertices off the grid.
-    let u: Vec<Vec2> = [(10.3, 10.1), (30.7, 10.2), (30.6, 50.9), (60.2, 50.4), (60.5, 10.8), (80.1, 10.3), (80.9, 80.2), (10.4, 80.6)]
-        .iter()
-        .map(|&(x, y)| Vec2::new(x, y))
-        .collect();
+    let u: Vec<Vec2> = [
+        (10.3, 10.1),
+        (30.7, 10.2),
+        (30.6, 50.9),
+        (60.2, 50.4),
+        (60.5, 10.8),
+        (80.1, 10.3),
+        (80.9, 80.2),
+        (10.4, 80.6),
+    ]
+    .iter()
+    .map(|&(x, y)| Vec2::new(x, y))
+    .collect();
     let star: Vec<Vec2> = (0..10)
         .map(|i| {
             let a = i as f32 * std::f32::consts::PI / 5.0 + 0.3;
@@ -140,8 +151,10 @@ fn non_monotone_polygon_renders_like_its_triangulation() {
     for (name, outline) in [("U", &u), ("star", &star)] {
         let mut b = MeshBuilder::new();
         let m = b.material(Material { double_sided: true, ..Material::default() });
-        let idx: Vec<u32> =
-            outline.iter().map(|p| b.vertex(Vertex { position: Vec3::new(p.x, p.y, 0.0), uv: Vec2::ZERO, color: BLUE })).collect();
+        let idx: Vec<u32> = outline
+            .iter()
+            .map(|p| b.vertex(Vertex { position: Vec3::new(p.x, p.y, 0.0), uv: Vec2::ZERO, color: BLUE }))
+            .collect();
         b.polygon(&idx, m);
         let whole = b.build().unwrap();
         assert_eq!(whole.polygons().len(), 1, "{name}: planar polygon kept whole");
@@ -190,7 +203,10 @@ fn ear_clip(poly: &[Vec2]) -> Vec<[Vec2; 3]> {
 /// Three slabs at distinct depths overlapping on screen, submitted far, near, middle.
 fn layered_scene() -> (Vec<scanline_racer::render::Mesh>, Camera) {
     let quad = |x: f32, y: f32, z: f32| {
-        [[Vec3::new(x, y, z), Vec3::new(x + 2.0, y, z), Vec3::new(x + 2.0, y + 2.0, z)], [Vec3::new(x, y, z), Vec3::new(x + 2.0, y + 2.0, z), Vec3::new(x, y + 2.0, z)]]
+        [
+            [Vec3::new(x, y, z), Vec3::new(x + 2.0, y, z), Vec3::new(x + 2.0, y + 2.0, z)],
+            [Vec3::new(x, y, z), Vec3::new(x + 2.0, y + 2.0, z), Vec3::new(x, y + 2.0, z)],
+        ]
     };
     let mut tris = vec![];
     let mut colors = vec![];
@@ -245,7 +261,13 @@ fn frames_are_bit_identical_for_every_thread_count() {
         for mode in [TextureMode::Perspective, TextureMode::Subdivided] {
             let mut first: Option<Vec<u32>> = None;
             for threads in [1usize, 2, 3, 4, 7, 16, 157, 400] {
-                let o = RenderOptions { method, threads, texture_mode: mode, filter: Filter::Bilinear, ..RenderOptions::default() };
+                let o = RenderOptions {
+                    method,
+                    threads,
+                    texture_mode: mode,
+                    filter: Filter::Bilinear,
+                    ..RenderOptions::default()
+                };
                 let mut frame = vec![0u32; w * h];
                 Renderer::new().render(&mut frame, w, h, &camera, &scene.draw_list(), &o).unwrap();
                 match &first {
@@ -258,7 +280,8 @@ fn frames_are_bit_identical_for_every_thread_count() {
 }
 
 fn checker(n: u32) -> Texture {
-    let texels = (0..n * n).map(|i| if ((i % n) + (i / n)) % 2 == 0 { 0xffff_ffff } else { 0xff00_0000 }).collect();
+    let texels =
+        (0..n * n).map(|i| if ((i % n) + (i / n)).is_multiple_of(2) { 0xffff_ffff } else { 0xff00_0000 }).collect();
     Texture::new(n, n, texels).unwrap()
 }
 
@@ -282,7 +305,15 @@ fn texture_modes_differ_as_expected_and_subdivided_is_closer_than_affine() {
     let mesh = floor(Material { texture: Some(0), double_sided: true, ..Material::default() });
     let tex = [checker(8)];
     let run = |mode| {
-        render(std::slice::from_ref(&mesh), &tex, &camera, w, h, &RenderOptions { texture_mode: mode, ..opts(Method::ZBuffer) }).0
+        render(
+            std::slice::from_ref(&mesh),
+            &tex,
+            &camera,
+            w,
+            h,
+            &RenderOptions { texture_mode: mode, ..opts(Method::ZBuffer) },
+        )
+        .0
     };
     let (p, s, a) = (run(TextureMode::Perspective), run(TextureMode::Subdivided), run(TextureMode::Affine));
     let wrong = |x: &[u32]| x.iter().zip(&p).filter(|(a, b)| channel_diff(**a, **b) > 8).count();
@@ -303,15 +334,27 @@ fn alpha_mask_cuts_holes_and_coverage_lets_the_background_through() {
         let mut b = MeshBuilder::new();
         let m = b.material(material);
         let c = [(8.0, 8.0, 0.0, 0.0), (56.0, 8.0, 1.0, 0.0), (56.0, 56.0, 1.0, 1.0), (8.0, 56.0, 0.0, 1.0)];
-        let idx: Vec<u32> =
-            c.iter().map(|&(x, y, u, v)| b.vertex(Vertex { position: Vec3::new(x, y, z), uv: Vec2::new(u, v), color })).collect();
+        let idx: Vec<u32> = c
+            .iter()
+            .map(|&(x, y, u, v)| b.vertex(Vertex { position: Vec3::new(x, y, z), uv: Vec2::new(u, v), color }))
+            .collect();
         b.polygon(&idx, m);
         b.build().unwrap()
     };
-    let front = mk(1.0, Vec4::ONE, Material { texture: Some(0), alpha_mode: AlphaMode::Mask { cutoff: 0.5 }, double_sided: true, ..Material::default() });
+    let front = mk(
+        1.0,
+        Vec4::ONE,
+        Material {
+            texture: Some(0),
+            alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+            double_sided: true,
+            ..Material::default()
+        },
+    );
     let back = mk(0.0, RED, Material { double_sided: true, ..Material::default() });
     for method in Method::ALL {
-        let (img, _) = render(&[back.clone(), front.clone()], &[half.clone()], &camera, w, h, &opts(method));
+        let (img, _) =
+            render(&[back.clone(), front.clone()], std::slice::from_ref(&half), &camera, w, h, &opts(method));
         // Left half shows red through the hole, right half green.
         assert_eq!(img[32 * w + 16], 0xff0000, "{method}");
         assert_eq!(img[32 * w + 48], 0x00ff00, "{method}");
@@ -337,11 +380,16 @@ fn wrap_modes_and_filters_through_the_pipeline() {
             ..Material::default()
         });
         let c = [(0.0, 0.0, -1.0), (48.0, 0.0, 2.0), (48.0, 64.0, 2.0), (0.0, 64.0, -1.0)];
-        let idx: Vec<u32> =
-            c.iter().map(|&(x, y, u)| b.vertex(Vertex { position: Vec3::new(x, y, 0.0), uv: Vec2::new(u, 0.5), color: Vec4::ONE })).collect();
+        let idx: Vec<u32> = c
+            .iter()
+            .map(|&(x, y, u)| {
+                b.vertex(Vertex { position: Vec3::new(x, y, 0.0), uv: Vec2::new(u, 0.5), color: Vec4::ONE })
+            })
+            .collect();
         b.polygon(&idx, m);
         let mesh = b.build().unwrap();
-        let (img, _) = render(std::slice::from_ref(&mesh), std::slice::from_ref(&tex), &camera, w, h, &opts(Method::ZBuffer));
+        let (img, _) =
+            render(std::slice::from_ref(&mesh), std::slice::from_ref(&tex), &camera, w, h, &opts(Method::ZBuffer));
         let got: Vec<u32> = (0..6).map(|i| img[32 * w + i * 8 + 4]).collect();
         assert_eq!(got, expect, "{wrap:?}");
         let (bil, _) = render(

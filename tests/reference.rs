@@ -8,6 +8,8 @@
 //! The renderer walks edges and spans instead, in `f32`. The two must agree except where rounding moves an
 //! edge or a texel boundary by a hair: those pixels are counted, and bounded.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use common::*;
@@ -51,14 +53,21 @@ fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg
                 let c = vert.color.as_dvec4() * mat.base_color.as_dvec4();
                 // Depth: 1/w under perspective; for an orthographic camera (w = 1) the NDC z, larger nearer.
                 let d = if camera.is_perspective() { q } else { 0.5 * (1.0 - p.z * q) };
-                v[k] = ((sx * 16.0).round() as i64, (sy * 16.0).round() as i64, q, [vert.uv.x.into(), vert.uv.y.into(), c.x, c.y, c.z, c.w], d);
+                v[k] = (
+                    (sx * 16.0).round() as i64,
+                    (sy * 16.0).round() as i64,
+                    q,
+                    [vert.uv.x.into(), vert.uv.y.into(), c.x, c.y, c.z, c.w],
+                    d,
+                );
             }
             tri_id += 1;
             if !visible {
                 continue;
             }
             let pts = [(v[0].0, v[0].1), (v[1].0, v[1].1), (v[2].0, v[2].1)];
-            let area = ((pts[1].0 - pts[0].0) * (pts[2].1 - pts[0].1) - (pts[1].1 - pts[0].1) * (pts[2].0 - pts[0].0)) as f64;
+            let area =
+                ((pts[1].0 - pts[0].0) * (pts[2].1 - pts[0].1) - (pts[1].1 - pts[0].1) * (pts[2].0 - pts[0].0)) as f64;
             // glTF front faces are counter-clockwise in NDC (y up), i.e. negative area on screen (y down).
             if area == 0.0 || (area > 0.0 && !mat.double_sided) {
                 continue;
@@ -74,32 +83,36 @@ fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg
                     }
                     // Barycentric weights at the pixel centre from the snapped positions.
                     let (cx, cy) = ((px * 16 + 8) as f64, (py * 16 + 8) as f64);
-                    let e = |a: (i64, i64), b: (i64, i64)| (b.0 - a.0) as f64 * (cy - a.1 as f64) - (b.1 - a.1) as f64 * (cx - a.0 as f64);
+                    let e = |a: (i64, i64), b: (i64, i64)| {
+                        (b.0 - a.0) as f64 * (cy - a.1 as f64) - (b.1 - a.1) as f64 * (cx - a.0 as f64)
+                    };
                     let l0 = e(pts[1], pts[2]) / area;
                     let l1 = e(pts[2], pts[0]) / area;
                     let l2 = e(pts[0], pts[1]) / area;
                     let q = l0 * v[0].2 + l1 * v[1].2 + l2 * v[2].2;
                     let d = l0 * v[0].4 + l1 * v[1].4 + l2 * v[2].4;
                     let i = py as usize * w + px as usize;
-                    if !(d > depth[i]) {
+                    if d.partial_cmp(&depth[i]) != Some(std::cmp::Ordering::Greater) {
                         continue;
                     }
-                    let attr = |k: usize| (l0 * v[0].3[k] * v[0].2 + l1 * v[1].3[k] * v[1].2 + l2 * v[2].3[k] * v[2].2) / q;
+                    let attr =
+                        |k: usize| (l0 * v[0].3[k] * v[0].2 + l1 * v[1].3[k] * v[1].2 + l2 * v[2].3[k] * v[2].2) / q;
                     let texel = match mat.texture {
                         Some(t) => {
                             let tex = &scene.textures[t];
                             let tx = (attr(0) * f64::from(tex.width())).floor() as i32;
                             let ty = (attr(1) * f64::from(tex.height())).floor() as i32;
-                            let (tx, ty) = (wrap(tx, tex.width(), mat.sampler.wrap_s), wrap(ty, tex.height(), mat.sampler.wrap_t));
+                            let (tx, ty) =
+                                (wrap(tx, tex.width(), mat.sampler.wrap_s), wrap(ty, tex.height(), mat.sampler.wrap_t));
                             unpack(tex.texels()[(ty * tex.width() + tx) as usize]).map(f64::from)
                         }
                         None => [1.0; 4],
                     };
                     let c = [texel[0] * attr(2), texel[1] * attr(3), texel[2] * attr(4), texel[3] * attr(5)];
-                    if let AlphaMode::Mask { cutoff } = mat.alpha_mode {
-                        if c[3] < f64::from(cutoff) {
-                            continue;
-                        }
+                    if let AlphaMode::Mask { cutoff } = mat.alpha_mode
+                        && c[3] < f64::from(cutoff)
+                    {
+                        continue;
                     }
                     let ch = |x: f64| (x * 255.0 + 0.5).clamp(0.0, 255.0) as u32;
                     color[i] = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
@@ -138,7 +151,12 @@ fn compare(name: &str, scene: &LoadedScene, camera: &Camera, w: usize, h: usize)
     }
     let covered = reference.owner.iter().filter(|&&o| o != u32::MAX).count();
     if wrong > 0 {
-        write_png(&std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("reference-{name}.png")), &reference.color, w, h);
+        write_png(
+            &std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("reference-{name}.png")),
+            &reference.color,
+            w,
+            h,
+        );
     }
     eprintln!("{name}: {wrong} of {covered} covered pixels differ ({interior} not at a triangle edge)");
     (wrong, interior, covered)
@@ -150,7 +168,11 @@ fn zbuffer_matches_an_independent_opengl_style_reference() {
         ("BoxTextured", samples().join("BoxTextured.gltf"), None),
         ("Duck", samples().join("Duck/Duck.gltf"), Some(0usize)),
         ("Avocado", samples().join("Avocado/Avocado.gltf"), None),
-        ("courtyard", std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf"), Some(1)),
+        (
+            "courtyard",
+            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf"),
+            Some(1),
+        ),
     ];
     for (name, path, cam) in cases {
         let scene = load(&path).unwrap_or_else(|e| panic!("{e}"));

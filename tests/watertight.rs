@@ -1,6 +1,8 @@
 //! Watertightness and fill-rule tests: additive counting over thousands of random fans, tessellations and
 //! closed meshes with sub-pixel vertices, checked against an independent edge-function reference.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use common::*;
@@ -33,7 +35,8 @@ fn random_fan(rng: &mut Rng, w: i64, h: i64) -> Vec<[(i64, i64); 3]> {
     let c = (rng.range(16 * 8, 16 * (w - 8)), rng.range(16 * 8, 16 * (h - 8)));
     let max_r = rng.range(8, 16 * 40) as f64;
     // Jittered even spacing keeps every gap under half a turn, so the fan tiles a star-shaped polygon.
-    let angles: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5 * rng.unit() as f64) / n as f64 * std::f64::consts::TAU).collect();
+    let angles: Vec<f64> =
+        (0..n).map(|i| (i as f64 + 0.5 * rng.unit() as f64) / n as f64 * std::f64::consts::TAU).collect();
     let rim: Vec<(i64, i64)> = angles
         .iter()
         .map(|a| {
@@ -54,7 +57,10 @@ fn random_grid(rng: &mut Rng, w: i64, h: i64) -> Vec<[(i64, i64); 3]> {
     let mut pts = vec![vec![(0i64, 0i64); nx + 1]; ny + 1];
     for (j, row) in pts.iter_mut().enumerate() {
         for (i, p) in row.iter_mut().enumerate() {
-            *p = (32 + i as i64 * cell.0 + jitter(rng, i, nx, cell.0), 32 + j as i64 * cell.1 + jitter(rng, j, ny, cell.1));
+            *p = (
+                32 + i as i64 * cell.0 + jitter(rng, i, nx, cell.0),
+                32 + j as i64 * cell.1 + jitter(rng, j, ny, cell.1),
+            );
         }
     }
     let mut tris = vec![];
@@ -79,14 +85,24 @@ fn scanline_fill_matches_reference_exactly_on_thousands_of_fans_and_grids() {
     let mut rng = Rng(0x5eed_0001);
     let mut pixels_checked = 0u64;
     for case in 0..3000 {
-        let tris = if case % 2 == 0 { random_fan(&mut rng, w as i64, h as i64) } else { random_grid(&mut rng, w as i64, h as i64) };
+        let tris = if case % 2 == 0 {
+            random_fan(&mut rng, w as i64, h as i64)
+        } else {
+            random_grid(&mut rng, w as i64, h as i64)
+        };
         let expect = ref_counts(&tris, w, h);
         // The reference itself must see a tiling: no centre in two triangles.
         assert!(expect.iter().all(|&c| c <= 1), "case {case}: reference found an overlap");
         let got = fill_counts(&tris, w, h);
         if got != expect {
             let i = got.iter().zip(&expect).position(|(a, b)| a != b).unwrap_or(0);
-            panic!("case {case}: pixel ({}, {}) written {} times, reference {}; triangles {tris:?}", i % w, i / w, got[i], expect[i]);
+            panic!(
+                "case {case}: pixel ({}, {}) written {} times, reference {}; triangles {tris:?}",
+                i % w,
+                i / w,
+                got[i],
+                expect[i]
+            );
         }
         pixels_checked += expect.iter().map(|&c| u64::from(c)).sum::<u64>();
     }
@@ -99,7 +115,11 @@ fn vertices_on_pixel_centres_and_edges_follow_the_top_left_rule() {
     let (w, h) = (40usize, 40usize);
     let mut rng = Rng(0xce17e5);
     for case in 0..2000 {
-        let mut tris = if case % 2 == 0 { random_fan(&mut rng, w as i64, h as i64) } else { random_grid(&mut rng, w as i64, h as i64) };
+        let mut tris = if case % 2 == 0 {
+            random_fan(&mut rng, w as i64, h as i64)
+        } else {
+            random_grid(&mut rng, w as i64, h as i64)
+        };
         for t in &mut tris {
             for p in t.iter_mut() {
                 *p = ((p.0 / 8) * 8, (p.1 / 8) * 8);
@@ -160,7 +180,8 @@ fn random_convex_hull(rng: &mut Rng, w: usize, h: usize) -> Vec<[Vec3; 3]> {
                 if nrm.length() < 1e-3 {
                     continue;
                 }
-                let side: Vec<f32> = (0..n).filter(|&m| m != i && m != j && m != k).map(|m| nrm.dot(pts[m] - pts[i])).collect();
+                let side: Vec<f32> =
+                    (0..n).filter(|&m| m != i && m != j && m != k).map(|m| nrm.dot(pts[m] - pts[i])).collect();
                 if side.iter().any(|s| s.abs() < 1e-3) {
                     return vec![]; // coplanar points: skip this hull
                 }

@@ -79,7 +79,12 @@ fn view_bytes<'b>(view: &gltf::buffer::View<'_>, buffers: &'b [Vec<u8>]) -> Resu
     let buf = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
     let end = view.offset().checked_add(view.length()).ok_or("buffer view range overflows")?;
     buf.get(view.offset()..end).ok_or_else(|| {
-        format!("buffer view {} (bytes {}..{end}) runs past its buffer of {} bytes", view.index(), view.offset(), buf.len())
+        format!(
+            "buffer view {} (bytes {}..{end}) runs past its buffer of {} bytes",
+            view.index(),
+            view.offset(),
+            buf.len()
+        )
     })
 }
 
@@ -104,8 +109,12 @@ fn strided<'b>(
     Ok((0..count).map(move |i| &bytes[offset + i * stride..offset + i * stride + elem]))
 }
 
-/// Reads an accessor as `f32` components.
+/// Reads an accessor as `f32` components; errors name the accessor.
 pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Elements, String> {
+    read_floats_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
+}
+
+fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Elements, String> {
     let count = acc.count();
     if count > MAX_ELEMENTS {
         return Err(format!("{count} elements exceed the limit of {MAX_ELEMENTS}"));
@@ -157,14 +166,20 @@ pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Elem
     Ok(Elements { width, values })
 }
 
-/// Reads an index accessor (unsigned scalar) as `u32`.
+/// Reads an index accessor (unsigned scalar) as `u32`; errors name the accessor.
 pub fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
-    if acc.dimensions() != Dimensions::Scalar || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32) {
+    read_indices_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
+}
+
+fn read_indices_inner(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+    if acc.dimensions() != Dimensions::Scalar
+        || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+    {
         return Err("indices must be unsigned scalars".into());
     }
     if acc.sparse().is_some() {
         // Rare for indices; read through the float path is lossy above 2^24, so decode exactly instead.
-        let e = read_floats(acc, buffers)?;
+        let e = read_floats_inner(acc, buffers)?;
         return Ok(e.values.iter().map(|&v| v as u32).collect());
     }
     let count = acc.count();

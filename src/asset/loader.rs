@@ -168,7 +168,13 @@ pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
 pub fn load_from_slice(bytes: &[u8], base_dir: &Path, file: &str) -> Result<LoadedScene, AssetError> {
     let gltf = gltf::Gltf::from_slice(bytes)
         .map_err(|e| AssetError::Parse { file: file.to_string(), reason: one_line(&e.to_string()) })?;
-    let mut loader = Loader { file: file.to_string(), base_dir, buffers: vec![], images: BTreeMap::new(), out: LoadedScene::default() };
+    let mut loader = Loader {
+        file: file.to_string(),
+        base_dir,
+        buffers: vec![],
+        images: BTreeMap::new(),
+        out: LoadedScene::default(),
+    };
     loader.load_buffers(&gltf)?;
     loader.load_scene(&gltf.document)?;
     Ok(loader.out)
@@ -192,8 +198,12 @@ impl Loader<'_> {
         for b in gltf.document.buffers() {
             let err = |reason: String| AssetError::Buffer { file: self.file.clone(), index: b.index(), reason };
             let data = match b.source() {
-                gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| err("refers to a GLB binary chunk that is missing".into()))?,
-                gltf::buffer::Source::Uri(uri) => resolve(uri, self.base_dir).map_err(|e: UriError| err(e.to_string()))?,
+                gltf::buffer::Source::Bin => {
+                    gltf.blob.clone().ok_or_else(|| err("refers to a GLB binary chunk that is missing".into()))?
+                }
+                gltf::buffer::Source::Uri(uri) => {
+                    resolve(uri, self.base_dir).map_err(|e: UriError| err(e.to_string()))?
+                }
             };
             if data.len() < b.length() {
                 return Err(err(format!("holds {} bytes, but byteLength says {}", data.len(), b.length())));
@@ -211,8 +221,14 @@ impl Loader<'_> {
         let bytes: Vec<u8> = match image.source() {
             gltf::image::Source::Uri { uri, .. } => resolve(uri, self.base_dir).map_err(|e| err(e.to_string()))?,
             gltf::image::Source::View { view, .. } => {
-                let buf = self.buffers.get(view.buffer().index()).ok_or_else(|| err("buffer view refers to a missing buffer".into()))?;
-                let end = view.offset().checked_add(view.length()).ok_or_else(|| err("buffer view range overflows".into()))?;
+                let buf = self
+                    .buffers
+                    .get(view.buffer().index())
+                    .ok_or_else(|| err("buffer view refers to a missing buffer".into()))?;
+                let end = view
+                    .offset()
+                    .checked_add(view.length())
+                    .ok_or_else(|| err("buffer view range overflows".into()))?;
                 buf.get(view.offset()..end).ok_or_else(|| err("buffer view runs past its buffer".into()))?.to_vec()
             }
         };
@@ -237,7 +253,8 @@ impl Loader<'_> {
             }
         };
         let mut mesh_map: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize)> =
+            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0)).collect();
         let mut visits = 0usize;
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
@@ -290,7 +307,10 @@ impl Loader<'_> {
     }
 
     fn camera(&self, cam: &gltf::Camera<'_>, world: Mat4) -> Result<Camera, AssetError> {
-        let bad = |what: &str| AssetError::Scene { file: self.file.clone(), reason: format!("camera {}: {what}", cam.index()) };
+        let bad = |what: &str| AssetError::Scene {
+            file: self.file.clone(),
+            reason: format!("camera {}: {what}", cam.index()),
+        };
         let positive = |v: f32| v.is_finite() && v > 0.0;
         let projection = match cam.projection() {
             gltf::camera::Projection::Perspective(p) => {
@@ -300,7 +320,12 @@ impl Loader<'_> {
                 if !positive(p.znear()) || p.zfar().is_some_and(|f| !(f.is_finite() && f > p.znear())) {
                     return Err(bad("znear must be positive and zfar beyond it"));
                 }
-                Projection::Perspective { yfov: p.yfov(), aspect: p.aspect_ratio().filter(|a| positive(*a)), znear: p.znear(), zfar: p.zfar() }
+                Projection::Perspective {
+                    yfov: p.yfov(),
+                    aspect: p.aspect_ratio().filter(|a| positive(*a)),
+                    znear: p.znear(),
+                    zfar: p.zfar(),
+                }
             }
             gltf::camera::Projection::Orthographic(o) => {
                 if !(o.xmag().is_finite() && o.xmag() != 0.0 && o.ymag().is_finite() && o.ymag() != 0.0) {
@@ -323,7 +348,12 @@ impl Loader<'_> {
         let mut b = MeshBuilder::new();
         let file = self.file.clone();
         for prim in mesh.primitives() {
-            let err = |reason: String| AssetError::Primitive { file: file.clone(), mesh: mesh.index(), primitive: prim.index(), reason };
+            let err = |reason: String| AssetError::Primitive {
+                file: file.clone(),
+                mesh: mesh.index(),
+                primitive: prim.index(),
+                reason,
+            };
             if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
                 self.out.skipped_primitives += 1;
                 continue;
@@ -396,7 +426,12 @@ impl Loader<'_> {
                 b.polygon(&[base + t[0], base + t[1], base + t[2]], m);
             }
         }
-        b.build().map_err(|e| AssetError::Primitive { file: self.file.clone(), mesh: mesh.index(), primitive: 0, reason: e.to_string() })
+        b.build().map_err(|e| AssetError::Primitive {
+            file: self.file.clone(),
+            mesh: mesh.index(),
+            primitive: 0,
+            reason: e.to_string(),
+        })
     }
 }
 

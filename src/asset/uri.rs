@@ -68,9 +68,13 @@ pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
             return Err(UriError::BadData("payload is larger than the limit".into()));
         }
         return if meta.ends_with(";base64") {
-            base64::engine::general_purpose::STANDARD.decode(payload.trim()).map_err(|e| UriError::BadData(e.to_string()))
+            base64::engine::general_purpose::STANDARD
+                .decode(payload.trim())
+                .map_err(|e| UriError::BadData(e.to_string()))
         } else {
-            percent_decode(payload).map(String::into_bytes).ok_or_else(|| UriError::BadData("bad percent-encoding".into()))
+            percent_decode(payload)
+                .map(String::into_bytes)
+                .ok_or_else(|| UriError::BadData("bad percent-encoding".into()))
         };
     }
     let refused = |reason| UriError::Refused { uri: short(uri), reason };
@@ -86,7 +90,9 @@ pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
     if decoded.starts_with('/') || decoded.starts_with('\\') || rel.is_absolute() {
         return Err(refused("absolute paths are not allowed"));
     }
-    if decoded.split(['/', '\\']).any(|c| c == "..") || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir)) {
+    if decoded.split(['/', '\\']).any(|c| c == "..")
+        || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
+    {
         return Err(refused("paths may not leave the asset's folder"));
     }
     let path = base_dir.join(rel);
@@ -110,7 +116,8 @@ mod tests {
     #[test]
     fn refuses_escapes_and_schemes() {
         let base = Path::new(".");
-        for uri in ["../secret.bin", "a/../../b.bin", "/etc/passwd", "file:///etc/passwd", "http://x/y.bin", "%2e%2e/x"] {
+        for uri in ["../secret.bin", "a/../../b.bin", "/etc/passwd", "file:///etc/passwd", "http://x/y.bin", "%2e%2e/x"]
+        {
             assert!(matches!(resolve(uri, base), Err(UriError::Refused { .. })), "{uri}");
         }
         assert!(matches!(resolve("missing-file.bin", base), Err(UriError::Read { .. })));

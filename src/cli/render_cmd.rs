@@ -176,7 +176,8 @@ pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Re
     }
     let err = |e: &dyn std::fmt::Display| CliError::Write { path: path.display().to_string(), reason: e.to_string() };
     let (w, h) = (u32::try_from(width).map_err(|e| err(&e))?, u32::try_from(height).map_err(|e| err(&e))?);
-    image::save_buffer_with_format(path, &rgb, w, h, image::ColorType::Rgb8, image::ImageFormat::Png).map_err(|e| err(&e))
+    image::save_buffer_with_format(path, &rgb, w, h, image::ColorType::Rgb8, image::ImageFormat::Png)
+        .map_err(|e| err(&e))
 }
 
 fn median(v: &mut [f64]) -> f64 {

@@ -46,8 +46,12 @@ impl Camera {
     /// A perspective camera at `eye` looking at `target` with `+Y` up.
     #[must_use]
     pub fn look_at(eye: Vec3, target: Vec3, yfov: f32, znear: f32, zfar: Option<f32>) -> Self {
-        let up = if (target - eye).normalize_or_zero().cross(Vec3::Y).length_squared() < 1e-8 { Vec3::Z } else { Vec3::Y };
-        Self { view: glam::camera::rh::view::look_at_mat4(eye, target, up), projection: Projection::Perspective { yfov, aspect: None, znear, zfar } }
+        let up =
+            if (target - eye).normalize_or_zero().cross(Vec3::Y).length_squared() < 1e-8 { Vec3::Z } else { Vec3::Y };
+        Self {
+            view: glam::camera::rh::view::look_at_mat4(eye, target, up),
+            projection: Projection::Perspective { yfov, aspect: None, znear, zfar },
+        }
     }
 
     /// The view-to-clip matrix for a frame of `width` x `height` pixels (the glTF projection matrices).
@@ -64,19 +68,43 @@ impl Camera {
                     None => (-1.0, -2.0 * znear),
                 };
                 Mat4::from_cols_array(&[
-                    f / aspect, 0.0, 0.0, 0.0, //
-                    0.0, f, 0.0, 0.0, //
-                    0.0, 0.0, c22, -1.0, //
-                    0.0, 0.0, c32, 0.0,
+                    f / aspect,
+                    0.0,
+                    0.0,
+                    0.0, //
+                    0.0,
+                    f,
+                    0.0,
+                    0.0, //
+                    0.0,
+                    0.0,
+                    c22,
+                    -1.0, //
+                    0.0,
+                    0.0,
+                    c32,
+                    0.0,
                 ])
             }
             Projection::Orthographic { xmag, ymag, znear, zfar } => {
                 let r = 1.0 / (znear - zfar);
                 Mat4::from_cols_array(&[
-                    1.0 / xmag, 0.0, 0.0, 0.0, //
-                    0.0, 1.0 / ymag, 0.0, 0.0, //
-                    0.0, 0.0, 2.0 * r, 0.0, //
-                    0.0, 0.0, (zfar + znear) * r, 1.0,
+                    1.0 / xmag,
+                    0.0,
+                    0.0,
+                    0.0, //
+                    0.0,
+                    1.0 / ymag,
+                    0.0,
+                    0.0, //
+                    0.0,
+                    0.0,
+                    2.0 * r,
+                    0.0, //
+                    0.0,
+                    0.0,
+                    (zfar + znear) * r,
+                    1.0,
                 ])
             }
         }
@@ -102,7 +130,10 @@ mod tests {
 
     #[test]
     fn infinite_perspective_maps_near_plane_to_minus_one() {
-        let c = Camera { view: Mat4::IDENTITY, projection: Projection::Perspective { yfov: 1.0, aspect: Some(1.0), znear: 0.5, zfar: None } };
+        let c = Camera {
+            view: Mat4::IDENTITY,
+            projection: Projection::Perspective { yfov: 1.0, aspect: Some(1.0), znear: 0.5, zfar: None },
+        };
         let p = c.clip_from_view(10, 10) * Vec4::new(0.0, 0.0, -0.5, 1.0);
         assert!((p.z / p.w + 1.0).abs() < 1e-6);
         let far = c.clip_from_view(10, 10) * Vec4::new(0.0, 0.0, -1e6, 1.0);
@@ -111,7 +142,10 @@ mod tests {
 
     #[test]
     fn orthographic_maps_near_and_far() {
-        let c = Camera { view: Mat4::IDENTITY, projection: Projection::Orthographic { xmag: 2.0, ymag: 1.0, znear: 1.0, zfar: 3.0 } };
+        let c = Camera {
+            view: Mat4::IDENTITY,
+            projection: Projection::Orthographic { xmag: 2.0, ymag: 1.0, znear: 1.0, zfar: 3.0 },
+        };
         let m = c.clip_from_view(4, 2);
         let n = m * Vec4::new(2.0, 1.0, -1.0, 1.0);
         let f = m * Vec4::new(-2.0, -1.0, -3.0, 1.0);

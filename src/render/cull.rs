@@ -46,7 +46,8 @@ impl Frustum {
 #[must_use]
 pub fn world_sphere(s: Sphere, model: &Mat4) -> (glam::Vec3, f32) {
     let c = model.transform_point3(s.center);
-    let scale = model.x_axis.truncate().length().max(model.y_axis.truncate().length()).max(model.z_axis.truncate().length());
+    let scale =
+        model.x_axis.truncate().length().max(model.y_axis.truncate().length()).max(model.z_axis.truncate().length());
     (c, s.radius * scale)
 }
 
@@ -57,7 +58,16 @@ mod tests {
 
     #[test]
     fn spheres_behind_or_beside_are_excluded() {
-        let proj = crate::render::Camera { view: Mat4::IDENTITY, projection: crate::render::Projection::Perspective { yfov: 1.0, aspect: Some(1.0), znear: 0.1, zfar: Some(100.0) } }.clip_from_view(1, 1);
+        let proj = crate::render::Camera {
+            view: Mat4::IDENTITY,
+            projection: crate::render::Projection::Perspective {
+                yfov: 1.0,
+                aspect: Some(1.0),
+                znear: 0.1,
+                zfar: Some(100.0),
+            },
+        }
+        .clip_from_view(1, 1);
         let f = Frustum::new(&proj, true);
         assert!(!f.excludes(Vec3::new(0.0, 0.0, -5.0), 1.0));
         assert!(f.excludes(Vec3::new(0.0, 0.0, 5.0), 1.0));

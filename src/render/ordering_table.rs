@@ -149,11 +149,11 @@ impl OrderingTable {
     #[must_use]
     pub fn occupancy(&self) -> Vec<u32> {
         let mut counts = vec![0u32; self.start.len()];
-        for b in 0..self.start.len() {
-            let mut cur = self.start[b];
+        for (count, (&start, &end)) in counts.iter_mut().zip(self.start.iter().zip(&self.end)) {
+            let mut cur = start;
             while cur != NONE {
-                counts[b] += 1;
-                if cur == self.end[b] {
+                *count += 1;
+                if cur == end {
                     break;
                 }
                 cur = self.next[cur as usize];

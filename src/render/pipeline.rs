@@ -190,10 +190,8 @@ impl Renderer {
                     let pos = self.clip_pos[i];
                     let c = v.color * material.base_color;
                     finite &= pos.is_finite() && self.view_depth[i].is_finite();
-                    self.clip_in.push(ClipVertex {
-                        pos,
-                        attrs: [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, self.view_depth[i]],
-                    });
+                    self.clip_in
+                        .push(ClipVertex { pos, attrs: [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, self.view_depth[i]] });
                 }
                 if !finite {
                     stats.polygons_invalid += 1;
@@ -273,7 +271,14 @@ impl Renderer {
                     AlphaMode::Opaque => None,
                     AlphaMode::Mask { cutoff } => Some(cutoff),
                 };
-                let base = DrawPolygon { first: first as u32, count: n as u32, key, texture, sampler: material.sampler, alpha_cutoff };
+                let base = DrawPolygon {
+                    first: first as u32,
+                    count: n as u32,
+                    key,
+                    texture,
+                    sampler: material.sampler,
+                    alpha_cutoff,
+                };
                 if is_y_monotone(&self.screen[first..]) {
                     self.polys.push(base);
                 } else {
@@ -415,10 +420,17 @@ fn split_bands<'a>(
         let rows = rows_per_band.min(height - y0);
         let (c, rest) = std::mem::take(&mut color).split_at_mut(rows * width);
         color = rest;
-        let (d, rest) = if depth.is_empty() { (&mut [][..], &mut [][..]) } else { std::mem::take(&mut depth).split_at_mut(rows * width) };
+        let (d, rest) = if depth.is_empty() {
+            (&mut [][..], &mut [][..])
+        } else {
+            std::mem::take(&mut depth).split_at_mut(rows * width)
+        };
         depth = rest;
-        let (v, rest) =
-            if coverage.is_empty() { (&mut [][..], &mut [][..]) } else { std::mem::take(&mut coverage).split_at_mut(rows * words) };
+        let (v, rest) = if coverage.is_empty() {
+            (&mut [][..], &mut [][..])
+        } else {
+            std::mem::take(&mut coverage).split_at_mut(rows * words)
+        };
         coverage = rest;
         bands.push(Band { y0, rows, color: c, depth: d, coverage: v });
         y0 += rows;

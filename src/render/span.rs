@@ -106,7 +106,7 @@ pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts
             Visibility::Overwrite => {}
             Visibility::DepthTest => {
                 // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
-                if !(depth > row.depth[x]) {
+                if depth.partial_cmp(&row.depth[x]) != Some(std::cmp::Ordering::Greater) {
                     counts.rejected += 1;
                     continue;
                 }
@@ -151,7 +151,7 @@ pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts
         let c = [texel[0] * s[2], texel[1] * s[3], texel[2] * s[4], texel[3] * s[5]];
         if let Some(cutoff) = sh.alpha_cutoff {
             // NaN alpha fails the test too: nothing is drawn from a broken colour.
-            if !(c[3] >= cutoff) {
+            if c[3].partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
                 continue;
             }
         }

@@ -85,10 +85,7 @@ impl Texture {
 
     /// Makes a texture from 8-bit RGBA bytes in rows from the top.
     pub fn from_rgba8(width: u32, height: u32, rgba: &[u8]) -> Result<Self, TextureError> {
-        let texels = rgba
-            .chunks_exact(4)
-            .map(|p| u32::from_be_bytes([p[3], p[0], p[1], p[2]]))
-            .collect();
+        let texels = rgba.chunks_exact(4).map(|p| u32::from_be_bytes([p[3], p[0], p[1], p[2]])).collect();
         Self::new(width, height, texels)
     }
 
@@ -179,12 +176,7 @@ pub fn wrap(i: i32, size: u32, mode: Wrap) -> u32 {
 #[must_use]
 pub fn unpack(t: u32) -> [f32; 4] {
     const S: f32 = 1.0 / 255.0;
-    [
-        ((t >> 16) & 0xff) as f32 * S,
-        ((t >> 8) & 0xff) as f32 * S,
-        (t & 0xff) as f32 * S,
-        (t >> 24) as f32 * S,
-    ]
+    [((t >> 16) & 0xff) as f32 * S, ((t >> 8) & 0xff) as f32 * S, (t & 0xff) as f32 * S, (t >> 24) as f32 * S]
 }
 
 #[cfg(test)]

@@ -1,0 +1,217 @@
+//! The `render` command end to end: output, statistics JSON, exit codes and one-line errors on bad input,
+//! including hostile glTF files.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::*;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("run scanline-racer")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts a failure with the given status and a single-line error that mentions `needle`.
+fn assert_one_line_error(o: &Output, status: i32, needle: &str) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(status), "stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    if status == 1 {
+        assert_eq!(err.trim_end().lines().count(), 1, "expected one line, got: {err}");
+    }
+    assert!(err.to_lowercase().contains(&needle.to_lowercase()), "expected '{needle}' in: {err}");
+}
+
+#[test]
+fn render_writes_png_and_json_stats() {
+    let out = tmp("duck.png");
+    let scene = samples().join("Duck/Duck.gltf");
+    let o = run(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--width",
+        "200",
+        "--height",
+        "150",
+        "--method",
+        "bucket-near",
+        "--buckets",
+        "64",
+        "--key",
+        "min",
+        "--repeat",
+        "3",
+        "--threads",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--stats",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is one JSON object");
+    assert_eq!(v["method"], "bucket-near");
+    assert_eq!(v["width"], 200);
+    assert_eq!(v["height"], 150);
+    assert_eq!(v["frames"], 3);
+    assert_eq!(v["buckets"], 64);
+    assert_eq!(v["key"], "min");
+    assert_eq!(v["polygons_in"], 4212);
+    for k in
+        ["ms_median", "ms_min", "polygons_drawn", "pixels_written", "ms_transform", "ms_clip", "ms_order", "ms_fill"]
+    {
+        assert!(v[k].is_number(), "{k} missing in {v}");
+    }
+    assert!(v["ms_min"].as_f64() <= v["ms_median"].as_f64());
+    let (px, w, h) = read_png(&out).expect("PNG written");
+    assert_eq!((w, h), (200, 150));
+    // The duck is yellow-ish and covers pixels_written pixels; everything else is the sky-blue background.
+    let not_bg = px.iter().filter(|&&p| p != 0x87ceeb).count() as u64;
+    assert_eq!(Some(not_bg), v["pixels_written"].as_u64());
+}
+
+#[test]
+fn background_camera_and_methods_on_the_command_line() {
+    let out = tmp("court.png");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf");
+    for method in ["zbuffer", "sort", "bucket-far", "bucket-near"] {
+        let o = run(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--camera",
+            "plan",
+            "--method",
+            method,
+            "--background",
+            "1,2,3",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{method}: {}", stderr(&o));
+    }
+    let o = run(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--camera",
+        "eye cam",
+        "--background",
+        "1,2,3",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let (px, _, _) = read_png(&out).unwrap();
+    assert_eq!(px[0], 0x010203, "the sky is the requested background");
+}
+
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let out = tmp("x.png");
+    let o = out.to_str().unwrap();
+    let court = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf");
+    let c = court.to_str().unwrap();
+    assert_one_line_error(&run(&["render", "/no/such/file.gltf", "--out", o]), 1, "cannot read");
+    assert_one_line_error(&run(&["render", c, "--camera", "7", "--out", o]), 1, "no camera '7'");
+    assert_one_line_error(&run(&["render", c, "--camera", "nobody", "--out", o]), 1, "no camera 'nobody'");
+    assert_one_line_error(&run(&["render", c, "--method", "raytrace", "--out", o]), 2, "raytrace");
+    assert_one_line_error(&run(&["render", c, "--background", "300,0,0", "--out", o]), 1, "background");
+    assert_one_line_error(&run(&["render", c, "--width", "0", "--out", o]), 1, "width");
+    assert_one_line_error(&run(&["render", c, "--out", "/no/such/dir/x.png"]), 1, "cannot write");
+    assert_one_line_error(&run(&["frobnicate"]), 2, "frobnicate");
+}
+
+/// Writes a glTF file built from the courtyard's JSON with one change, and returns its path.
+fn mutated(name: &str, f: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
+    let src =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&src).unwrap();
+    f(&mut v);
+    let p = tmp(name);
+    std::fs::write(&p, serde_json::to_vec(&v).unwrap()).unwrap();
+    p
+}
+
+#[test]
+fn hostile_and_broken_gltf_files_are_refused_without_panic() {
+    let out = tmp("hostile.png");
+    let o = out.to_str().unwrap();
+    let cases: Vec<(PathBuf, &str)> = vec![
+        (mutated("escape.gltf", |v| v["buffers"][0]["uri"] = "../../../etc/passwd".into()), "refused"),
+        (mutated("absolute.gltf", |v| v["buffers"][0]["uri"] = "/etc/passwd".into()), "refused"),
+        (mutated("scheme.gltf", |v| v["buffers"][0]["uri"] = "http://example.com/x.bin".into()), "refused"),
+        (mutated("short.gltf", |v| v["buffers"][0]["byteLength"] = 1_000_000_000u64.into()), "byteLength"),
+        (mutated("count.gltf", |v| v["accessors"][0]["count"] = 4_000_000_000u64.into()), "accessor"),
+        (mutated("offset.gltf", |v| v["accessors"][1]["byteOffset"] = 1_000_000u64.into()), "mesh"),
+        (mutated("view.gltf", |v| v["bufferViews"][1]["byteOffset"] = 100_000u64.into()), "buffer view"),
+        (
+            mutated("image.gltf", |v| v["images"][0]["uri"] = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUg==".into()),
+            "image 0",
+        ),
+        (mutated("noimage.gltf", |v| v["images"][0]["uri"] = "missing.png".into()), "image 0"),
+        (mutated("cycle.gltf", |v| v["nodes"][0]["children"] = serde_json::json!([8])), "node"),
+        (mutated("badindex.gltf", |v| v["meshes"][0]["primitives"][0]["indices"] = 9999.into()), "valid glTF"),
+        (mutated("camera.gltf", |v| v["cameras"][0]["perspective"]["yfov"] = (-1.0).into()), "camera"),
+        (
+            mutated("required.gltf", |v| v["extensionsRequired"] = serde_json::json!(["KHR_draco_mesh_compression"])),
+            "glTF",
+        ),
+    ];
+    for (path, needle) in &cases {
+        let r = run(&["render", path.to_str().unwrap(), "--out", o]);
+        assert_one_line_error(&r, 1, needle);
+        assert!(
+            stderr(&r).contains(path.file_name().unwrap().to_str().unwrap()),
+            "error names the file: {}",
+            stderr(&r)
+        );
+    }
+    // Garbage bytes, an empty file, a truncated GLB.
+    for (name, bytes) in [
+        ("garbage.gltf", b"{not json".to_vec()),
+        ("empty.glb", vec![]),
+        ("trunc.glb", b"glTF\x02\x00\x00\x00\xff\xff\x00\x00".to_vec()),
+    ] {
+        let p = tmp(name);
+        std::fs::write(&p, bytes).unwrap();
+        assert_one_line_error(&run(&["render", p.to_str().unwrap(), "--out", o]), 1, "not a valid glTF");
+    }
+}
+
+#[test]
+fn indices_out_of_range_are_reported() {
+    // Make the courtyard's first index buffer point past the vertex count by lowering POSITION's count.
+    let p = mutated("fewverts.gltf", |v| {
+        for attr in ["POSITION", "TEXCOORD_0"] {
+            let a = v["meshes"][0]["primitives"][0]["attributes"][attr].as_u64().unwrap() as usize;
+            v["accessors"][a]["count"] = 2.into();
+        }
+    });
+    let out = tmp("few.png");
+    let r = run(&["render", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&r, 1, "out of range");
+}
