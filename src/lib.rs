@@ -7,3 +7,4 @@
 pub mod asset;
 pub mod cli;
 pub mod render;
+pub mod shell;

@@ -3,6 +3,7 @@
 //! This is the only place where the loader, the renderer and output files meet. Errors go to stderr as
 //! `scanline-racer: error: ...` with exit status 1; bad usage exits with 2 (clap's convention).
 
+mod play_cmd;
 mod render_cmd;
 
 use std::process::ExitCode;
@@ -10,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use thiserror::Error;
 
+pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
 
 /// Top-level arguments.
@@ -24,6 +26,8 @@ pub struct Cli {
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Open the game window (the default). Until the race exists, this flies a camera around a scene.
+    Play(PlayArgs),
     /// Draw a glTF scene to a PNG with the software renderer (headless).
     Render(RenderArgs),
 }
@@ -60,9 +64,12 @@ pub enum CliError {
     /// An argument value is out of range in a way clap cannot check.
     #[error("{0}")]
     BadArgument(String),
-    /// No interactive command exists yet.
-    #[error("{0}")]
-    NotAvailable(String),
+    /// The window could not be opened or failed.
+    #[error(transparent)]
+    Shell(#[from] crate::shell::viewer::ShellError),
+    /// A PNG could not be written.
+    #[error(transparent)]
+    Png(#[from] crate::shell::png::PngError),
 }
 
 /// Parses the process arguments, runs the command and returns the exit status.
@@ -71,9 +78,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render_command(&args),
-        None => Err(CliError::NotAvailable(
-            "the interactive game is not built yet; use `scanline-racer render SCENE.gltf` for headless frames".into(),
-        )),
+        Some(Command::Play(args)) => play_command(args),
+        None => play_command(PlayArgs::default()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

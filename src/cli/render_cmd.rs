@@ -168,18 +168,6 @@ pub fn pick_camera(
     }
 }
 
-/// Writes `0x00RRGGBB` pixels as an 8-bit RGB PNG.
-pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Result<(), CliError> {
-    let mut rgb = Vec::with_capacity(width * height * 3);
-    for &p in &pixels[..width * height] {
-        rgb.extend_from_slice(&[(p >> 16) as u8, (p >> 8) as u8, p as u8]);
-    }
-    let err = |e: &dyn std::fmt::Display| CliError::Write { path: path.display().to_string(), reason: e.to_string() };
-    let (w, h) = (u32::try_from(width).map_err(|e| err(&e))?, u32::try_from(height).map_err(|e| err(&e))?);
-    image::save_buffer_with_format(path, &rgb, w, h, image::ColorType::Rgb8, image::ImageFormat::Png)
-        .map_err(|e| err(&e))
-}
-
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     let n = v.len();
@@ -222,7 +210,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
         let stem = args.scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.png"))
     });
-    write_png(&out, &frame, args.width, args.height)?;
+    crate::shell::png::write_png(&out, &frame, args.width, args.height)?;
     if scene.skipped_primitives > 0 {
         eprintln!("note: {} point/line primitive(s) skipped (only triangles are drawn)", scene.skipped_primitives);
     }

@@ -1,0 +1,5 @@
+//! The application shell: the window, presentation, and frame output. The only code that touches winit and
+//! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
+
+pub mod png;
+pub mod viewer;

@@ -1,0 +1,115 @@
+//! The window under a real X server (Xvfb): it opens, draws what the headless renderer draws, and quits;
+//! with no display it fails with one line naming the headless command.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::*;
+
+/// An Xvfb server on a free display, killed when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        for n in 0..50 {
+            let num = 90 + (std::process::id() as usize + n) % 400;
+            if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
+                continue;
+            }
+            let child = Command::new("Xvfb")
+                .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap_or_else(|e| panic!("cannot start Xvfb ({e}): run scripts/test, which installs it (apt-get install xvfb)"));
+            let socket = format!("/tmp/.X11-unix/X{num}");
+            let t = Instant::now();
+            while t.elapsed() < Duration::from_secs(10) {
+                if Path::new(&socket).exists() {
+                    return Xvfb { child, display: format!(":{num}") };
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        }
+        panic!("no Xvfb display came up");
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn window_shows_the_same_frame_as_the_headless_renderer() {
+    let x = Xvfb::start();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window");
+    std::fs::create_dir_all(&dir).unwrap();
+    let shot = dir.join("window.png");
+    let headless = dir.join("headless.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["play", "--width", "320", "--height", "240", "--exit-after-frames", "5", "--screenshot", shot.to_str().unwrap()])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "play failed: {}", String::from_utf8_lossy(&out.stderr));
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf");
+    let r = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["render", scene.to_str().unwrap(), "--camera", "0", "--width", "320", "--height", "240"])
+        .args(["--out", headless.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(r.status.success());
+    let (a, w, h) = read_png(&shot).expect("screenshot written");
+    let (b, _, _) = read_png(&headless).unwrap();
+    assert_eq!((w, h), (320, 240));
+    // The window rebuilds the camera from a yaw and pitch, so a few edge pixels may round differently.
+    let wrong = a.iter().zip(&b).filter(|(p, q)| channel_diff(**p, **q) > 8).count();
+    assert!(wrong * 200 < w * h, "{wrong} pixels differ between window and headless frames");
+    assert!(a.iter().filter(|&&p| p != 0x87ceeb).count() > w * h / 3, "the scene is drawn");
+}
+
+#[test]
+fn scaled_internal_resolution_and_a_user_scene() {
+    let x = Xvfb::start();
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-scaled.png");
+    let duck = samples().join("Duck/Duck.gltf");
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["play", "--scene", duck.to_str().unwrap(), "--width", "300", "--height", "200", "--scale", "3"])
+        .args(["--method", "bucket-near", "--exit-after-frames", "3", "--screenshot", shot.to_str().unwrap()])
+        .env("DISPLAY", &x.display)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (px, w, h) = read_png(&shot).unwrap();
+    assert_eq!((w, h), (100, 67), "internal frame is the window divided by the scale, rounded up");
+    assert!(px.iter().any(|&p| p != 0x87ceeb), "the duck is drawn");
+}
+
+#[test]
+fn no_display_is_one_line_naming_the_headless_command() {
+    for display in [None, Some(":4242")] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
+        cmd.env_remove("WAYLAND_DISPLAY").env_remove("WAYLAND_SOCKET");
+        match display {
+            Some(d) => cmd.env("DISPLAY", d),
+            None => cmd.env_remove("DISPLAY"),
+        };
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains("no display") && err.contains("scanline-racer render"), "{err}");
+    }
+}
