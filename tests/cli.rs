@@ -215,3 +215,82 @@ fn indices_out_of_range_are_reported() {
     let r = run(&["render", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert_one_line_error(&r, 1, "out of range");
 }
+
+/// Packs the courtyard into a GLB: one BIN chunk holding the buffer and every image (as buffer views).
+fn courtyard_glb() -> Vec<u8> {
+    use base64::Engine;
+    let src =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&src).unwrap();
+    let decode = |uri: &str| base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap();
+    let mut bin = decode(v["buffers"][0]["uri"].as_str().unwrap());
+    let images = v["images"].as_array().unwrap().clone();
+    for (i, img) in images.iter().enumerate() {
+        let bytes = decode(img["uri"].as_str().unwrap());
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let view = v["bufferViews"].as_array().unwrap().len();
+        v["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()}));
+        bin.extend_from_slice(&bytes);
+        v["images"][i] = serde_json::json!({"bufferView": view, "mimeType": "image/png"});
+    }
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    v["buffers"][0] = serde_json::json!({"byteLength": bin.len()});
+    let mut json = serde_json::to_vec(&v).unwrap();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = Vec::with_capacity(total);
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&bin);
+    glb
+}
+
+#[test]
+fn glb_with_embedded_images_renders_like_the_gltf() {
+    let glb = tmp("courtyard.glb");
+    std::fs::write(&glb, courtyard_glb()).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf");
+    let (a, b) = (tmp("from-gltf.png"), tmp("from-glb.png"));
+    for (input, out) in [(&scene, &a), (&glb, &b)] {
+        let o = run(&[
+            "render",
+            input.to_str().unwrap(),
+            "--camera",
+            "eye cam",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let (pa, _, _) = read_png(&a).unwrap();
+    let (pb, _, _) = read_png(&b).unwrap();
+    assert!(pa == pb, "GLB and glTF frames differ");
+    // A GLB cut short anywhere is refused in one line, never a panic.
+    let bytes = courtyard_glb();
+    for cut in [0, 11, 12, 20, 100, bytes.len() / 2, bytes.len() - 1] {
+        let p = tmp("cut.glb");
+        std::fs::write(&p, &bytes[..cut]).unwrap();
+        let r = run(&["render", p.to_str().unwrap(), "--out", tmp("cut.png").to_str().unwrap()]);
+        assert_eq!(r.status.code(), Some(1), "cut at {cut}: {}", stderr(&r));
+        assert_eq!(stderr(&r).trim_end().lines().count(), 1, "cut at {cut}: {}", stderr(&r));
+    }
+}

@@ -174,6 +174,36 @@ fn non_monotone_polygon_renders_like_its_triangulation() {
     }
 }
 
+#[test]
+fn convex_polygons_of_any_vertex_count_are_filled_whole() {
+    let (w, h) = (128usize, 128usize);
+    let camera = pixel_camera(w, h);
+    for n in [4usize, 5, 8, 17, 64] {
+        let outline: Vec<Vec2> = (0..n)
+            .map(|i| {
+                let a = i as f32 / n as f32 * std::f32::consts::TAU + 0.1;
+                Vec2::new(64.3 + 50.0 * a.cos(), 63.7 + 45.0 * a.sin())
+            })
+            .collect();
+        let mut b = MeshBuilder::new();
+        let m = b.material(Material { double_sided: true, ..Material::default() });
+        let idx: Vec<u32> = outline
+            .iter()
+            .map(|p| b.vertex(Vertex { position: p.extend(0.0), uv: Vec2::ZERO, color: GREEN }))
+            .collect();
+        b.polygon(&idx, m);
+        let whole = b.build().unwrap();
+        let fan: Vec<[Vec3; 3]> =
+            (1..n - 1).map(|k| [outline[0].extend(0.0), outline[k].extend(0.0), outline[k + 1].extend(0.0)]).collect();
+        let fan = tri_mesh(&fan, &[GREEN], true);
+        let (a, sa) = render(std::slice::from_ref(&whole), &[], &camera, w, h, &opts(Method::BucketFar));
+        let (b_img, sb) = render(std::slice::from_ref(&fan), &[], &camera, w, h, &opts(Method::BucketFar));
+        assert_eq!((sa.polygons_drawn, sa.pieces_filled, sa.polygons_split), (1, 1, 0), "{n}-gon filled as one piece");
+        assert_eq!(sa.pixels_written, sb.pixels_written, "{n}-gon: same pixels as its fan");
+        assert!(a == b_img, "{n}-gon differs from its fan");
+    }
+}
+
 /// Plain O(n^3) ear clipping in floating point, for the test only.
 fn ear_clip(poly: &[Vec2]) -> Vec<[Vec2; 3]> {
     let area: f32 = (0..poly.len()).map(|i| poly[i].perp_dot(poly[(i + 1) % poly.len()])).sum();

@@ -7,6 +7,7 @@ mod common;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use common::*;
@@ -17,27 +18,39 @@ struct Xvfb {
     display: String,
 }
 
+static NEXT: AtomicUsize = AtomicUsize::new(0);
+
 impl Xvfb {
     fn start() -> Xvfb {
-        for n in 0..50 {
-            let num = 90 + (std::process::id() as usize + n) % 400;
+        for _ in 0..50 {
+            // Tests in this binary run in parallel: each takes its own display number.
+            let num = 90 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
             if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
                 continue;
             }
-            let child = Command::new("Xvfb")
+            let mut child = Command::new("Xvfb")
                 .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
                 .stdout(Stdio::null())
                 .stderr(Stdio::null())
                 .spawn()
-                .unwrap_or_else(|e| panic!("cannot start Xvfb ({e}): run scripts/test, which installs it (apt-get install xvfb)"));
+                .unwrap_or_else(|e| {
+                    panic!("cannot start Xvfb ({e}): run scripts/test, which installs it (apt-get install xvfb)")
+                });
             let socket = format!("/tmp/.X11-unix/X{num}");
             let t = Instant::now();
             while t.elapsed() < Duration::from_secs(10) {
+                if let Ok(Some(_)) = child.try_wait() {
+                    break; // this display was taken after all: try another
+                }
                 if Path::new(&socket).exists() {
+                    // The socket appears just before the server accepts; give it a moment.
+                    std::thread::sleep(Duration::from_millis(100));
                     return Xvfb { child, display: format!(":{num}") };
                 }
                 std::thread::sleep(Duration::from_millis(50));
             }
+            let _ = child.kill();
+            let _ = child.wait();
         }
         panic!("no Xvfb display came up");
     }
@@ -58,7 +71,17 @@ fn window_shows_the_same_frame_as_the_headless_renderer() {
     let shot = dir.join("window.png");
     let headless = dir.join("headless.png");
     let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
-        .args(["play", "--width", "320", "--height", "240", "--exit-after-frames", "5", "--screenshot", shot.to_str().unwrap()])
+        .args([
+            "play",
+            "--width",
+            "320",
+            "--height",
+            "240",
+            "--exit-after-frames",
+            "5",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
         .output()

@@ -64,7 +64,10 @@ impl Default for PlayArgs {
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!("--width {} --height {}: each must be 1 to 16384", args.width, args.height)));
+        return Err(CliError::BadArgument(format!(
+            "--width {} --height {}: each must be 1 to 16384",
+            args.width, args.height
+        )));
     }
     if !(1..=16).contains(&args.scale) {
         return Err(CliError::BadArgument(format!("--scale {}: expected 1 to 16", args.scale)));

@@ -15,7 +15,8 @@ pub struct PngError {
 /// Writes `width * height` pixels of `0x00RRGGBB` as an 8-bit RGB PNG.
 pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Result<(), PngError> {
     let err = |reason: String| PngError { path: path.display().to_string(), reason };
-    let n = width.checked_mul(height).filter(|&n| n <= pixels.len()).ok_or_else(|| err("frame size mismatch".into()))?;
+    let n =
+        width.checked_mul(height).filter(|&n| n <= pixels.len()).ok_or_else(|| err("frame size mismatch".into()))?;
     let mut rgb = Vec::with_capacity(n * 3);
     for &p in &pixels[..n] {
         rgb.extend_from_slice(&[(p >> 16) as u8, (p >> 8) as u8, p as u8]);

@@ -119,7 +119,16 @@ pub fn run(config: ViewerConfig) -> Result<(), ShellError> {
         error: None,
         config,
     };
-    event_loop.run_app(&mut viewer).map_err(|e| ShellError::Window(e.to_string()))?;
+    // winit panics inside its X11 backend when the display connection breaks mid-run; report that as an
+    // error like any other instead of a panic message (the default hook is restored right after).
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| event_loop.run_app(&mut viewer)));
+    std::panic::set_hook(hook);
+    match ran {
+        Ok(result) => result.map_err(|e| ShellError::Window(e.to_string()))?,
+        Err(_) => return Err(ShellError::Window("the display connection failed".into())),
+    }
     match viewer.error.take() {
         Some(e) => Err(e),
         None => Ok(()),
@@ -212,7 +221,11 @@ impl Viewer {
     }
 
     /// Renders and presents one frame; `Ok(false)` when the window has no area.
-    fn draw(&mut self, window: &Window, surface: &mut softbuffer::Surface<Rc<Window>, Rc<Window>>) -> Result<bool, ShellError> {
+    fn draw(
+        &mut self,
+        window: &Window,
+        surface: &mut softbuffer::Surface<Rc<Window>, Rc<Window>>,
+    ) -> Result<bool, ShellError> {
         let now = self.last;
         let size = window.inner_size();
         // Minimised or resized to nothing: draw nothing, keep running.
@@ -289,7 +302,8 @@ impl ApplicationHandler for Viewer {
             return;
         }
         let (w, h) = self.config.size;
-        let mut attrs = Window::default_attributes().with_title("scanline-racer").with_inner_size(PhysicalSize::new(w, h));
+        let mut attrs =
+            Window::default_attributes().with_title("scanline-racer").with_inner_size(PhysicalSize::new(w, h));
         if self.config.fullscreen {
             attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
         }
@@ -297,7 +311,8 @@ impl ApplicationHandler for Viewer {
             Ok(w) => Rc::new(w),
             Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
         };
-        let surface = softbuffer::Context::new(window.clone()).and_then(|c| softbuffer::Surface::new(&c, window.clone()));
+        let surface =
+            softbuffer::Context::new(window.clone()).and_then(|c| softbuffer::Surface::new(&c, window.clone()));
         match surface {
             Ok(s) => self.surface = Some(s),
             Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
