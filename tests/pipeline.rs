@@ -51,9 +51,9 @@ fn nan_inf_and_huge_vertices_never_panic_and_are_counted() {
     // A NaN model matrix or camera: everything is dropped, no panic.
     let mut frame = vec![0u32; w * h];
     let list_meshes = [mesh];
-    let nan = Instance { mesh: 0, model: Mat4::from_scale(Vec3::splat(f32::NAN)) };
-    let missing = Instance { mesh: 7, model: Mat4::IDENTITY };
-    let list = DrawList { meshes: &list_meshes, textures: &[], instances: &[nan, missing] };
+    let nan = Instance::new(0, Mat4::from_scale(Vec3::splat(f32::NAN)));
+    let missing = Instance::new(7, Mat4::IDENTITY);
+    let list = DrawList { meshes: &list_meshes, textures: &[], instances: &[nan, missing], lod_sets: &[] };
     let stats = Renderer::new().render(&mut frame, w, h, &camera, &list, &opts(Method::ZBuffer)).unwrap();
     assert_eq!(stats.pixels_written, 0);
     let nan_cam = Camera::look_at(Vec3::splat(f32::NAN), Vec3::ZERO, 1.0, 0.1, None);
@@ -81,8 +81,8 @@ fn zero_sized_and_short_frames() {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 1.0, 0.1, None);
     let mesh = tri_mesh(&[[Vec3::ZERO, Vec3::X, Vec3::Y]], &[RED], true);
     let meshes = [mesh];
-    let instances = [Instance { mesh: 0, model: Mat4::IDENTITY }];
-    let list = DrawList { meshes: &meshes, textures: &[], instances: &instances };
+    let instances = [Instance::new(0, Mat4::IDENTITY)];
+    let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[] };
     let mut r = Renderer::new();
     let stats = r.render(&mut [], 0, 0, &camera, &list, &RenderOptions::default()).unwrap();
     assert_eq!(stats.pixels_written, 0);

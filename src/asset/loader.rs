@@ -11,8 +11,15 @@ use thiserror::Error;
 use super::accessor::{Elements, read_floats, read_indices};
 use super::uri::{UriError, resolve};
 use crate::render::{
-    AlphaMode, Camera, DrawList, Instance, Material, Mesh, MeshBuilder, Projection, Sampler, Texture, Vertex, Wrap,
+    AlphaMode, Camera, DrawList, Instance, LodSet, Material, Mesh, MeshBuilder, Projection, Sampler, Texture, Vertex,
+    Wrap,
 };
+
+/// Switch sizes (projected height in pixels) for LOD sets that give no `MSFT_screencoverage` hints.
+pub const DEFAULT_SWITCH_PX: [f32; 2] = [100.0, 24.0];
+/// `MSFT_screencoverage` values are read as fractions of a frame this many pixels tall, so that larger frames
+/// keep finer models at the same share of the screen (texel density is what matters).
+pub const COVERAGE_HEIGHT: f32 = 720.0;
 
 /// Largest glTF or GLB file accepted (1 GiB).
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
@@ -102,8 +109,10 @@ pub struct LoadedScene {
     pub meshes: Vec<Mesh>,
     /// Base-colour textures.
     pub textures: Vec<Texture>,
-    /// Placed meshes in node traversal order.
+    /// Placed meshes (or LOD sets) in node traversal order.
     pub instances: Vec<Instance>,
+    /// Close/mid/long mesh sets, from `MSFT_lod` or the `_LOD0/1/2` naming convention.
+    pub lod_sets: Vec<LodSet>,
     /// Camera nodes in traversal order.
     pub cameras: Vec<SceneCamera>,
     /// Primitives skipped because they are points or lines.
@@ -116,7 +125,12 @@ impl LoadedScene {
     /// The draw list over this scene.
     #[must_use]
     pub fn draw_list(&self) -> DrawList<'_> {
-        DrawList { meshes: &self.meshes, textures: &self.textures, instances: &self.instances }
+        DrawList {
+            meshes: &self.meshes,
+            textures: &self.textures,
+            instances: &self.instances,
+            lod_sets: &self.lod_sets,
+        }
     }
 
     /// Total polygons over all instances.
@@ -253,12 +267,13 @@ impl Loader<'_> {
             }
         };
         let mut mesh_map: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize)> =
-            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+        // (node, parent's world transform, depth, nodes holding its middle and long models by naming convention)
+        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize, Vec<gltf::Node<'_>>)> =
+            roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0, vec![])).collect();
         let mut visits = 0usize;
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        while let Some((node, parent, depth)) = stack.pop() {
+        while let Some((node, parent, depth, named_lods)) = stack.pop() {
             visits += 1;
             if depth > MAX_NODE_DEPTH || visits > MAX_NODE_VISITS {
                 return Err(AssetError::Scene {
@@ -268,16 +283,7 @@ impl Loader<'_> {
             }
             let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
             if let Some(mesh) = node.mesh() {
-                let index = match mesh_map.get(&mesh.index()) {
-                    Some(&i) => i,
-                    None => {
-                        let m = self.mesh(&mesh)?;
-                        self.out.meshes.push(m);
-                        let i = self.out.meshes.len() - 1;
-                        mesh_map.insert(mesh.index(), i);
-                        i
-                    }
-                };
+                let index = self.mesh_index(&mesh, &mut mesh_map)?;
                 for v in self.out.meshes[index].vertices() {
                     let p = world.transform_point3(v.position);
                     if p.is_finite() {
@@ -285,7 +291,28 @@ impl Loader<'_> {
                         hi = hi.max(p);
                     }
                 }
-                self.out.instances.push(Instance { mesh: index, model: world });
+                let (alternates, coverage) = match self.msft_lod(doc, &node)? {
+                    Some(found) => found,
+                    None => (named_lods, None),
+                };
+                if alternates.is_empty() {
+                    self.out.instances.push(Instance::new(index, world));
+                } else {
+                    let mut meshes = [index; 3];
+                    for (k, alt) in alternates.iter().take(2).enumerate() {
+                        let Some(m) = alt.mesh() else {
+                            return Err(self.scene_error(format!("LOD node {} has no mesh", alt.index())));
+                        };
+                        meshes[k + 1] = self.mesh_index(&m, &mut mesh_map)?;
+                    }
+                    if alternates.len() == 1 {
+                        meshes[2] = meshes[1];
+                    }
+                    let switch_px =
+                        coverage.map_or(DEFAULT_SWITCH_PX, |c| [c[0] * COVERAGE_HEIGHT, c[1] * COVERAGE_HEIGHT]);
+                    self.out.lod_sets.push(LodSet { meshes, switch_px });
+                    self.out.instances.push(Instance::of_lod_set(self.out.lod_sets.len() - 1, world));
+                }
             }
             if let Some(cam) = node.camera() {
                 let camera = self.camera(&cam, world)?;
@@ -295,15 +322,62 @@ impl Loader<'_> {
                     .map_or_else(|| format!("camera {}", self.out.cameras.len()), str::to_string);
                 self.out.cameras.push(SceneCamera { name, camera_name: cam.name().map(str::to_string), camera });
             }
-            let children: Vec<_> = node.children().collect();
-            for c in children.into_iter().rev() {
-                stack.push((c, world, depth + 1));
+            for (child, alternates) in named_lod_groups(node.children().collect()).into_iter().rev() {
+                stack.push((child, world, depth + 1, alternates));
             }
         }
         if lo.is_finite() && hi.is_finite() {
             self.out.bounds = Some((lo, hi));
         }
         Ok(())
+    }
+
+    fn scene_error(&self, reason: String) -> AssetError {
+        AssetError::Scene { file: self.file.clone(), reason }
+    }
+
+    /// The renderer mesh for a glTF mesh, loading it the first time.
+    fn mesh_index(&mut self, mesh: &gltf::Mesh<'_>, map: &mut BTreeMap<usize, usize>) -> Result<usize, AssetError> {
+        if let Some(&i) = map.get(&mesh.index()) {
+            return Ok(i);
+        }
+        let m = self.mesh(mesh)?;
+        self.out.meshes.push(m);
+        let i = self.out.meshes.len() - 1;
+        map.insert(mesh.index(), i);
+        Ok(i)
+    }
+
+    /// The `MSFT_lod` alternates of a node (nodes with the middle and long models) and its
+    /// `MSFT_screencoverage` hints, if the node has the extension.
+    #[allow(clippy::type_complexity)]
+    fn msft_lod<'d>(
+        &self,
+        doc: &'d gltf::Document,
+        node: &gltf::Node<'d>,
+    ) -> Result<Option<(Vec<gltf::Node<'d>>, Option<[f32; 2]>)>, AssetError> {
+        let Some(ext) = node.extension_value("MSFT_lod") else {
+            return Ok(None);
+        };
+        let bad = |what: &str| self.scene_error(format!("node {}: MSFT_lod {what}", node.index()));
+        let ids = ext.get("ids").and_then(|v| v.as_array()).ok_or_else(|| bad("has no 'ids' array"))?;
+        let mut alternates = vec![];
+        for id in ids.iter().take(8) {
+            let n = id
+                .as_u64()
+                .and_then(|i| doc.nodes().nth(usize::try_from(i).ok()?))
+                .ok_or_else(|| bad("names a missing node"))?;
+            alternates.push(n);
+        }
+        let coverage = node.extras().as_ref().and_then(|raw| {
+            let v: serde_json::Value = serde_json::from_str(raw.get()).ok()?;
+            let c = v.get("MSFT_screencoverage")?.as_array()?;
+            let f = |i: usize| {
+                c.get(i).and_then(serde_json::Value::as_f64).map(|x| x as f32).filter(|x| x.is_finite() && *x >= 0.0)
+            };
+            Some([f(0)?, f(1).unwrap_or(0.0)])
+        });
+        Ok(Some((alternates, coverage)))
     }
 
     fn camera(&self, cam: &gltf::Camera<'_>, world: Mat4) -> Result<Camera, AssetError> {
@@ -433,6 +507,32 @@ impl Loader<'_> {
             reason: e.to_string(),
         })
     }
+}
+
+/// Splits a node's children into the ones to visit, each with the siblings that hold its middle and long
+/// models under the naming convention `NAME_LOD0`, `NAME_LOD1`, `NAME_LOD2` (LOD1 and LOD2 are not visited
+/// on their own). Order is kept.
+fn named_lod_groups(children: Vec<gltf::Node<'_>>) -> Vec<(gltf::Node<'_>, Vec<gltf::Node<'_>>)> {
+    let split = |n: &gltf::Node<'_>| -> Option<(String, u8)> {
+        let name = n.name()?;
+        let (prefix, level) = name.rsplit_once("_LOD")?;
+        let level: u8 = level.parse().ok().filter(|l| *l <= 2)?;
+        Some((prefix.to_string(), level))
+    };
+    let find =
+        |prefix: &str, level: u8| children.iter().find(|c| split(c).is_some_and(|(p, l)| p == prefix && l == level));
+    let mut out = vec![];
+    for c in &children {
+        match split(c) {
+            Some((prefix, 0)) if find(&prefix, 1).is_some() => {
+                let alts: Vec<_> = [1, 2].iter().filter_map(|&l| find(&prefix, l).cloned()).collect();
+                out.push((c.clone(), alts));
+            }
+            Some((prefix, 1 | 2)) if find(&prefix, 0).is_some() && find(&prefix, 1).is_some() => {}
+            _ => out.push((c.clone(), vec![])),
+        }
+    }
+    out
 }
 
 fn check_attr(e: &Elements, n: usize, width: usize, what: &str) -> Result<(), String> {

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use super::CliError;
 use crate::asset::{LoadedScene, load};
 use crate::render::{
-    BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, Method, RenderOptions, Renderer, Stats, TextureMode,
+    BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats, TextureMode,
 };
 
 /// Texture interpolation names on the command line.
@@ -73,6 +73,12 @@ pub struct RenderArgs {
     /// Texture filtering.
     #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
     pub filter: FilterArg,
+    /// Level of detail for LOD sets: auto (by projected size), or close, mid or long for every set.
+    #[arg(long, default_value = "auto")]
+    pub lod: LodMode,
+    /// LOD bias: projected sizes are multiplied by 2^BIAS before choosing (positive keeps finer models).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub lod_bias: f32,
     /// Worker threads for the fill (default: the cores available); frames are identical for every count.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -115,6 +121,9 @@ pub fn parse_rgb(s: &str) -> Result<u32, CliError> {
 impl RenderArgs {
     /// The renderer options these arguments ask for.
     pub fn options(&self) -> Result<RenderOptions, CliError> {
+        if !(self.lod_bias.is_finite() && self.lod_bias.abs() <= 16.0) {
+            return Err(CliError::BadArgument(format!("--lod-bias {}: expected -16 to 16", self.lod_bias)));
+        }
         if self.buckets == 0 || self.buckets > 1 << 20 {
             return Err(CliError::BadArgument(format!("--buckets {}: expected 1 to 1048576", self.buckets)));
         }
@@ -137,6 +146,8 @@ impl RenderArgs {
             },
             threads: self.threads,
             background: Some(parse_rgb(&self.background)?),
+            lod: self.lod,
+            lod_bias: self.lod_bias,
         })
     }
 }
@@ -230,6 +241,15 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
                 "texture": format!("{:?}", options.texture_mode).to_lowercase(),
                 "filter": format!("{:?}", options.filter).to_lowercase(),
                 "threads": threads,
+                "lod": match options.lod {
+                    LodMode::Auto => "auto",
+                    LodMode::Force(level) => level.name(),
+                },
+                "lod_bias": options.lod_bias,
+                "lod_close": stats.lod_close,
+                "lod_mid": stats.lod_mid,
+                "lod_long": stats.lod_long,
+                "polygons_saved_by_lod": stats.polygons_saved_by_lod,
                 "width": args.width,
                 "height": args.height,
                 "frames": args.repeat,

@@ -11,6 +11,7 @@ pub mod camera;
 pub mod clip;
 pub mod cull;
 pub mod fixed;
+pub mod lod;
 pub mod mesh;
 pub mod monotone;
 pub mod ordering_table;
@@ -24,6 +25,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use camera::{Camera, Projection};
+pub use lod::{Level, LodMode, LodSet};
 pub use mesh::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Vertex};
 pub use ordering_table::BucketMapping;
 pub use pipeline::{RenderError, Renderer};
@@ -123,6 +125,10 @@ pub struct RenderOptions {
     pub threads: usize,
     /// Colour the frame is cleared to first, `0x00RRGGBB`; `None` draws over what is there.
     pub background: Option<u32>,
+    /// Level-of-detail choice for instances of LOD sets.
+    pub lod: LodMode,
+    /// Multiplies projected sizes by `2^lod_bias` before choosing a level: positive keeps finer models longer.
+    pub lod_bias: f32,
 }
 
 impl Default for RenderOptions {
@@ -136,6 +142,8 @@ impl Default for RenderOptions {
             filter: Filter::default(),
             threads: 0,
             background: Some(SKY_BLUE),
+            lod: LodMode::Auto,
+            lod_bias: 0.0,
         }
     }
 }
@@ -143,13 +151,29 @@ impl Default for RenderOptions {
 /// The default background, sky blue (135, 206, 235).
 pub const SKY_BLUE: u32 = 0x0087_ceeb;
 
-/// One placed mesh.
+/// One placed mesh, or one placed LOD set.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instance {
-    /// Index into [`DrawList::meshes`].
+    /// Index into [`DrawList::meshes`] (ignored when `lod` names a set).
     pub mesh: usize,
     /// Model space to world space.
     pub model: glam::Mat4,
+    /// Index into [`DrawList::lod_sets`]: the model is chosen per frame from that set.
+    pub lod: Option<usize>,
+}
+
+impl Instance {
+    /// A single mesh placed by `model`.
+    #[must_use]
+    pub fn new(mesh: usize, model: glam::Mat4) -> Self {
+        Self { mesh, model, lod: None }
+    }
+
+    /// A LOD set placed by `model`.
+    #[must_use]
+    pub fn of_lod_set(set: usize, model: glam::Mat4) -> Self {
+        Self { mesh: 0, model, lod: Some(set) }
+    }
 }
 
 /// What to draw: meshes, the textures their materials refer to, and where to put them.
@@ -161,4 +185,6 @@ pub struct DrawList<'a> {
     pub textures: &'a [Texture],
     /// Instances, drawn in this order (it is the submission order the ordering table keeps within a bucket).
     pub instances: &'a [Instance],
+    /// Sets of close/mid/long meshes that instances may refer to.
+    pub lod_sets: &'a [LodSet],
 }

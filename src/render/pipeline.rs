@@ -15,6 +15,7 @@ use thiserror::Error;
 use super::clip::{CLIP_ATTRS, ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
 use super::cull::{Frustum, world_sphere};
 use super::fixed::Fx28_4;
+use super::lod::{Level, LodMode, LodState, choose};
 use super::mesh::AlphaMode;
 use super::monotone::triangulate;
 use super::ordering_table::{Direction, OrderingTable};
@@ -78,6 +79,7 @@ pub struct Renderer {
     depth: Vec<f32>,
     coverage: Vec<u64>,
     table: OrderingTable,
+    lod_state: LodState,
 }
 
 const MAX_SIDE: usize = 1 << 20;
@@ -134,6 +136,53 @@ impl Renderer {
         Ok(stats)
     }
 
+    /// Forgets the levels of detail chosen in earlier frames (call on a new scene or a camera cut).
+    pub fn reset_lod(&mut self) {
+        self.lod_state.clear();
+    }
+
+    /// Picks the mesh for an instance: its own, or the level of its LOD set for this frame.
+    fn resolve_mesh(
+        &mut self,
+        index: usize,
+        inst: &super::Instance,
+        list: &DrawList<'_>,
+        camera: &Camera,
+        y_scale_px: f32,
+        options: &RenderOptions,
+        stats: &mut Stats,
+    ) -> Option<usize> {
+        let Some(set) = inst.lod.map(|s| list.lod_sets.get(s)) else {
+            return Some(inst.mesh);
+        };
+        let set = set?;
+        let close = list.meshes.get(set.meshes[0])?;
+        let level = match options.lod {
+            LodMode::Force(level) => level,
+            LodMode::Auto => {
+                let (center, radius) = world_sphere(close.bounds(), &inst.model);
+                let size = if camera.is_perspective() {
+                    let depth = -(camera.view.transform_point3(center).z);
+                    if depth > radius { radius * y_scale_px / depth } else { f32::INFINITY }
+                } else {
+                    radius * y_scale_px
+                };
+                let size = size * options.lod_bias.exp2();
+                choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, self.lod_state.previous(index))
+            }
+        };
+        self.lod_state.set(index, level);
+        let chosen = set.meshes[level as usize];
+        match level {
+            Level::Close => stats.lod_close += 1,
+            Level::Mid => stats.lod_mid += 1,
+            Level::Long => stats.lod_long += 1,
+        }
+        let used = list.meshes.get(chosen).map_or(0, |m| m.polygons().len());
+        stats.polygons_saved_by_lod += close.polygons().len().saturating_sub(used) as u64;
+        Some(chosen)
+    }
+
     /// Cull, transform, clip, project, snap, back-face cull; fills `self.polys` and `self.screen`.
     fn geometry(
         &mut self,
@@ -151,9 +200,12 @@ impl Renderer {
         let volume = ClipVolume::new(width, height, camera.has_far_plane());
         let perspective_attrs = options.texture_mode != TextureMode::Affine;
         let (wf, hf) = (width as f32, height as f32);
-        for inst in list.instances {
+        // Projected diameter in pixels of a unit radius at unit depth: the projection's y scale times the height.
+        let y_scale_px = camera.clip_from_view(width, height).y_axis.y * hf;
+        for (index, inst) in list.instances.iter().enumerate() {
             stats.objects_in += 1;
-            let Some(mesh) = list.meshes.get(inst.mesh) else {
+            let mesh_index = self.resolve_mesh(index, inst, list, camera, y_scale_px, options, stats);
+            let Some(mesh) = mesh_index.and_then(|m| list.meshes.get(m)) else {
                 stats.objects_culled += 1;
                 continue;
             };

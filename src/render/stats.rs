@@ -27,6 +27,14 @@ pub struct Stats {
     pub polygons_split: u64,
     /// Pieces handed to the scanline fill (a split polygon gives several).
     pub pieces_filled: u64,
+    /// LOD-set instances drawn with the close model.
+    pub lod_close: u64,
+    /// LOD-set instances drawn with the middle model.
+    pub lod_mid: u64,
+    /// LOD-set instances drawn with the long-shot model.
+    pub lod_long: u64,
+    /// Polygons not submitted because a coarser model was chosen (against all-close).
+    pub polygons_saved_by_lod: u64,
     /// Pixels whose colour was computed.
     pub pixels_shaded: u64,
     /// Pixels written to the frame.

@@ -107,10 +107,10 @@ pub fn render(
     h: usize,
     options: &RenderOptions,
 ) -> (Vec<u32>, Stats) {
-    let instances: Vec<Instance> = (0..meshes.len()).map(|mesh| Instance { mesh, model: Mat4::IDENTITY }).collect();
+    let instances: Vec<Instance> = (0..meshes.len()).map(|mesh| Instance::new(mesh, Mat4::IDENTITY)).collect();
     let mut frame = vec![0u32; w * h];
     let stats = Renderer::new()
-        .render(&mut frame, w, h, camera, &DrawList { meshes, textures, instances: &instances }, options)
+        .render(&mut frame, w, h, camera, &DrawList { meshes, textures, instances: &instances, lod_sets: &[] }, options)
         .expect("render");
     (frame, stats)
 }
