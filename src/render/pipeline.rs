@@ -147,8 +147,7 @@ impl Renderer {
         index: usize,
         inst: &super::Instance,
         list: &DrawList<'_>,
-        camera: &Camera,
-        y_scale_px: f32,
+        (camera, y_scale_px): (&Camera, f32),
         options: &RenderOptions,
         stats: &mut Stats,
     ) -> Option<usize> {
@@ -204,7 +203,7 @@ impl Renderer {
         let y_scale_px = camera.clip_from_view(width, height).y_axis.y * hf;
         for (index, inst) in list.instances.iter().enumerate() {
             stats.objects_in += 1;
-            let mesh_index = self.resolve_mesh(index, inst, list, camera, y_scale_px, options, stats);
+            let mesh_index = self.resolve_mesh(index, inst, list, (camera, y_scale_px), options, stats);
             let Some(mesh) = mesh_index.and_then(|m| list.meshes.get(m)) else {
                 stats.objects_culled += 1;
                 continue;
