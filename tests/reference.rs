@@ -22,12 +22,16 @@ struct Reference {
     color: Vec<u32>,
     /// Which triangle (global counter) won each pixel, for telling edge pixels from interior ones.
     owner: Vec<u32>,
+    /// Pixels whose texel coordinate lies within 1% of a texel of a texel boundary, where nearest sampling
+    /// may round either way in f32.
+    near_texel_edge: Vec<bool>,
 }
 
 fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg: u32) -> Reference {
     let mut color = vec![bg; w * h];
     let mut depth = vec![f64::NEG_INFINITY; w * h];
     let mut owner = vec![u32::MAX; w * h];
+    let mut near_texel_edge = vec![false; w * h];
     let proj = DMat4::from_cols_array(&camera.clip_from_view(w, h).to_cols_array().map(f64::from));
     let view = DMat4::from_cols_array(&camera.view.to_cols_array().map(f64::from));
     let mut tri_id = 0u32;
@@ -35,10 +39,13 @@ fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg
         let mesh = &scene.meshes[inst.mesh];
         let model = DMat4::from_cols_array(&inst.model.to_cols_array().map(f64::from));
         let m = proj * view * model;
-        for poly in mesh.polygons() {
+        // Polygons (quads merged by the loader) are drawn as fans of triangles here, as GL would.
+        let fans = mesh.polygons().iter().flat_map(|poly| {
             let idx = mesh.polygon_indices(poly);
+            (1..idx.len() - 1).map(move |k| (poly, [idx[0], idx[k], idx[k + 1]]))
+        });
+        for (poly, idx) in fans {
             let mat = &mesh.materials()[poly.material as usize];
-            assert_eq!(idx.len(), 3, "glTF scenes load as triangles");
             let mut v = [(0i64, 0i64, 0f64, [0f64; 6], 0f64); 3];
             let mut visible = true;
             for (k, &i) in idx.iter().enumerate() {
@@ -97,11 +104,15 @@ fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg
                     }
                     let attr =
                         |k: usize| (l0 * v[0].3[k] * v[0].2 + l1 * v[1].3[k] * v[1].2 + l2 * v[2].3[k] * v[2].2) / q;
+                    let mut ambiguous = false;
                     let texel = match mat.texture {
                         Some(t) => {
                             let tex = &scene.textures[t];
-                            let tx = (attr(0) * f64::from(tex.width())).floor() as i32;
-                            let ty = (attr(1) * f64::from(tex.height())).floor() as i32;
+                            let (fx, fy) = (attr(0) * f64::from(tex.width()), attr(1) * f64::from(tex.height()));
+                            let off = |f: f64| (f - f.round()).abs() < 0.01;
+                            ambiguous = off(fx) || off(fy);
+                            let tx = fx.floor() as i32;
+                            let ty = fy.floor() as i32;
                             let (tx, ty) =
                                 (wrap(tx, tex.width(), mat.sampler.wrap_s), wrap(ty, tex.height(), mat.sampler.wrap_t));
                             unpack(tex.texels()[(ty * tex.width() + tx) as usize]).map(f64::from)
@@ -118,14 +129,16 @@ fn reference_render(scene: &LoadedScene, camera: &Camera, w: usize, h: usize, bg
                     color[i] = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
                     depth[i] = d;
                     owner[i] = tri_id;
+                    near_texel_edge[i] = ambiguous;
                 }
             }
         }
     }
-    Reference { color, owner }
+    Reference { color, owner, near_texel_edge }
 }
 
-/// Compares the renderer's z-buffer frame with the reference; returns (mismatches, interior mismatches).
+/// Compares the renderer's z-buffer frame with the reference; returns (mismatches, mismatches away from
+/// triangle edges and texel boundaries, covered pixels).
 fn compare(name: &str, scene: &LoadedScene, camera: &Camera, w: usize, h: usize) -> (usize, usize, usize) {
     let bg = 0x0087ceeb;
     let reference = reference_render(scene, camera, w, h, bg);
@@ -144,7 +157,7 @@ fn compare(name: &str, scene: &LoadedScene, camera: &Camera, w: usize, h: usize)
             let edge = (y.saturating_sub(1)..(y + 2).min(h))
                 .flat_map(|yy| (x.saturating_sub(1)..(x + 2).min(w)).map(move |xx| (xx, yy)))
                 .any(|(xx, yy)| reference.owner[yy * w + xx] != reference.owner[i]);
-            if !edge {
+            if !edge && !reference.near_texel_edge[i] {
                 interior += 1;
             }
         }
@@ -158,7 +171,9 @@ fn compare(name: &str, scene: &LoadedScene, camera: &Camera, w: usize, h: usize)
             h,
         );
     }
-    eprintln!("{name}: {wrong} of {covered} covered pixels differ ({interior} not at a triangle edge)");
+    eprintln!(
+        "{name}: {wrong} of {covered} covered pixels differ ({interior} away from triangle edges and texel boundaries)"
+    );
     (wrong, interior, covered)
 }
 
@@ -183,10 +198,18 @@ fn zbuffer_matches_an_independent_opengl_style_reference() {
             };
             let (wrong, interior, covered) = compare(name, &scene, &camera, w, h);
             assert!(covered > 2000, "{name}: too little of the frame covered ({covered})");
-            // Edge rounding (f32 against f64 snapping) may move an edge by 1/16 pixel, and texel boundaries
-            // may round the other way: allow 1.5% of covered pixels in all, 0.5% away from triangle edges.
+            // Edge rounding (f32 against f64 snapping) may move an edge by 1/16 pixel, and a sample within 1% of
+            // a texel boundary may round the other way. A quad the loader merged from two triangles is
+            // interpolated across its four snapped corners rather than as two triangles; where the texture is
+            // minified (Avocado: a 2048-texel map on a 300-pixel fruit) that 1/32-pixel difference moves a
+            // fraction of a texel and flips a few samples. Allow 1.5% of covered pixels in all, and 0.5%
+            // away from triangle edges and texel boundaries; scenes without merged quads (BoxTextured, Duck)
+            // must match everywhere away from edges.
             assert!(wrong * 1000 <= covered * 15, "{name} {w}x{h}: {wrong} of {covered} pixels differ");
-            assert!(interior * 1000 <= covered * 5, "{name} {w}x{h}: {interior} interior pixels differ");
+            assert!(interior * 200 <= covered, "{name} {w}x{h}: {interior} pixels differ away from edges");
+            if matches!(name, "BoxTextured" | "Duck") {
+                assert_eq!(interior, 0, "{name} {w}x{h}: triangles must match exactly away from edges");
+            }
         }
     }
 }

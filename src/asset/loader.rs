@@ -9,6 +9,7 @@ use gltf::mesh::Mode;
 use thiserror::Error;
 
 use super::accessor::{Elements, read_floats, read_indices};
+use super::quads::merge_pairs;
 use super::uri::{UriError, resolve};
 use crate::render::{
     AlphaMode, Camera, DrawList, Instance, LodSet, Material, Mesh, MeshBuilder, Projection, Sampler, Texture, Vertex,
@@ -487,17 +488,22 @@ impl Loader<'_> {
                 return Err(err(format!("index {bad} is out of range for {n} vertices")));
             }
             let base = b.vertex_count() as u32;
+            let mut verts = Vec::with_capacity(n);
             for i in 0..n {
                 let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
                 let uv = uvs.as_ref().map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
                 let color = colors.as_ref().map_or(Vec4::ONE, |e| {
                     Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
                 });
-                b.vertex(Vertex { position, uv, color });
+                verts.push(Vertex { position, uv, color });
             }
             let m = b.material(material);
-            for t in triangles(prim.mode(), &indices) {
-                b.polygon(&[base + t[0], base + t[1], base + t[2]], m);
+            for v in &verts {
+                b.vertex(*v);
+            }
+            for poly in merge_pairs(&verts, &triangles(prim.mode(), &indices)) {
+                let idx: Vec<u32> = poly.iter().map(|&i| base + i).collect();
+                b.polygon(&idx, m);
             }
         }
         b.build().map_err(|e| AssetError::Primitive {

@@ -7,6 +7,7 @@
 
 pub mod accessor;
 pub mod loader;
+pub mod quads;
 pub mod uri;
 
 pub use loader::{AssetError, LoadedScene, SceneCamera, load};
