@@ -42,7 +42,7 @@ fn mergeable(v: &[Vertex], [a, b, c]: [u32; 3], d: u32) -> bool {
     let (pa, pb, pc, pd) = (va.position, vb.position, vc.position, vd.position);
     let n = (pb - pa).cross(pc - pa);
     let size = (pb - pa).length().max((pc - pa).length()).max((pd - pa).length());
-    if !(n.length() > 1e-12 * size * size) || !size.is_finite() {
+    if n.length() <= 1e-12 * size * size || !n.is_finite() || !size.is_finite() {
         return false;
     }
     let nn = n.normalize();
