@@ -61,6 +61,7 @@ struct DrawPolygon {
     texture: Option<u32>,
     sampler: Sampler,
     alpha_cutoff: Option<f32>,
+    constant_color: Option<[f32; 4]>,
 }
 
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
@@ -322,6 +323,9 @@ impl Renderer {
                     AlphaMode::Opaque => None,
                     AlphaMode::Mask { cutoff } => Some(cutoff),
                 };
+                let first_color = self.clip_out.first().map(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]]);
+                let constant_color = first_color
+                    .filter(|c| self.clip_out.iter().all(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]] == *c));
                 let base = DrawPolygon {
                     first: first as u32,
                     count: n as u32,
@@ -329,6 +333,7 @@ impl Renderer {
                     texture,
                     sampler: material.sampler,
                     alpha_cutoff,
+                    constant_color,
                 };
                 if is_y_monotone(&self.screen[first..]) {
                     self.polys.push(base);
@@ -515,6 +520,7 @@ impl FillContext<'_> {
                 filter: self.options.filter,
                 mode: self.options.texture_mode,
                 alpha_cutoff: p.alpha_cutoff,
+                constant_color: p.constant_color,
                 visibility: self.visibility,
             };
             let band_rows = (y0 as i32, (y0 + rows) as i32);

@@ -47,6 +47,8 @@ pub struct Shading<'a> {
     pub alpha_cutoff: Option<f32>,
     /// The visibility rule.
     pub visibility: Visibility,
+    /// The polygon's colour when all its vertices share one (enables the fast paths below).
+    pub constant_color: Option<[f32; 4]>,
 }
 
 /// The buffers of one frame row.
@@ -89,8 +91,93 @@ fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective: bool) -> 
     [at(slot::S) * w, at(slot::T) * w, at(r) * w, at(r + 1) * w, at(r + 2) * w, at(r + 3) * w]
 }
 
+/// True when a visibility test lets pixel `x` through (and counts a rejection when not).
+#[inline]
+fn visible(vis: Visibility, row: &Row<'_>, x: usize, depth: f32, counts: &mut SpanCounts) -> bool {
+    let pass = match vis {
+        Visibility::Overwrite => true,
+        // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
+        Visibility::DepthTest => depth.partial_cmp(&row.depth[x]) == Some(std::cmp::Ordering::Greater),
+        Visibility::Coverage => row.coverage[x >> 6] & (1u64 << (x & 63)) == 0,
+    };
+    if !pass {
+        counts.rejected += 1;
+    }
+    pass
+}
+
+#[inline]
+fn mark(vis: Visibility, row: &mut Row<'_>, x: usize, depth: f32) {
+    match vis {
+        Visibility::Overwrite => {}
+        Visibility::DepthTest => row.depth[x] = depth,
+        Visibility::Coverage => row.coverage[x >> 6] |= 1u64 << (x & 63),
+    }
+}
+
+/// Fast path: one colour, no texture, no mask.
+fn draw_flat(span: &Span, sh: &Shading<'_>, color: [f32; 4], row: &mut Row<'_>) -> SpanCounts {
+    let mut counts = SpanCounts::default();
+    let packed = pack_rgb(color);
+    let (x0, x1) = (span.x0 as usize, span.x1 as usize);
+    if sh.visibility == Visibility::Overwrite {
+        row.color[x0..x1].fill(packed);
+        let n = (x1 - x0) as u64;
+        counts.shaded = n;
+        counts.written = n;
+        return counts;
+    }
+    for (k, x) in (x0..x1).enumerate() {
+        let depth = span.a0[slot::DEPTH] + k as f32 * span.da[slot::DEPTH];
+        if visible(sh.visibility, row, x, depth, &mut counts) {
+            row.color[x] = packed;
+            mark(sh.visibility, row, x, depth);
+            counts.shaded += 1;
+            counts.written += 1;
+        }
+    }
+    counts
+}
+
+/// Fast path: perspective-correct nearest texel, white vertex colour, no mask: the texel is the pixel.
+fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row: &mut Row<'_>) -> SpanCounts {
+    let mut counts = SpanCounts::default();
+    let (a0, da) = (&span.a0, &span.da);
+    let (w, h) = (tex.width() as f32, tex.height() as f32);
+    for (k, x) in (span.x0 as usize..span.x1 as usize).enumerate() {
+        let kf = k as f32;
+        let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
+        if !visible(sh.visibility, row, x, depth, &mut counts) {
+            continue;
+        }
+        let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
+        let u = (a0[slot::S] + kf * da[slot::S]) * q;
+        let v = (a0[slot::T] + kf * da[slot::T]) * q;
+        let t = tex.texel((u * w).floor() as i32, (v * h).floor() as i32, sh.sampler);
+        row.color[x] = t & 0x00ff_ffff;
+        mark(sh.visibility, row, x, depth);
+        counts.shaded += 1;
+        counts.written += 1;
+    }
+    counts
+}
+
 /// Draws one span into a row and returns the pixel counts.
 pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
+    match (sh.texture, sh.constant_color, sh.alpha_cutoff) {
+        (None, Some(c), None) => return draw_flat(span, sh, c, row),
+        (Some(t), Some([1.0, 1.0, 1.0, 1.0]), None)
+            if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective =>
+        {
+            return draw_texel(span, sh, t, row);
+        }
+        _ => {}
+    }
+    draw_general(span, sh, row)
+}
+
+/// The general span: any texture mode, filter, vertex colours and alpha mask.
+fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
     let mut counts = SpanCounts::default();
     let n = span.x1 - span.x0;
     let (a0, da) = (&span.a0, &span.da);
