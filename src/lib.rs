@@ -5,7 +5,7 @@
 //! command-line shell.
 
 pub mod asset;
-pub mod measure;
 pub mod cli;
+pub mod measure;
 pub mod render;
 pub mod shell;

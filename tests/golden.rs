@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use common::*;
 use scanline_racer::asset::load;
-use scanline_racer::render::{Filter, Method, RenderOptions, Renderer, TextureMode};
+use scanline_racer::render::{Filter, Level, LodMode, Method, RenderOptions, Renderer, TextureMode};
 
 struct Case {
     name: &'static str,
@@ -26,6 +26,7 @@ struct Case {
 
 fn cases() -> Vec<Case> {
     let court = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/courtyard.gltf");
+    let car = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cars/car_1.gltf");
     let o = |method| RenderOptions { method, threads: 2, ..RenderOptions::default() };
     vec![
         Case { name: "courtyard-zbuffer", scene: court.clone(), camera: Some("eye cam"), options: o(Method::ZBuffer) },
@@ -70,6 +71,24 @@ fn cases() -> Vec<Case> {
             scene: samples().join("BoxVertexColors.gltf"),
             camera: None,
             options: o(Method::BucketNear),
+        },
+        Case {
+            name: "car-close",
+            scene: car.clone(),
+            camera: Some("front"),
+            options: RenderOptions { lod: LodMode::Force(Level::Close), ..o(Method::ZBuffer) },
+        },
+        Case {
+            name: "car-mid",
+            scene: car.clone(),
+            camera: Some("front"),
+            options: RenderOptions { lod: LodMode::Force(Level::Mid), ..o(Method::BucketFar) },
+        },
+        Case {
+            name: "car-long",
+            scene: car,
+            camera: Some("front"),
+            options: RenderOptions { lod: LodMode::Force(Level::Long), ..o(Method::BucketNear) },
         },
     ]
 }

@@ -134,10 +134,20 @@ impl LoadedScene {
         }
     }
 
-    /// Total polygons over all instances.
+    /// Total polygons over all instances, counting LOD sets at their close model.
     #[must_use]
     pub fn polygon_count(&self) -> usize {
-        self.instances.iter().filter_map(|i| self.meshes.get(i.mesh)).map(|m| m.polygons().len()).sum()
+        self.instances
+            .iter()
+            .filter_map(|i| {
+                let mesh = match i.lod {
+                    Some(set) => self.lod_sets.get(set)?.meshes[0],
+                    None => i.mesh,
+                };
+                self.meshes.get(mesh)
+            })
+            .map(|m| m.polygons().len())
+            .sum()
     }
 
     /// Picks a camera by traversal index or by node or camera name.

@@ -1,0 +1,35 @@
+//! `assetgen`: writes the shipped assets (`assets/cars`, `assets/track`, `assets/grid.gltf`) from code.
+//!
+//! Deterministic: no clock, no OS randomness, no hash-map iteration; running it twice gives identical
+//! bytes, and `tests/assets.rs` checks that the committed assets equal what it makes.
+//! Usage: `cargo run --release --bin assetgen [-- OUT_DIR]` (default `assets`).
+
+mod cars;
+mod gltf_out;
+mod grid;
+mod paint;
+mod track;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+fn run(out: &std::path::Path) -> std::io::Result<()> {
+    let cars_dir = out.join("cars");
+    let track_dir = out.join("track");
+    std::fs::create_dir_all(&cars_dir)?;
+    std::fs::create_dir_all(&track_dir)?;
+    let cars = cars::generate(&cars_dir)?;
+    let track = track::generate(&track_dir)?;
+    grid::generate(out, &cars, &track)
+}
+
+fn main() -> ExitCode {
+    let out = std::env::args_os().nth(1).map_or_else(|| PathBuf::from("assets"), PathBuf::from);
+    match run(&out) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("assetgen: error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
