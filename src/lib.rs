@@ -6,6 +6,7 @@
 
 pub mod asset;
 pub mod cli;
+pub mod game;
 pub mod measure;
 pub mod render;
 pub mod shell;

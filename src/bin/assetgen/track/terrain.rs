@@ -1,0 +1,143 @@
+//! The ground: grass tiles around the circuit and the ring of distant hills.
+
+use glam::{Vec2, Vec3};
+
+use super::circuit::Circuit;
+use super::mesh::{MeshBuilder, Scene, world_uvs};
+use super::textures::Mats;
+use super::util::{Rng, smoothstep};
+use super::{FINE_TILE, GRASS_UV, GROUND_RADIUS, TILE, WHITE};
+
+/// Ground heights on a square grid of `TILE` m: flat near the circuit, rolling further out, rising toward
+/// the hills. Each tile is drawn as two triangles split from its (-x, -z) corner to its (+x, +z) corner.
+pub(super) struct Terrain {
+    origin: Vec2,
+    n: usize,
+    heights: Vec<f32>,
+    pub(super) centre: Vec2,
+}
+
+impl Terrain {
+    pub(super) fn new(c: &Circuit) -> Terrain {
+        let (lo, hi) = c.bounds();
+        let centre = ((lo + hi) * 0.5 / TILE).round() * TILE;
+        let n = (2.0 * (GROUND_RADIUS / TILE).ceil()) as usize + 2;
+        let origin = centre - Vec2::splat(n as f32 * TILE / 2.0);
+        let coarse: Vec<Vec2> = c.samples.iter().step_by(2).map(|s| Vec2::new(s.p.x, s.p.z)).collect();
+        let mut heights = Vec::with_capacity((n + 1) * (n + 1));
+        for j in 0..=n {
+            for i in 0..=n {
+                let p = origin + Vec2::new(i as f32, j as f32) * TILE;
+                let d = coarse.iter().map(|q| q.distance_squared(p)).fold(f32::INFINITY, f32::min).sqrt();
+                let away = smoothstep(260.0, 700.0, d);
+                let roll = 7.0 + 6.0 * (p.x / 170.0 + 1.0).sin() * (p.y / 210.0).cos();
+                let rise = 30.0 * smoothstep(1300.0, 2100.0, p.distance(centre));
+                heights.push(away * (roll + rise));
+            }
+        }
+        Terrain { origin, n, heights, centre }
+    }
+
+    fn vertex(&self, i: usize, j: usize) -> Vec3 {
+        let p = self.origin + Vec2::new(i as f32, j as f32) * TILE;
+        Vec3::new(p.x, self.heights[j * (self.n + 1) + i], p.y)
+    }
+
+    /// Ground height at (x, z), as drawn.
+    pub(super) fn height(&self, p: Vec2) -> f32 {
+        let g = (p - self.origin) / TILE;
+        let (i, j) = (g.x.floor().clamp(0.0, self.n as f32 - 1.0), g.y.floor().clamp(0.0, self.n as f32 - 1.0));
+        let (fx, fz) = ((g.x - i).clamp(0.0, 1.0), (g.y - j).clamp(0.0, 1.0));
+        let (i, j) = (i as usize, j as usize);
+        let a = self.vertex(i, j).y;
+        let b = self.vertex(i + 1, j).y;
+        let cc = self.vertex(i + 1, j + 1).y;
+        let d = self.vertex(i, j + 1).y;
+        if fz >= fx { a + fz * (d - a) + fx * (cc - d) } else { a + fx * (b - a) + fz * (cc - b) }
+    }
+}
+
+/// Grass tiles in blocks of 8 x 8 (one mesh each), within the ground radius. Tiles near the track are split
+/// into finer tiles and those reaching into the track's corridor are left out (the aprons cover the rest), so
+/// no ground lies under the road; the finer tiles overlap their neighbours by 1 m so that no crack opens where
+/// their corners meet the coarse tiles' edges.
+pub(super) fn ground_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
+    for bj in (0..t.n).step_by(8) {
+        for bi in (0..t.n).step_by(8) {
+            let mut mb = MeshBuilder::default();
+            for j in bj..(bj + 8).min(t.n) {
+                for i in bi..(bi + 8).min(t.n) {
+                    let (a, b, cc, d) =
+                        (t.vertex(i, j), t.vertex(i + 1, j), t.vertex(i + 1, j + 1), t.vertex(i, j + 1));
+                    let (lo, hi) = (Vec2::new(a.x, a.z), Vec2::new(cc.x, cc.z));
+                    if ((lo + hi) * 0.5).distance(t.centre) > GROUND_RADIUS {
+                        continue;
+                    }
+                    if !c.touches(lo, hi) {
+                        // Counter-clockwise from above, fanned from `a` (the split the height function assumes).
+                        let pts = [a, d, cc, b];
+                        mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+                        continue;
+                    }
+                    let k = (TILE / FINE_TILE) as usize;
+                    for fj in 0..k {
+                        for fi in 0..k {
+                            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE - Vec2::ONE;
+                            let f1 = f0 + Vec2::splat(FINE_TILE + 2.0);
+                            if c.touches(f0, f1) {
+                                continue;
+                            }
+                            let at = |x: f32, z: f32| Vec3::new(x, t.height(Vec2::new(x, z)), z);
+                            let pts = [at(f0.x, f0.y), at(f0.x, f1.y), at(f1.x, f1.y), at(f1.x, f0.y)];
+                            mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+                        }
+                    }
+                }
+            }
+            scene.add(&format!("ground {:02} {:02}", bj / 8, bi / 8), &mb);
+        }
+    }
+}
+
+/// A ring of low, coarse hills beyond the ground's edge, in four meshes.
+pub(super) fn hills_meshes(scene: &mut Scene, m: &Mats, t: &Terrain) {
+    const K: usize = 48;
+    let mut rng = Rng::new(0x0000_4111_5eed);
+    let ridge: Vec<(f32, f32)> = (0..K).map(|_| (rng.range(2280.0, 2420.0), rng.range(110.0, 250.0))).collect();
+    let ring = |k: usize, r: f32| {
+        let a = (k % K) as f32 / K as f32 * std::f32::consts::TAU;
+        t.centre + Vec2::new(a.cos(), a.sin()) * r
+    };
+    let at = |p: Vec2, y: f32| Vec3::new(p.x, y, p.y);
+    let green = Vec3::new(0.34, 0.50, 0.30);
+    let slope = Vec3::new(0.40, 0.52, 0.44);
+    let far = Vec3::new(0.50, 0.58, 0.66);
+    for q in 0..4 {
+        let mut mb = MeshBuilder::default();
+        for k in q * K / 4..(q + 1) * K / 4 {
+            let k1 = (k + 1) % K;
+            let (r0, h0) = ridge[k];
+            let (r1, h1) = ridge[k1];
+            let foot = |k: usize| {
+                let p = ring(k, 1990.0);
+                at(p, t.height(p) - 3.0)
+            };
+            let (f0, f1) = (foot(k), foot(k1));
+            let (m0, m1) =
+                (at(ring(k, 2150.0), f0.y + 0.45 * (h0 - f0.y)), at(ring(k1, 2150.0), f1.y + 0.45 * (h1 - f1.y)));
+            let (t0, t1) = (at(ring(k, r0), h0), at(ring(k1, r1), h1));
+            let (b0, b1) = (at(ring(k, 2750.0), 0.0), at(ring(k1, 2750.0), 0.0));
+            let inward = at(t.centre - ring(k, 1.0), 0.0).normalize_or_zero() + Vec3::Y;
+            let z = [Vec2::ZERO; 3];
+            for (tri, tint) in
+                [([f0, f1, m1], green), ([f0, m1, m0], green), ([m0, m1, t1], slope), ([m0, t1, t0], slope)]
+            {
+                mb.face(m.hills, &tri, &z, inward, tint);
+            }
+            for (tri, tint) in [([t0, t1, b1], far), ([t0, b1, b0], far)] {
+                mb.face(m.hills, &tri, &z, Vec3::Y - inward, tint);
+            }
+        }
+        scene.add(&format!("hills {q}"), &mb);
+    }
+}

@@ -1,0 +1,259 @@
+//! The circuit as the simulation sees it: a closed centre line with width and banking, sampled every few
+//! metres, and the queries the cars need (where am I along the lap, how far from the centre, how high).
+
+use glam::{Vec2, Vec3};
+use thiserror::Error;
+
+/// Why a centre line could not be read.
+#[derive(Debug, Error, PartialEq, Eq)]
+pub enum TrackError {
+    /// The JSON does not parse or lacks fields.
+    #[error("centre line: {0}")]
+    Format(String),
+    /// Too few samples, or samples that are not finite.
+    #[error("centre line: {0}")]
+    Geometry(String),
+}
+
+/// One sample of the centre line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Position of the road centre (metres, Y up).
+    pub pos: Vec3,
+    /// Roll of the road surface in radians (positive raises the left side).
+    pub bank: f32,
+    /// Road width in metres.
+    pub width: f32,
+    /// Distance along the lap from the start line to this sample.
+    pub s: f32,
+}
+
+/// Where a point is relative to the track.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Location {
+    /// Index of the segment (from sample `index` to `index + 1`).
+    pub index: usize,
+    /// Distance along the lap.
+    pub s: f32,
+    /// Signed distance from the centre line, positive to the right of the driving direction.
+    pub lateral: f32,
+    /// Height of the road surface under the point.
+    pub height: f32,
+    /// Road width here.
+    pub width: f32,
+}
+
+/// A closed circuit centre line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    samples: Vec<Sample>,
+    length: f32,
+}
+
+/// How many segments either side of the hint [`Track::locate`] searches: enough for a car at top speed over
+/// many ticks, few enough that the two levels of a crossing (far apart along the lap) never get confused.
+const SEARCH: usize = 12;
+
+impl Track {
+    /// Builds a track from samples in driving order (the last joins back to the first).
+    pub fn new(points: &[(Vec3, f32, f32)]) -> Result<Self, TrackError> {
+        if points.len() < 8 {
+            return Err(TrackError::Geometry(format!("{} samples, need at least 8", points.len())));
+        }
+        if points.iter().any(|(p, b, w)| !(p.is_finite() && b.is_finite() && w.is_finite() && *w > 0.0)) {
+            return Err(TrackError::Geometry("a sample is not finite or has no width".into()));
+        }
+        let mut s = 0.0;
+        let mut samples = Vec::with_capacity(points.len());
+        for (i, &(pos, bank, width)) in points.iter().enumerate() {
+            samples.push(Sample { pos, bank, width, s });
+            let next = points[(i + 1) % points.len()].0;
+            s += flat(next - pos).length();
+        }
+        Ok(Self { samples, length: s })
+    }
+
+    /// Reads `centerline.json` as written by the asset generator.
+    pub fn from_json(text: &str) -> Result<Self, TrackError> {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| TrackError::Format(e.to_string()))?;
+        let arr = v.get("samples").and_then(|s| s.as_array()).ok_or_else(|| TrackError::Format("no samples".into()))?;
+        let num = |x: Option<&serde_json::Value>| x.and_then(serde_json::Value::as_f64).map(|f| f as f32);
+        let mut pts = Vec::with_capacity(arr.len());
+        for (i, s) in arr.iter().enumerate() {
+            let p = s.get("p").and_then(|p| p.as_array()).filter(|p| p.len() == 3);
+            let (Some(p), Some(bank), Some(width)) = (p, num(s.get("bank")), num(s.get("width"))) else {
+                return Err(TrackError::Format(format!("sample {i} lacks p, bank or width")));
+            };
+            let (Some(x), Some(y), Some(z)) = (num(p.first()), num(p.get(1)), num(p.get(2))) else {
+                return Err(TrackError::Format(format!("sample {i} has a bad position")));
+            };
+            pts.push((Vec3::new(x, y, z), bank, width));
+        }
+        Self::new(&pts)
+    }
+
+    /// Lap length in metres.
+    #[must_use]
+    pub fn length(&self) -> f32 {
+        self.length
+    }
+
+    /// The samples.
+    #[must_use]
+    pub fn samples(&self) -> &[Sample] {
+        &self.samples
+    }
+
+    fn segment(&self, i: usize) -> (Sample, Sample) {
+        let n = self.samples.len();
+        (self.samples[i % n], self.samples[(i + 1) % n])
+    }
+
+    /// Locates a point (x, z) near the segment `hint`: the nearest segment within a window around it.
+    #[must_use]
+    pub fn locate(&self, p: Vec2, hint: usize) -> Location {
+        let n = self.samples.len();
+        let mut best: Option<(f32, Location)> = None;
+        for k in 0..=2 * SEARCH {
+            let i = (hint % n + n + k - SEARCH) % n;
+            let (a, b) = self.segment(i);
+            let (a2, b2) = (flat(a.pos), flat(b.pos));
+            let d = b2 - a2;
+            let len2 = d.length_squared().max(1e-6);
+            let t = ((p - a2).dot(d) / len2).clamp(0.0, 1.0);
+            let foot = a2 + d * t;
+            let dist2 = (p - foot).length_squared();
+            if best.as_ref().is_some_and(|(b, _)| *b <= dist2) {
+                continue;
+            }
+            let dir = d / len2.sqrt();
+            // Right of the driving direction (x, z) is (-dz, dx) with Y up... (dir.y is z): right = (-dir.y, dir.x).
+            let right = Vec2::new(-dir.y, dir.x);
+            let lateral = (p - foot).dot(right);
+            let bank = a.bank + (b.bank - a.bank) * t;
+            let centre_h = a.pos.y + (b.pos.y - a.pos.y) * t;
+            let seg_len = len2.sqrt();
+            let s = (a.s + seg_len * t) % self.length;
+            best = Some((
+                dist2,
+                Location {
+                    index: i,
+                    s,
+                    lateral,
+                    height: centre_h - lateral * bank.sin(),
+                    width: a.width + (b.width - a.width) * t,
+                },
+            ));
+        }
+        best.map_or(
+            Location { index: 0, s: 0.0, lateral: 0.0, height: self.samples[0].pos.y, width: self.samples[0].width },
+            |(_, l)| l,
+        )
+    }
+
+    /// The segment index that contains lap distance `s`.
+    #[must_use]
+    pub fn index_at(&self, s: f32) -> usize {
+        let s = s.rem_euclid(self.length);
+        self.samples.partition_point(|x| x.s <= s).saturating_sub(1)
+    }
+
+    /// Point on the road at lap distance `s`, `lateral` metres right of the centre, and the driving direction.
+    #[must_use]
+    pub fn point_at(&self, s: f32, lateral: f32) -> (Vec3, Vec2) {
+        let i = self.index_at(s);
+        let (a, b) = self.segment(i);
+        let seg = flat(b.pos - a.pos);
+        let len = seg.length().max(1e-6);
+        let t = ((s.rem_euclid(self.length) - a.s) / len).clamp(0.0, 1.0);
+        let dir = seg / len;
+        let right = Vec2::new(-dir.y, dir.x);
+        let c = a.pos + (b.pos - a.pos) * t;
+        let bank = a.bank + (b.bank - a.bank) * t;
+        (Vec3::new(c.x + right.x * lateral, c.y - lateral * bank.sin(), c.z + right.y * lateral), dir)
+    }
+
+    /// Signed curvature (1/m, positive turning right) around lap distance `s`, over a 20 m chord.
+    #[must_use]
+    pub fn curvature_at(&self, s: f32) -> f32 {
+        let (_, d0) = self.point_at(s - 10.0, 0.0);
+        let (_, d1) = self.point_at(s + 10.0, 0.0);
+        d0.perp_dot(d1).asin() / 20.0
+    }
+}
+
+/// The horizontal part (x, z) of a position.
+#[must_use]
+pub fn flat(v: Vec3) -> Vec2 {
+    Vec2::new(v.x, v.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A circle of radius 100 m driven counter-clockwise seen from above (turning left).
+    pub(crate) fn circle() -> Track {
+        let pts: Vec<(Vec3, f32, f32)> = (0..200)
+            .map(|i| {
+                let a = i as f32 / 200.0 * std::f32::consts::TAU;
+                (Vec3::new(100.0 * a.cos(), 0.0, -100.0 * a.sin()), 0.0, 12.0)
+            })
+            .collect();
+        Track::new(&pts).unwrap()
+    }
+
+    #[test]
+    fn locate_and_point_at_agree() {
+        let t = circle();
+        assert!((t.length() - 628.3).abs() < 0.5);
+        for s in [0.0f32, 50.0, 313.0, 600.0] {
+            for lat in [-5.0f32, 0.0, 4.0] {
+                let (p, _) = t.point_at(s, lat);
+                let loc = t.locate(flat(p), t.index_at(s));
+                let ds = (loc.s - s).rem_euclid(t.length());
+                assert!(ds.min(t.length() - ds) < 0.5, "{s} {lat}: {loc:?}");
+                assert!((loc.lateral - lat).abs() < 0.1, "{s} {lat}: {loc:?}");
+            }
+        }
+        // Counter-clockwise seen from above is a left turn: the outside (larger radius) is to the right.
+        let (p, _) = t.point_at(0.0, 3.0);
+        assert!(flat(p).length() > 100.0);
+        assert!(t.curvature_at(100.0) < 0.0, "left turn has negative curvature");
+        assert!((t.curvature_at(100.0).abs() - 0.01).abs() < 0.001);
+    }
+
+    #[test]
+    fn bad_centre_lines_are_errors() {
+        assert!(Track::from_json("{").is_err());
+        assert!(Track::from_json(r#"{"samples": []}"#).is_err());
+        assert!(Track::new(&[(Vec3::splat(f32::NAN), 0.0, 12.0); 10]).is_err());
+    }
+}
+
+/// Test tracks shared by the game's unit tests.
+#[cfg(test)]
+pub(crate) mod tests_support {
+    use super::*;
+
+    /// An oval: 2 km straight along -Z from the origin, a 100 m radius turn, 2 km back, and a turn home.
+    pub(crate) fn straight() -> Track {
+        let mut pts = vec![];
+        let mut push = |p: Vec3| pts.push((p, 0.0, 12.0));
+        for i in 0..400 {
+            push(Vec3::new(0.0, 0.0, -5.0 * i as f32));
+        }
+        for i in 0..60 {
+            let a = i as f32 / 60.0 * std::f32::consts::PI;
+            push(Vec3::new(100.0 - 100.0 * a.cos(), 0.0, -2000.0 - 100.0 * a.sin()));
+        }
+        for i in 0..400 {
+            push(Vec3::new(200.0, 0.0, -2000.0 + 5.0 * i as f32));
+        }
+        for i in 0..60 {
+            let a = i as f32 / 60.0 * std::f32::consts::PI;
+            push(Vec3::new(100.0 + 100.0 * a.cos(), 0.0, 100.0 * a.sin()));
+        }
+        Track::new(&pts).unwrap_or_else(|e| panic!("{e}"))
+    }
+}
