@@ -73,6 +73,7 @@ fn window_shows_the_same_frame_as_the_headless_renderer() {
     let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
         .args([
             "play",
+            "--demo",
             "--width",
             "320",
             "--height",
@@ -118,6 +119,41 @@ fn scaled_internal_resolution_and_a_user_scene() {
     let (px, w, h) = read_png(&shot).unwrap();
     assert_eq!((w, h), (100, 67), "internal frame is the window divided by the scale, rounded up");
     assert!(px.iter().any(|&p| p != 0x87ceeb), "the duck is drawn");
+}
+
+#[test]
+fn the_race_runs_in_the_window_with_the_cars_on_the_circuit() {
+    let x = Xvfb::start();
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-race.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args([
+            "play",
+            "--width",
+            "320",
+            "--height",
+            "180",
+            "--exit-after-frames",
+            "20",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (px, w, h) = read_png(&shot).unwrap();
+    assert_eq!((w, h), (320, 180));
+    // The chase camera looks at the player's red car from behind: red dominates the lower middle.
+    let red = (h / 2..h)
+        .flat_map(|y| (w / 3..2 * w / 3).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let p = px[y * w + x];
+            (p >> 16) & 0xff > 150 && (p >> 8) & 0xff < 80 && p & 0xff < 80
+        })
+        .count();
+    assert!(red > 500, "the player's car is in view ({red} red pixels)");
+    assert!(px[..w * 20].iter().all(|&p| p == 0x87ceeb), "sky at the top");
 }
 
 #[test]

@@ -150,6 +150,34 @@ impl LoadedScene {
             .sum()
     }
 
+    /// Appends another scene's meshes, textures, LOD sets, instances and cameras; returns the index its first
+    /// LOD set got here (its LOD set `k` is this scene's `k + returned`).
+    pub fn append(&mut self, other: LoadedScene) -> usize {
+        let (meshes, textures, sets) = (self.meshes.len(), self.textures.len(), self.lod_sets.len());
+        self.meshes.extend(other.meshes.into_iter().map(|mut m| {
+            m.rebase_textures(textures);
+            m
+        }));
+        self.textures.extend(other.textures);
+        self.lod_sets.extend(other.lod_sets.into_iter().map(|mut s| {
+            s.meshes = s.meshes.map(|m| m + meshes);
+            s
+        }));
+        self.instances.extend(other.instances.into_iter().map(|mut i| {
+            i.mesh += meshes;
+            i.lod = i.lod.map(|l| l + sets);
+            i
+        }));
+        self.cameras.extend(other.cameras);
+        self.skipped_primitives += other.skipped_primitives;
+        self.bounds = match (self.bounds, other.bounds) {
+            (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+            (x, None) => x,
+            (None, y) => y,
+        };
+        sets
+    }
+
     /// Picks a camera by traversal index or by node or camera name.
     #[must_use]
     pub fn find_camera(&self, sel: &str) -> Option<&SceneCamera> {

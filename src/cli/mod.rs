@@ -66,7 +66,7 @@ pub enum CliError {
     BadArgument(String),
     /// The window could not be opened or failed.
     #[error(transparent)]
-    Shell(#[from] crate::shell::viewer::ShellError),
+    Shell(#[from] crate::shell::window::ShellError),
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),

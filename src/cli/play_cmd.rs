@@ -7,7 +7,9 @@ use clap::Args;
 use super::CliError;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::render::{Method, RenderOptions};
-use crate::shell::viewer::{ViewerConfig, run};
+use crate::shell::race::{Race, RaceScene, find_assets};
+use crate::shell::viewer::Viewer;
+use crate::shell::window::{WindowConfig, run};
 
 /// The scene shown when no `--scene` is given: the hand-made test courtyard (self-contained, data URIs only).
 const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
@@ -34,9 +36,12 @@ pub struct PlayArgs {
     /// Renderer worker threads (default: the cores available).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
-    /// A glTF scene to show instead of the built-in demo scene.
+    /// Fly a camera around this glTF scene instead of racing.
     #[arg(long)]
     pub scene: Option<PathBuf>,
+    /// Fly a camera around the built-in demo scene instead of racing.
+    #[arg(long, conflicts_with = "scene")]
+    pub demo: bool,
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
@@ -55,6 +60,7 @@ impl Default for PlayArgs {
             method: Method::ZBuffer,
             threads: 0,
             scene: None,
+            demo: false,
             exit_after_frames: None,
             screenshot: None,
         }
@@ -72,19 +78,30 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     if !(1..=16).contains(&args.scale) {
         return Err(CliError::BadArgument(format!("--scale {}: expected 1 to 16", args.scale)));
     }
-    let scene: LoadedScene = match &args.scene {
-        Some(path) => load(path)?,
-        None => load_from_slice(DEMO_SCENE, std::path::Path::new("."), "built-in demo scene")?,
-    };
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
-    run(ViewerConfig {
-        scene,
+    let window = WindowConfig {
         size: (args.width, args.height),
         fullscreen: args.fullscreen,
         scale: args.scale,
-        options,
         exit_after_frames: args.exit_after_frames,
-        screenshot: args.screenshot,
-    })?;
+        screenshot: args.screenshot.clone(),
+    };
+    let aspect = args.width as f32 / args.height as f32;
+    let scene: Option<LoadedScene> = match &args.scene {
+        Some(path) => Some(load(path)?),
+        None if args.demo => Some(load_from_slice(DEMO_SCENE, std::path::Path::new("."), "built-in demo scene")?),
+        None => None,
+    };
+    match scene {
+        Some(scene) => run(window, &mut Viewer::new(scene, options, aspect))?,
+        None => {
+            let dir = find_assets().ok_or_else(|| {
+                CliError::BadArgument(
+                    "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+                )
+            })?;
+            run(window, &mut Race::new(RaceScene::load(&dir)?, options))?;
+        }
+    }
     Ok(())
 }

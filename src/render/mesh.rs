@@ -163,6 +163,15 @@ impl Mesh {
         let start = p.first as usize;
         self.indices.get(start..start + p.count as usize).unwrap_or(&[])
     }
+    /// Shifts every material's texture index by `by` (when the mesh's textures are appended to a longer list).
+    pub fn rebase_textures(&mut self, by: usize) {
+        for m in &mut self.materials {
+            if let Some(t) = m.texture.as_mut() {
+                *t += by;
+            }
+        }
+    }
+
     /// Number of polygons handed to the builder, before non-planar ones were split into triangles.
     #[must_use]
     pub fn source_polygon_count(&self) -> usize {

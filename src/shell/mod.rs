@@ -2,4 +2,6 @@
 //! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
 
 pub mod png;
+pub mod race;
 pub mod viewer;
+pub mod window;

@@ -1,0 +1,232 @@
+//! The race in the window: the simulation fed at a fixed tick from the real clock, the keyboard as the
+//! player's controls, chase, bumper and trackside cameras, and the cars drawn at their levels of detail.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use winit::keyboard::KeyCode;
+
+use super::window::{Content, ShellError};
+use crate::asset::{AssetError, LoadedScene, load};
+use crate::game::{Controls, DT, Track, World, step};
+use crate::render::{Camera, DrawList, Instance, Method, RenderOptions, Renderer};
+
+/// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
+const MAX_CATCH_UP: f64 = 0.25;
+/// Number of cars in a race.
+pub const FIELD: usize = 8;
+
+/// Where the shipped assets are: `$SCANLINE_RACER_ASSETS`, `./assets`, or beside the executable's build tree.
+#[must_use]
+pub fn find_assets() -> Option<PathBuf> {
+    let mut candidates: Vec<PathBuf> =
+        std::env::var_os("SCANLINE_RACER_ASSETS").map(PathBuf::from).into_iter().collect();
+    candidates.push(PathBuf::from("assets"));
+    if let Ok(exe) = std::env::current_exe() {
+        // target/release/scanline-racer -> ../../assets
+        if let Some(root) = exe.parent().and_then(Path::parent).and_then(Path::parent) {
+            candidates.push(root.join("assets"));
+        }
+    }
+    candidates.into_iter().find(|p| p.join("track/circuit.gltf").is_file())
+}
+
+/// The circuit and the cars, loaded and merged into one scene.
+pub struct RaceScene {
+    scene: LoadedScene,
+    statics: usize,
+    car_sets: Vec<usize>,
+    track: Arc<Track>,
+}
+
+impl RaceScene {
+    /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
+    pub fn load(dir: &Path) -> Result<Self, AssetError> {
+        let mut scene = load(&dir.join("track/circuit.gltf"))?;
+        let statics = scene.instances.len();
+        let mut car_sets = vec![];
+        for n in 1..=FIELD {
+            let car = load(&dir.join(format!("cars/car_{n}.gltf")))?;
+            let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], ..car });
+            car_sets.push(first);
+        }
+        let line = dir.join("track/centerline.json");
+        let text = std::fs::read_to_string(&line)
+            .map_err(|e| AssetError::Read { file: line.display().to_string(), reason: e.to_string() })?;
+        let track = Track::from_json(&text)
+            .map_err(|e| AssetError::Scene { file: line.display().to_string(), reason: e.to_string() })?;
+        scene.instances.truncate(statics);
+        Ok(Self { scene, statics, car_sets, track: Arc::new(track) })
+    }
+}
+
+/// Camera placements, switched with C (as Virtua Racing's view buttons).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum View {
+    ChaseNear,
+    ChaseFar,
+    Bumper,
+    Trackside,
+}
+
+/// Keyboard state turned into smoothed controls.
+#[derive(Debug, Default)]
+struct Keys {
+    left: bool,
+    right: bool,
+    throttle: bool,
+    brake: bool,
+    steer: f32,
+}
+
+impl Keys {
+    /// One tick of controls: digital steering eased in and out so a tap is a correction, not a swerve.
+    fn controls(&mut self) -> Controls {
+        let target = f32::from(u8::from(self.right)) - f32::from(u8::from(self.left));
+        let rate = if target == 0.0 || target.signum() != self.steer.signum() { 6.0 } else { 2.5 };
+        let step = rate * DT;
+        self.steer += (target - self.steer).clamp(-step, step);
+        Controls {
+            steer: self.steer,
+            throttle: f32::from(u8::from(self.throttle)),
+            brake: f32::from(u8::from(self.brake)),
+        }
+    }
+}
+
+/// The race.
+pub struct Race {
+    scene: RaceScene,
+    world: World,
+    renderer: Renderer,
+    options: RenderOptions,
+    keys: Keys,
+    accumulator: f64,
+    view: View,
+    paused: bool,
+    progress: Vec<f32>,
+    last_s: Vec<f32>,
+}
+
+impl Race {
+    /// A race at the start, the player last on the grid.
+    #[must_use]
+    pub fn new(scene: RaceScene, options: RenderOptions) -> Self {
+        let world = World::new(scene.track.clone(), FIELD);
+        let last_s = world.cars.iter().map(|c| c.loc.s).collect();
+        Self {
+            world,
+            scene,
+            renderer: Renderer::new(),
+            options,
+            keys: Keys::default(),
+            accumulator: 0.0,
+            view: View::ChaseNear,
+            paused: false,
+            progress: vec![0.0; FIELD],
+            last_s,
+        }
+    }
+
+    fn camera(&self) -> Camera {
+        let car = &self.world.cars[0];
+        let p = car.position3();
+        let f = car.forward();
+        let fwd = Vec3::new(f.x, 0.0, f.y);
+        let (eye, target, yfov) = match self.view {
+            View::ChaseNear => (p - fwd * 6.5 + Vec3::Y * 2.3, p + fwd * 6.0 + Vec3::Y * 0.8, 0.95),
+            View::ChaseFar => (p - fwd * 12.0 + Vec3::Y * 4.0, p + fwd * 8.0 + Vec3::Y * 0.8, 0.85),
+            View::Bumper => (p + fwd * 0.6 + Vec3::Y * 0.9, p + fwd * 20.0 + Vec3::Y * 0.7, 1.05),
+            View::Trackside => {
+                // The nearest of a camera every 150 m, 18 m outside the right edge, 7 m up.
+                let s = (car.loc.s / 150.0).round() * 150.0 + 60.0;
+                let (pos, _) = self.world.track.point_at(s, 18.0 + 0.5 * car.loc.width);
+                (pos + Vec3::Y * 7.0, p + Vec3::Y * 0.6, 0.45)
+            }
+        };
+        Camera::look_at(eye, target, yfov, 0.3, None)
+    }
+
+    fn standings(&self) -> usize {
+        let me = self.progress[0];
+        1 + self.progress.iter().skip(1).filter(|&&p| p > me).count()
+    }
+}
+
+impl Content for Race {
+    fn update(&mut self, dt: f64) {
+        if self.paused {
+            return;
+        }
+        self.accumulator = (self.accumulator + dt).min(MAX_CATCH_UP);
+        let len = self.world.track.length();
+        while self.accumulator >= f64::from(DT) {
+            self.accumulator -= f64::from(DT);
+            let c = self.keys.controls();
+            step(&mut self.world, &c);
+            for (i, car) in self.world.cars.iter().enumerate() {
+                let mut d = (car.loc.s - self.last_s[i]).rem_euclid(len);
+                if d > 0.5 * len {
+                    d -= len;
+                }
+                self.progress[i] += d;
+                self.last_s[i] = car.loc.s;
+            }
+        }
+    }
+
+    fn key(&mut self, code: KeyCode, down: bool) {
+        match code {
+            KeyCode::ArrowLeft | KeyCode::KeyA => self.keys.left = down,
+            KeyCode::ArrowRight | KeyCode::KeyD => self.keys.right = down,
+            KeyCode::ArrowUp | KeyCode::KeyW => self.keys.throttle = down,
+            KeyCode::ArrowDown | KeyCode::KeyS => self.keys.brake = down,
+            _ if !down => {}
+            KeyCode::KeyC => {
+                self.view = match self.view {
+                    View::ChaseNear => View::ChaseFar,
+                    View::ChaseFar => View::Bumper,
+                    View::Bumper => View::Trackside,
+                    View::Trackside => View::ChaseNear,
+                };
+            }
+            KeyCode::KeyP => self.paused = !self.paused,
+            KeyCode::Digit1 => self.options.method = Method::ZBuffer,
+            KeyCode::Digit2 => self.options.method = Method::Sort,
+            KeyCode::Digit3 => self.options.method = Method::BucketFar,
+            KeyCode::Digit4 => self.options.method = Method::BucketNear,
+            _ => {}
+        }
+    }
+
+    fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
+        let mut instances: Vec<Instance> = self.scene.scene.instances[..self.scene.statics].to_vec();
+        for (i, car) in self.world.cars.iter().enumerate() {
+            let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
+            instances.push(Instance::of_lod_set(self.scene.car_sets[i % self.scene.car_sets.len()], model));
+        }
+        let list = DrawList {
+            meshes: &self.scene.scene.meshes,
+            textures: &self.scene.scene.textures,
+            instances: &instances,
+            lod_sets: &self.scene.scene.lod_sets,
+        };
+        let t = std::time::Instant::now();
+        let stats = self.renderer.render(frame, width, height, &self.camera(), &list, &self.options)?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let lap = (self.progress[0] / self.world.track.length()).floor().max(0.0) as u32 + 1;
+        Ok(format!(
+            "{}{:.0} km/h — P{}/{} — lap {} — {:?} — {} {:.1} ms, {} polygons",
+            if self.paused { "PAUSED — " } else { "" },
+            self.world.cars[0].speed().abs() * 3.6,
+            self.standings(),
+            FIELD,
+            lap,
+            self.view,
+            self.options.method,
+            ms,
+            stats.polygons_drawn
+        ))
+    }
+}

@@ -1,0 +1,248 @@
+//! The window: winit events, softbuffer presentation, integer upscaling, resizing to 0x0 and back,
+//! fullscreen, screenshots, and the one-line error when there is no display.
+//!
+//! What is shown comes from a [`Content`]: the free-flying scene viewer or the race. The window knows
+//! nothing of either; it hands the content the real time that passed and a frame buffer to draw into.
+
+use std::num::NonZeroU32;
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::time::Instant;
+
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Fullscreen, Window, WindowId};
+
+/// The hint printed when no window can be opened.
+pub const HEADLESS_HINT: &str = "for headless frames use: scanline-racer render SCENE.gltf --out frame.png";
+
+/// Why the window could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum ShellError {
+    /// No X11 or Wayland display could be reached.
+    #[error("no display available ({reason}); {HEADLESS_HINT}")]
+    NoDisplay {
+        /// What winit reported.
+        reason: String,
+    },
+    /// The window or its presentation surface failed.
+    #[error("window: {0}")]
+    Window(String),
+    /// Drawing failed.
+    #[error("render: {0}")]
+    Render(#[from] crate::render::RenderError),
+    /// A screenshot could not be written.
+    #[error(transparent)]
+    Png(#[from] super::png::PngError),
+}
+
+/// What a window shows: it is told the time and the keys, and draws frames.
+pub trait Content {
+    /// Advances by `dt` seconds of real time.
+    fn update(&mut self, dt: f64);
+    /// A key went down (`true`) or up.
+    fn key(&mut self, code: KeyCode, down: bool);
+    /// Draws a `width` x `height` frame; returns a short status for the title bar.
+    fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError>;
+}
+
+/// How the window opens.
+#[derive(Clone, Debug)]
+pub struct WindowConfig {
+    /// Initial size in physical pixels.
+    pub size: (u32, u32),
+    /// Start in fullscreen.
+    pub fullscreen: bool,
+    /// Window pixels per rendered pixel along each axis (1 = native resolution).
+    pub scale: u32,
+    /// Quit after this many presented frames (for tests and screenshots).
+    pub exit_after_frames: Option<u64>,
+    /// Write the last rendered frame here on exit.
+    pub screenshot: Option<PathBuf>,
+}
+
+struct App<'c> {
+    config: WindowConfig,
+    content: &'c mut dyn Content,
+    window: Option<Rc<Window>>,
+    surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    frame: Vec<u32>,
+    frame_size: (usize, usize),
+    last: Instant,
+    title_at: Instant,
+    frames: u64,
+    error: Option<ShellError>,
+}
+
+/// winit's message without the source location it prefixes ("os error at path/file.rs:123: ...").
+fn plain_reason(s: &str) -> String {
+    let reason = match s.split_once(".rs:") {
+        Some((_, rest)) => rest.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start_matches(':').trim(),
+        None => s,
+    };
+    reason.trim_end_matches('.').to_string()
+}
+
+/// Opens the window and runs until it is closed.
+pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellError> {
+    let event_loop = EventLoop::new().map_err(|e| ShellError::NoDisplay { reason: plain_reason(&e.to_string()) })?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let now = Instant::now();
+    let mut app = App {
+        config,
+        content,
+        window: None,
+        surface: None,
+        frame: Vec::new(),
+        frame_size: (0, 0),
+        last: now,
+        title_at: now,
+        frames: 0,
+        error: None,
+    };
+    // winit panics inside its X11 backend when the display connection breaks mid-run; report that as an
+    // error like any other instead of a panic message (the default hook is restored right after).
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| event_loop.run_app(&mut app)));
+    std::panic::set_hook(hook);
+    match ran {
+        Ok(result) => result.map_err(|e| ShellError::Window(e.to_string()))?,
+        Err(_) => return Err(ShellError::Window("the display connection failed".into())),
+    }
+    match app.error.take() {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+impl App<'_> {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: ShellError) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        let dt = (now - self.last).as_secs_f64();
+        self.last = now;
+        self.content.update(dt);
+        let (Some(window), Some(mut surface)) = (self.window.clone(), self.surface.take()) else {
+            return;
+        };
+        let result = self.draw(&window, &mut surface);
+        self.surface = Some(surface);
+        match result {
+            Ok(true) => {}
+            Ok(false) => return,
+            Err(e) => return self.fail(event_loop, e),
+        }
+        if self.config.exit_after_frames.is_some_and(|n| self.frames >= n) {
+            if let Some(path) = self.config.screenshot.clone() {
+                let (fw, fh) = self.frame_size;
+                if let Err(e) = super::png::write_png(&path, &self.frame, fw, fh) {
+                    return self.fail(event_loop, e.into());
+                }
+            }
+            event_loop.exit();
+        }
+    }
+
+    /// Renders and presents one frame; `Ok(false)` when the window has no area.
+    fn draw(
+        &mut self,
+        window: &Window,
+        surface: &mut softbuffer::Surface<Rc<Window>, Rc<Window>>,
+    ) -> Result<bool, ShellError> {
+        let size = window.inner_size();
+        // Minimised or resized to nothing: draw nothing, keep running.
+        let (Some(ww), Some(wh)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+            return Ok(false);
+        };
+        surface.resize(ww, wh).map_err(|e| ShellError::Window(e.to_string()))?;
+        let scale = self.config.scale.max(1);
+        let (fw, fh) = (size.width.div_ceil(scale) as usize, size.height.div_ceil(scale) as usize);
+        if self.frame_size != (fw, fh) {
+            self.frame = vec![0; fw * fh];
+            self.frame_size = (fw, fh);
+        }
+        let status = self.content.draw(&mut self.frame, fw, fh)?;
+        let mut buffer = surface.buffer_mut().map_err(|e| ShellError::Window(e.to_string()))?;
+        let (bw, s) = (size.width as usize, scale as usize);
+        for (y, row) in buffer.chunks_mut(bw).enumerate() {
+            let src = &self.frame[(y / s) * fw..(y / s) * fw + fw];
+            for (x, px) in row.iter_mut().enumerate() {
+                *px = src[(x / s).min(fw - 1)];
+            }
+        }
+        buffer.present().map_err(|e| ShellError::Window(e.to_string()))?;
+        self.frames += 1;
+        let now = Instant::now();
+        if now.duration_since(self.title_at).as_secs_f32() > 0.5 {
+            self.title_at = now;
+            window.set_title(&format!("scanline-racer — {status} — {fw}x{fh}"));
+        }
+        Ok(true)
+    }
+
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, down: bool) {
+        match code {
+            KeyCode::Escape if down => event_loop.exit(),
+            KeyCode::Equal if down => self.config.scale = (self.config.scale + 1).min(8),
+            KeyCode::Minus if down => self.config.scale = self.config.scale.saturating_sub(1).max(1),
+            KeyCode::F11 if down => {
+                if let Some(w) = &self.window {
+                    w.set_fullscreen(if w.fullscreen().is_some() { None } else { Some(Fullscreen::Borderless(None)) });
+                }
+            }
+            _ => self.content.key(code, down),
+        }
+    }
+}
+
+impl ApplicationHandler for App<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let (w, h) = self.config.size;
+        let mut attrs =
+            Window::default_attributes().with_title("scanline-racer").with_inner_size(PhysicalSize::new(w, h));
+        if self.config.fullscreen {
+            attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
+        }
+        let window = match event_loop.create_window(attrs) {
+            Ok(w) => Rc::new(w),
+            Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
+        };
+        let surface =
+            softbuffer::Context::new(window.clone()).and_then(|c| softbuffer::Surface::new(&c, window.clone()));
+        match surface {
+            Ok(s) => self.surface = Some(s),
+            Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
+        }
+        self.window = Some(window);
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::KeyboardInput { event, .. } => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.key(event_loop, code, event.state == ElementState::Pressed);
+                }
+            }
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+}
