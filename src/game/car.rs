@@ -59,8 +59,8 @@ impl Default for CarParams {
     }
 }
 
-/// Distance from the centre line, beyond the road's half width, where the barriers stand (m).
-pub const BARRIER_MARGIN: f32 = 4.0;
+/// Half the width of a car's body (m): how close its centre gets to a barrier.
+pub const BODY_HALF_WIDTH: f32 = 1.0;
 /// Width of the kerbs beyond the road edge that still count as road (m).
 pub const KERB: f32 = 1.2;
 
@@ -149,7 +149,9 @@ impl Car {
     pub fn settle(&mut self, track: &Track) {
         let mut loc = track.locate(self.pos, self.loc.index);
         let half = 0.5 * loc.width;
-        let limit = half + BARRIER_MARGIN;
+        // The car's centre stops a body half-width short of the barrier on that side.
+        let side = usize::from(loc.lateral > 0.0);
+        let limit = loc.barrier[side] - BODY_HALF_WIDTH;
         if loc.lateral.abs() > limit {
             // Clamp onto the barrier line and remove the velocity component into it, with a scrub.
             let (on_line, dir) = track.point_at(loc.s, limit * loc.lateral.signum());
@@ -229,7 +231,7 @@ mod tests {
         car.vel = Vec2::new(p.top_speed, 0.0); // straight at the right-hand barrier
         for _ in 0..240 {
             car.step(&p, &Controls::default(), &t, 1.0 / 120.0);
-            assert!(car.loc.lateral.abs() <= 0.5 * car.loc.width + BARRIER_MARGIN + 1e-3, "{:?}", car.loc);
+            assert!(car.loc.lateral.abs() <= car.loc.barrier[1] - BODY_HALF_WIDTH + 1e-3, "{:?}", car.loc);
         }
         assert!(car.vel.x.abs() < 1.0, "velocity into the barrier is gone: {:?}", car.vel);
     }

@@ -20,10 +20,12 @@ pub enum TrackError {
 pub struct Sample {
     /// Position of the road centre (metres, Y up).
     pub pos: Vec3,
-    /// Roll of the road surface in radians (positive raises the left side).
+    /// Roll of the road surface in radians (positive raises the right side).
     pub bank: f32,
     /// Road width in metres.
     pub width: f32,
+    /// Distance from the centre line to the barriers, left and right (metres).
+    pub barrier: [f32; 2],
     /// Distance along the lap from the start line to this sample.
     pub s: f32,
 }
@@ -41,6 +43,8 @@ pub struct Location {
     pub height: f32,
     /// Road width here.
     pub width: f32,
+    /// Barrier distances from the centre line here, left and right.
+    pub barrier: [f32; 2],
 }
 
 /// A closed circuit centre line.
@@ -55,18 +59,32 @@ pub struct Track {
 const SEARCH: usize = 12;
 
 impl Track {
-    /// Builds a track from samples in driving order (the last joins back to the first).
+    /// Builds a track from samples in driving order (the last joins back to the first): position, bank and
+    /// width, with barriers 4 m beyond each road edge.
     pub fn new(points: &[(Vec3, f32, f32)]) -> Result<Self, TrackError> {
+        let with_barriers: Vec<_> = points.iter().map(|&(p, b, w)| (p, b, w, [0.5 * w + 4.0; 2])).collect();
+        Self::with_barriers(&with_barriers)
+    }
+
+    /// Builds a track from samples with their barrier distances (left, right).
+    pub fn with_barriers(points: &[(Vec3, f32, f32, [f32; 2])]) -> Result<Self, TrackError> {
         if points.len() < 8 {
             return Err(TrackError::Geometry(format!("{} samples, need at least 8", points.len())));
         }
-        if points.iter().any(|(p, b, w)| !(p.is_finite() && b.is_finite() && w.is_finite() && *w > 0.0)) {
+        let bad = |(p, b, w, br): &(Vec3, f32, f32, [f32; 2])| {
+            !(p.is_finite()
+                && b.is_finite()
+                && w.is_finite()
+                && *w > 0.0
+                && br.iter().all(|x| x.is_finite() && *x > 0.5 * w))
+        };
+        if points.iter().any(bad) {
             return Err(TrackError::Geometry("a sample is not finite or has no width".into()));
         }
         let mut s = 0.0;
         let mut samples = Vec::with_capacity(points.len());
-        for (i, &(pos, bank, width)) in points.iter().enumerate() {
-            samples.push(Sample { pos, bank, width, s });
+        for (i, &(pos, bank, width, barrier)) in points.iter().enumerate() {
+            samples.push(Sample { pos, bank, width, barrier, s });
             let next = points[(i + 1) % points.len()].0;
             s += flat(next - pos).length();
         }
@@ -87,9 +105,13 @@ impl Track {
             let (Some(x), Some(y), Some(z)) = (num(p.first()), num(p.get(1)), num(p.get(2))) else {
                 return Err(TrackError::Format(format!("sample {i} has a bad position")));
             };
-            pts.push((Vec3::new(x, y, z), bank, width));
+            let barrier = match s.get("barrier").and_then(|b| b.as_array()) {
+                Some(b) => [num(b.first()).unwrap_or(0.0), num(b.get(1)).unwrap_or(0.0)],
+                None => [0.5 * width + 4.0; 2],
+            };
+            pts.push((Vec3::new(x, y, z), bank, width, barrier));
         }
-        Self::new(&pts)
+        Self::with_barriers(&pts)
     }
 
     /// Lap length in metres.
@@ -140,13 +162,15 @@ impl Track {
                     index: i,
                     s,
                     lateral,
-                    height: centre_h - lateral * bank.sin(),
+                    height: centre_h + lateral * bank.sin(),
                     width: a.width + (b.width - a.width) * t,
+                    barrier: [a.barrier[0].min(b.barrier[0]), a.barrier[1].min(b.barrier[1])],
                 },
             ));
         }
+        let s0 = self.samples[0];
         best.map_or(
-            Location { index: 0, s: 0.0, lateral: 0.0, height: self.samples[0].pos.y, width: self.samples[0].width },
+            Location { index: 0, s: 0.0, lateral: 0.0, height: s0.pos.y, width: s0.width, barrier: s0.barrier },
             |(_, l)| l,
         )
     }
@@ -170,7 +194,7 @@ impl Track {
         let right = Vec2::new(-dir.y, dir.x);
         let c = a.pos + (b.pos - a.pos) * t;
         let bank = a.bank + (b.bank - a.bank) * t;
-        (Vec3::new(c.x + right.x * lateral, c.y - lateral * bank.sin(), c.z + right.y * lateral), dir)
+        (Vec3::new(c.x + right.x * lateral, c.y + lateral * bank.sin(), c.z + right.y * lateral), dir)
     }
 
     /// Signed curvature (1/m, positive turning right) around lap distance `s`, over a 20 m chord.

@@ -139,10 +139,10 @@ impl Race {
             View::ChaseFar => (p - fwd * 12.0 + Vec3::Y * 4.0, p + fwd * 8.0 + Vec3::Y * 0.8, 0.85),
             View::Bumper => (p + fwd * 0.6 + Vec3::Y * 0.9, p + fwd * 20.0 + Vec3::Y * 0.7, 1.05),
             View::Trackside => {
-                // The nearest of a camera every 150 m, 18 m outside the right edge, 7 m up.
+                // The nearest of a camera every 150 m, just behind the right-hand barrier, 6 m up.
                 let s = (car.loc.s / 150.0).round() * 150.0 + 60.0;
-                let (pos, _) = self.world.track.point_at(s, 18.0 + 0.5 * car.loc.width);
-                (pos + Vec3::Y * 7.0, p + Vec3::Y * 0.6, 0.45)
+                let (pos, _) = self.world.track.point_at(s, car.loc.barrier[1] + 2.0);
+                (pos + Vec3::Y * 6.0, p + Vec3::Y * 0.6, 0.5)
             }
         };
         Camera::look_at(eye, target, yfov, 0.3, None)

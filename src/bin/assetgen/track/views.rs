@@ -80,7 +80,14 @@ pub(super) fn write_centerline(dir: &Path, c: &Circuit) -> std::io::Result<()> {
     let samples: Vec<Value> = c
         .samples
         .iter()
-        .map(|s| json!({"p": [r3(s.p.x), r3(s.p.y), r3(s.p.z)], "bank": r3(s.bank), "width": r3(2.0 * HALF_WIDTH)}))
+        .map(|s| {
+            json!({
+                "p": [r3(s.p.x), r3(s.p.y), r3(s.p.z)],
+                "bank": r3(s.bank),
+                "width": r3(2.0 * HALF_WIDTH),
+                "barrier": [r3(s.bo[0]), r3(s.bo[1])],
+            })
+        })
         .collect();
     let v = json!({"length_m": r3(c.length), "samples": samples});
     let mut text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
