@@ -42,6 +42,9 @@ pub struct PlayArgs {
     /// Fly a camera around the built-in demo scene instead of racing.
     #[arg(long, conflicts_with = "scene")]
     pub demo: bool,
+    /// Laps in the race.
+    #[arg(long, default_value_t = 3)]
+    pub laps: u32,
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
@@ -61,6 +64,7 @@ impl Default for PlayArgs {
             threads: 0,
             scene: None,
             demo: false,
+            laps: 3,
             exit_after_frames: None,
             screenshot: None,
         }
@@ -74,6 +78,9 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             "--width {} --height {}: each must be 1 to 16384",
             args.width, args.height
         )));
+    }
+    if !(1..=99).contains(&args.laps) {
+        return Err(CliError::BadArgument(format!("--laps {}: expected 1 to 99", args.laps)));
     }
     if !(1..=16).contains(&args.scale) {
         return Err(CliError::BadArgument(format!("--scale {}: expected 1 to 16", args.scale)));
@@ -100,7 +107,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
-            run(window, &mut Race::new(RaceScene::load(&dir)?, options))?;
+            run(window, &mut Race::new(RaceScene::load(&dir)?, options, args.laps))?;
         }
     }
     Ok(())

@@ -6,6 +6,7 @@
 pub mod ai;
 pub mod car;
 pub mod controls;
+pub mod rules;
 pub mod track;
 pub mod world;
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use super::ai::{Driver, drive};
 use super::car::{Car, CarParams, collide};
 use super::controls::Controls;
+use super::rules::Race;
 use super::track::Track;
 
 /// Simulation ticks per second.
@@ -30,10 +31,21 @@ pub struct World {
     pub params: CarParams,
     /// True when car 0 is driven by the AI too (attract mode, tests).
     pub player_is_ai: bool,
+    /// The race rules' state: countdown, laps, times, positions.
+    pub race: Race,
 }
 
 impl World {
-    /// A race start: `cars` cars on a two-column staggered grid behind the start line, player last.
+    /// A race start of `laps` laps: `cars` cars on a two-column staggered grid behind the start line, player last.
+    #[must_use]
+    pub fn with_laps(track: Arc<Track>, cars: usize, laps: u32) -> Self {
+        let mut w = Self::new(track, cars);
+        let s: Vec<f32> = w.cars.iter().map(|c| c.loc.s).collect();
+        w.race = Race::new(laps, &s, w.track.length());
+        w
+    }
+
+    /// A three-lap race start: `cars` cars on a two-column staggered grid behind the start line, player last.
     #[must_use]
     pub fn new(track: Arc<Track>, cars: usize) -> Self {
         let cars = cars.max(1);
@@ -44,16 +56,18 @@ impl World {
             (s, lateral)
         };
         let order: Vec<usize> = (0..cars).map(|i| if i == 0 { cars - 1 } else { i - 1 }).collect();
-        let list = order
+        let list: Vec<Car> = order
             .iter()
             .map(|&k| {
                 let (s, lat) = slot(k);
                 Car::on_grid(&track, s, lat)
             })
             .collect();
+        let starts: Vec<f32> = list.iter().map(|c| c.loc.s).collect();
         Self {
             tick: 0,
             drivers: (0..cars.saturating_sub(1)).map(Driver::field).collect(),
+            race: Race::new(3, &starts, track.length()),
             cars: list,
             track,
             params: CarParams::default(),
@@ -79,12 +93,19 @@ impl World {
     }
 }
 
-/// Advances the world by one tick; `controls` drive car 0 unless the player is AI.
+/// Advances the world by one tick; `controls` drive car 0 unless the player is AI (or has finished: then
+/// the AI brings the car round).
 pub fn step(world: &mut World, controls: &Controls) {
     let n = world.cars.len();
+    world.tick += 1;
+    if world.race.holding() {
+        world.race.update(world.tick, &[], world.track.length());
+        return;
+    }
+    let player_done = world.race.standings.first().is_some_and(|s| s.finished.is_some());
     let mut inputs = Vec::with_capacity(n);
     for i in 0..n {
-        let c = if i == 0 && !world.player_is_ai {
+        let c = if i == 0 && !world.player_is_ai && !player_done {
             controls.sanitized()
         } else {
             let driver = if i == 0 { Driver::field(n) } else { world.drivers[i - 1] };
@@ -104,7 +125,8 @@ pub fn step(world: &mut World, controls: &Controls) {
     for car in &mut world.cars {
         car.settle(&world.track);
     }
-    world.tick += 1;
+    let lap_s: Vec<f32> = world.cars.iter().map(|c| c.loc.s).collect();
+    world.race.update(world.tick, &lap_s, world.track.length());
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use winit::keyboard::KeyCode;
 
 use super::window::{Content, ShellError};
 use crate::asset::{AssetError, LoadedScene, load};
+use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, Track, World, step};
 use crate::render::{Camera, DrawList, Instance, Method, RenderOptions, Renderer};
 
@@ -105,16 +106,13 @@ pub struct Race {
     accumulator: f64,
     view: View,
     paused: bool,
-    progress: Vec<f32>,
-    last_s: Vec<f32>,
 }
 
 impl Race {
-    /// A race at the start, the player last on the grid.
+    /// A race of `laps` laps at the start, the player last on the grid.
     #[must_use]
-    pub fn new(scene: RaceScene, options: RenderOptions) -> Self {
-        let world = World::new(scene.track.clone(), FIELD);
-        let last_s = world.cars.iter().map(|c| c.loc.s).collect();
+    pub fn new(scene: RaceScene, options: RenderOptions, laps: u32) -> Self {
+        let world = World::with_laps(scene.track.clone(), FIELD, laps);
         Self {
             world,
             scene,
@@ -124,8 +122,6 @@ impl Race {
             accumulator: 0.0,
             view: View::ChaseNear,
             paused: false,
-            progress: vec![0.0; FIELD],
-            last_s,
         }
     }
 
@@ -148,9 +144,38 @@ impl Race {
         Camera::look_at(eye, target, yfov, 0.3, None)
     }
 
-    fn standings(&self) -> usize {
-        let me = self.progress[0];
-        1 + self.progress.iter().skip(1).filter(|&&p| p > me).count()
+    /// The race status for the title bar: countdown, lap, times, position, or the results.
+    fn status(&self) -> String {
+        let race = &self.world.race;
+        let me = &race.standings[0];
+        let pos = race.position(0);
+        match race.phase {
+            Phase::Countdown(left) => format!("{}...", left.div_ceil(u64::from(crate::game::TICK_HZ))),
+            Phase::Racing => {
+                let now = self.world.tick.saturating_sub(me.lap_start);
+                let best = me.best_lap.map_or_else(|| "-".into(), format_ticks);
+                format!(
+                    "{:.0} km/h — P{pos}/{} — lap {}/{} {} (best {best})",
+                    self.world.cars[0].speed().abs() * 3.6,
+                    race.standings.len(),
+                    (me.laps + 1).min(race.laps),
+                    race.laps,
+                    format_ticks(now)
+                )
+            }
+            Phase::Finished => {
+                let results: Vec<String> = race
+                    .finish_order
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &car)| {
+                        let who = if car == 0 { "you".to_string() } else { format!("car {}", car + 1) };
+                        format!("{}. {who}", k + 1)
+                    })
+                    .collect();
+                format!("FINISHED P{pos} — {}", results.join(", "))
+            }
+        }
     }
 }
 
@@ -160,19 +185,10 @@ impl Content for Race {
             return;
         }
         self.accumulator = (self.accumulator + dt).min(MAX_CATCH_UP);
-        let len = self.world.track.length();
         while self.accumulator >= f64::from(DT) {
             self.accumulator -= f64::from(DT);
             let c = self.keys.controls();
             step(&mut self.world, &c);
-            for (i, car) in self.world.cars.iter().enumerate() {
-                let mut d = (car.loc.s - self.last_s[i]).rem_euclid(len);
-                if d > 0.5 * len {
-                    d -= len;
-                }
-                self.progress[i] += d;
-                self.last_s[i] = car.loc.s;
-            }
         }
     }
 
@@ -215,14 +231,10 @@ impl Content for Race {
         let t = std::time::Instant::now();
         let stats = self.renderer.render(frame, width, height, &self.camera(), &list, &self.options)?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        let lap = (self.progress[0] / self.world.track.length()).floor().max(0.0) as u32 + 1;
         Ok(format!(
-            "{}{:.0} km/h — P{}/{} — lap {} — {:?} — {} {:.1} ms, {} polygons",
+            "{}{} — {:?} — {} {:.1} ms, {} polygons",
             if self.paused { "PAUSED — " } else { "" },
-            self.world.cars[0].speed().abs() * 3.6,
-            self.standings(),
-            FIELD,
-            lap,
+            self.status(),
             self.view,
             self.options.method,
             ms,
