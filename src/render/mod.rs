@@ -15,6 +15,7 @@ pub mod lod;
 pub mod mesh;
 pub mod monotone;
 pub mod ordering_table;
+pub mod overlay;
 pub mod pipeline;
 pub mod scanline;
 pub mod span;
