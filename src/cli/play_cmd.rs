@@ -42,6 +42,9 @@ pub struct PlayArgs {
     /// Fly a camera around the built-in demo scene instead of racing.
     #[arg(long, conflicts_with = "scene")]
     pub demo: bool,
+    /// Start racing at once instead of showing the main menu.
+    #[arg(long)]
+    pub no_menu: bool,
     /// Laps in the race.
     #[arg(long, default_value_t = 3)]
     pub laps: u32,
@@ -64,6 +67,7 @@ impl Default for PlayArgs {
             threads: 0,
             scene: None,
             demo: false,
+            no_menu: false,
             laps: 3,
             exit_after_frames: None,
             screenshot: None,
@@ -107,7 +111,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
-            run(window, &mut Race::new(RaceScene::load(&dir)?, options, args.laps))?;
+            run(window, &mut Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu))?;
         }
     }
     Ok(())

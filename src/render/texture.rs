@@ -107,6 +107,21 @@ impl Texture {
         &self.texels
     }
 
+    /// Overwrites a `w` x `h` block of texels at `(x, y)` (a partial update); `false` if it does not fit.
+    pub fn patch(&mut self, x: u32, y: u32, w: u32, h: u32, texels: &[u32]) -> bool {
+        let fits = x.checked_add(w).is_some_and(|r| r <= self.width)
+            && y.checked_add(h).is_some_and(|b| b <= self.height)
+            && texels.len() == w as usize * h as usize;
+        if !fits {
+            return false;
+        }
+        for row in 0..h as usize {
+            let dst = (y as usize + row) * self.width as usize + x as usize;
+            self.texels[dst..dst + w as usize].copy_from_slice(&texels[row * w as usize..(row + 1) * w as usize]);
+        }
+        true
+    }
+
     /// The packed texel at integer coordinates, wrapped by `sampler`.
     #[inline]
     #[must_use]

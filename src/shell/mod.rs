@@ -3,5 +3,6 @@
 
 pub mod png;
 pub mod race;
+pub mod ui;
 pub mod viewer;
 pub mod window;

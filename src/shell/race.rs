@@ -71,6 +71,17 @@ enum View {
     Trackside,
 }
 
+/// Which screen the race shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Screen {
+    /// The main menu over the grid (nothing moves).
+    Menu,
+    /// Racing.
+    Race,
+    /// The pause menu (nothing moves).
+    Paused,
+}
+
 /// Keyboard state turned into smoothed controls.
 #[derive(Debug, Default)]
 struct Keys {
@@ -105,13 +116,15 @@ pub struct Race {
     keys: Keys,
     accumulator: f64,
     view: View,
-    paused: bool,
+    screen: Screen,
+    laps: u32,
+    frame_ms: f64,
 }
 
 impl Race {
-    /// A race of `laps` laps at the start, the player last on the grid.
+    /// A race of `laps` laps on the grid, the player last, behind the main menu (or racing at once).
     #[must_use]
-    pub fn new(scene: RaceScene, options: RenderOptions, laps: u32) -> Self {
+    pub fn new(scene: RaceScene, options: RenderOptions, laps: u32, menu: bool) -> Self {
         let world = World::with_laps(scene.track.clone(), FIELD, laps);
         Self {
             world,
@@ -121,7 +134,9 @@ impl Race {
             keys: Keys::default(),
             accumulator: 0.0,
             view: View::ChaseNear,
-            paused: false,
+            screen: if menu { Screen::Menu } else { Screen::Race },
+            laps,
+            frame_ms: 0.0,
         }
     }
 
@@ -142,6 +157,14 @@ impl Race {
             }
         };
         Camera::look_at(eye, target, yfov, 0.3, None)
+    }
+
+    /// A fresh start on the grid with the current number of laps.
+    fn restart(&mut self) {
+        self.world = World::with_laps(self.scene.track.clone(), FIELD, self.laps);
+        self.accumulator = 0.0;
+        self.keys = Keys::default();
+        self.renderer.reset_lod();
     }
 
     /// The race status for the title bar: countdown, lap, times, position, or the results.
@@ -181,7 +204,7 @@ impl Race {
 
 impl Content for Race {
     fn update(&mut self, dt: f64) {
-        if self.paused {
+        if self.screen != Screen::Race {
             return;
         }
         self.accumulator = (self.accumulator + dt).min(MAX_CATCH_UP);
@@ -192,8 +215,14 @@ impl Content for Race {
         }
     }
 
-    fn key(&mut self, code: KeyCode, down: bool) {
+    fn key(&mut self, code: KeyCode, down: bool) -> bool {
         match code {
+            KeyCode::Escape if down => match self.screen {
+                Screen::Menu => return true,
+                Screen::Race => self.screen = Screen::Paused,
+                Screen::Paused => self.screen = Screen::Race,
+            },
+            KeyCode::Enter if down && self.screen == Screen::Menu => self.screen = Screen::Race,
             KeyCode::ArrowLeft | KeyCode::KeyA => self.keys.left = down,
             KeyCode::ArrowRight | KeyCode::KeyD => self.keys.right = down,
             KeyCode::ArrowUp | KeyCode::KeyW => self.keys.throttle = down,
@@ -207,13 +236,20 @@ impl Content for Race {
                     View::Trackside => View::ChaseNear,
                 };
             }
-            KeyCode::KeyP => self.paused = !self.paused,
+            KeyCode::KeyP => {
+                self.screen = match self.screen {
+                    Screen::Race => Screen::Paused,
+                    Screen::Paused => Screen::Race,
+                    Screen::Menu => Screen::Menu,
+                };
+            }
             KeyCode::Digit1 => self.options.method = Method::ZBuffer,
             KeyCode::Digit2 => self.options.method = Method::Sort,
             KeyCode::Digit3 => self.options.method = Method::BucketFar,
             KeyCode::Digit4 => self.options.method = Method::BucketNear,
             _ => {}
         }
+        false
     }
 
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
@@ -231,14 +267,166 @@ impl Content for Race {
         let t = std::time::Instant::now();
         let stats = self.renderer.render(frame, width, height, &self.camera(), &list, &self.options)?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
+        self.frame_ms = 0.9 * self.frame_ms + 0.1 * ms;
         Ok(format!(
             "{}{} — {:?} — {} {:.1} ms, {} polygons",
-            if self.paused { "PAUSED — " } else { "" },
+            if self.screen == Screen::Paused { "PAUSED — " } else { "" },
             self.status(),
             self.view,
             self.options.method,
             ms,
             stats.polygons_drawn
         ))
+    }
+
+    fn ui(&mut self, ctx: &egui::Context) -> bool {
+        let mut quit = false;
+        match self.screen {
+            Screen::Menu => {
+                egui::Window::new("scanline-racer")
+                    .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+                    .collapsible(false)
+                    .resizable(false)
+                    .show(ctx, |ui| {
+                        ui.label("Eight cars, 4.2 km, one bridge.");
+                        let before = self.laps;
+                        ui.add(egui::Slider::new(&mut self.laps, 1..=10).text("laps"));
+                        if self.laps != before {
+                            self.restart();
+                        }
+                        ui.horizontal(|ui| {
+                            if ui.button("Race").clicked() {
+                                self.screen = Screen::Race;
+                            }
+                            if ui.button("Quit").clicked() {
+                                quit = true;
+                            }
+                        });
+                        ui.label("Arrows steer, accelerate and brake; C changes the view; Esc pauses.");
+                    });
+            }
+            Screen::Paused => {
+                egui::Window::new("Paused")
+                    .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+                    .collapsible(false)
+                    .resizable(false)
+                    .show(ctx, |ui| {
+                        if ui.button("Resume").clicked() {
+                            self.screen = Screen::Race;
+                        }
+                        if ui.button("Restart").clicked() {
+                            self.restart();
+                            self.screen = Screen::Race;
+                        }
+                        if ui.button("Main menu").clicked() {
+                            self.restart();
+                            self.screen = Screen::Menu;
+                        }
+                        if ui.button("Quit").clicked() {
+                            quit = true;
+                        }
+                    });
+            }
+            Screen::Race => {}
+        }
+        if self.screen != Screen::Menu {
+            self.hud(ctx);
+        }
+        if self.world.race.phase == Phase::Finished && self.results(ctx) {
+            quit = true;
+        }
+        quit
+    }
+}
+
+impl Race {
+    /// Speed, position, lap, times and the countdown.
+    fn hud(&self, ctx: &egui::Context) {
+        let race = &self.world.race;
+        let me = &race.standings[0];
+        let big = |t: String, size: f32| egui::RichText::new(t).size(size).strong().color(egui::Color32::WHITE);
+        egui::Area::new(egui::Id::unique("hud-left")).anchor(egui::Align2::LEFT_TOP, [16.0, 12.0]).show(ctx, |ui| {
+            ui.label(big(format!("P{} / {}", race.position(0), race.standings.len()), 30.0));
+            ui.label(big(format!("LAP {} / {}", (me.laps + 1).min(race.laps), race.laps), 18.0));
+            let now = if race.holding() { 0 } else { self.world.tick.saturating_sub(me.lap_start) };
+            ui.label(big(format!("TIME {}", format_ticks(now)), 16.0));
+            ui.label(big(format!("BEST {}", me.best_lap.map_or_else(|| "-:--.---".into(), format_ticks)), 16.0));
+        });
+        let since_green = self.world.tick.saturating_sub(race.start_tick);
+        let banner = match race.phase {
+            Phase::Countdown(left) => Some(format!("{}", left.div_ceil(u64::from(crate::game::TICK_HZ)))),
+            Phase::Racing if since_green < u64::from(crate::game::TICK_HZ) => Some("GO!".to_string()),
+            _ => None,
+        };
+        if let Some(text) = banner {
+            egui::Area::new(egui::Id::unique("hud-countdown")).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(
+                ctx,
+                |ui| {
+                    ui.label(big(text, 64.0));
+                },
+            );
+        }
+        let car = &self.world.cars[0];
+        egui::Area::new(egui::Id::unique("hud-speed")).anchor(egui::Align2::RIGHT_BOTTOM, [-16.0, -12.0]).show(
+            ctx,
+            |ui| {
+                ui.label(big(format!("{:.0} km/h", car.speed().abs() * 3.6), 28.0));
+                ui.add(
+                    egui::ProgressBar::new((car.speed().abs() / self.world.params.top_speed).clamp(0.0, 1.0))
+                        .desired_width(180.0),
+                );
+            },
+        );
+        egui::Area::new(egui::Id::unique("hud-debug")).anchor(egui::Align2::LEFT_BOTTOM, [12.0, -8.0]).show(
+            ctx,
+            |ui| {
+                ui.label(
+                    egui::RichText::new(format!(
+                        "{:?} view — {} — {:.1} ms/frame",
+                        self.view, self.options.method, self.frame_ms
+                    ))
+                    .size(12.0)
+                    .color(egui::Color32::from_gray(230)),
+                );
+            },
+        );
+    }
+
+    /// The results table; returns true to quit.
+    fn results(&mut self, ctx: &egui::Context) -> bool {
+        let mut quit = false;
+        let race = self.world.race.clone();
+        egui::Window::new("Results")
+            .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+            .collapsible(false)
+            .resizable(false)
+            .show(ctx, |ui| {
+                egui::Grid::new("results").striped(true).show(ui, |ui| {
+                    ui.strong("Pos");
+                    ui.strong("Driver");
+                    ui.strong("Best lap");
+                    ui.end_row();
+                    for (k, &car) in race.order().iter().enumerate() {
+                        ui.label(format!("{}", k + 1));
+                        ui.label(if car == 0 { "You".to_string() } else { format!("Car {}", car + 1) });
+                        ui.label(race.standings[car].best_lap.map_or_else(|| "-".into(), format_ticks));
+                        ui.end_row();
+                    }
+                });
+                ui.horizontal(|ui| {
+                    if ui.button("Race again").clicked() {
+                        self.restart();
+                        self.screen = Screen::Race;
+                    }
+                    if ui.button("Main menu").clicked() {
+                        self.restart();
+                        self.screen = Screen::Menu;
+                    }
+                    if ui.button("Quit").clicked() {
+                        quit = true;
+                    }
+                });
+            });
+        quit
     }
 }

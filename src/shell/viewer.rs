@@ -93,8 +93,9 @@ impl Content for Viewer {
         self.position += motion * self.speed * dt;
     }
 
-    fn key(&mut self, code: KeyCode, down: bool) {
+    fn key(&mut self, code: KeyCode, down: bool) -> bool {
         match code {
+            KeyCode::Escape if down => return true,
             KeyCode::ArrowUp | KeyCode::KeyW => self.held.forward = down,
             KeyCode::ArrowDown | KeyCode::KeyS => self.held.back = down,
             KeyCode::ArrowLeft | KeyCode::KeyA => self.held.left = down,
@@ -108,6 +109,7 @@ impl Content for Viewer {
             KeyCode::Digit4 => self.options.method = Method::BucketNear,
             _ => {}
         }
+        false
     }
 
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {

@@ -43,10 +43,14 @@ pub enum ShellError {
 pub trait Content {
     /// Advances by `dt` seconds of real time.
     fn update(&mut self, dt: f64);
-    /// A key went down (`true`) or up.
-    fn key(&mut self, code: KeyCode, down: bool);
+    /// A key went down (`true`) or up; returns true to quit.
+    fn key(&mut self, code: KeyCode, down: bool) -> bool;
     /// Draws a `width` x `height` frame; returns a short status for the title bar.
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError>;
+    /// Lays out menus and HUD for this frame; returns true to quit.
+    fn ui(&mut self, _ctx: &egui::Context) -> bool {
+        false
+    }
 }
 
 /// How the window opens.
@@ -69,6 +73,8 @@ struct App<'c> {
     content: &'c mut dyn Content,
     window: Option<Rc<Window>>,
     surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    ui: Option<super::ui::Ui>,
+    quit: bool,
     frame: Vec<u32>,
     frame_size: (usize, usize),
     last: Instant,
@@ -96,6 +102,8 @@ pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellE
         content,
         window: None,
         surface: None,
+        ui: None,
+        quit: false,
         frame: Vec::new(),
         frame_size: (0, 0),
         last: now,
@@ -140,7 +148,7 @@ impl App<'_> {
             Ok(false) => return,
             Err(e) => return self.fail(event_loop, e),
         }
-        if self.config.exit_after_frames.is_some_and(|n| self.frames >= n) {
+        if self.quit || self.config.exit_after_frames.is_some_and(|n| self.frames >= n) {
             if let Some(path) = self.config.screenshot.clone() {
                 let (fw, fh) = self.frame_size;
                 if let Err(e) = super::png::write_png(&path, &self.frame, fw, fh) {
@@ -178,6 +186,13 @@ impl App<'_> {
                 *px = src[(x / s).min(fw - 1)];
             }
         }
+        if let Some(ui) = self.ui.as_mut() {
+            let content = &mut *self.content;
+            let mut quit = false;
+            ui.run(window, |ctx| quit |= content.ui(ctx));
+            self.quit |= quit;
+            ui.paint(&mut buffer, bw, size.height as usize);
+        }
         buffer.present().map_err(|e| ShellError::Window(e.to_string()))?;
         self.frames += 1;
         let now = Instant::now();
@@ -190,7 +205,6 @@ impl App<'_> {
 
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, down: bool) {
         match code {
-            KeyCode::Escape if down => event_loop.exit(),
             KeyCode::Equal if down => self.config.scale = (self.config.scale + 1).min(8),
             KeyCode::Minus if down => self.config.scale = self.config.scale.saturating_sub(1).max(1),
             KeyCode::F11 if down => {
@@ -198,7 +212,11 @@ impl App<'_> {
                     w.set_fullscreen(if w.fullscreen().is_some() { None } else { Some(Fullscreen::Borderless(None)) });
                 }
             }
-            _ => self.content.key(code, down),
+            _ => {
+                if self.content.key(code, down) {
+                    event_loop.exit();
+                }
+            }
         }
     }
 }
@@ -224,10 +242,18 @@ impl ApplicationHandler for App<'_> {
             Ok(s) => self.surface = Some(s),
             Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
         }
+        self.ui = Some(super::ui::Ui::new(&window));
         self.window = Some(window);
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let used_by_ui = match (self.ui.as_mut(), self.window.as_ref()) {
+            (Some(ui), Some(w)) => ui.on_event(w, &event) || ui.wants_keyboard(),
+            _ => false,
+        };
+        if used_by_ui && matches!(event, WindowEvent::KeyboardInput { .. }) {
+            return;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput { event, .. } => {
