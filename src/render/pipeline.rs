@@ -80,6 +80,7 @@ pub struct Renderer {
     depth: Vec<f32>,
     coverage: Vec<u64>,
     table: OrderingTable,
+    used_table: bool,
     lod_state: LodState,
 }
 
@@ -135,6 +136,13 @@ impl Renderer {
         stats.pieces_filled = self.polys.len() as u64;
         debug_assert!(stats.ms_transform + stats.ms_clip <= ms(t) + 1.0);
         Ok(stats)
+    }
+
+    /// How many polygons each ordering-table bucket held in the last frame (nearest first); empty when the
+    /// last frame did not use the ordering table.
+    #[must_use]
+    pub fn bucket_occupancy(&self) -> Vec<u32> {
+        if self.used_table { self.table.occupancy() } else { Vec::new() }
     }
 
     /// Forgets the levels of detail chosen in earlier frames (call on a new scene or a camera cut).
@@ -358,6 +366,7 @@ impl Renderer {
     /// Fills `self.order` with polygon indices in drawing order.
     fn order(&mut self, options: &RenderOptions) {
         self.order.clear();
+        self.used_table = matches!(options.method, Method::BucketFar | Method::BucketNear);
         match options.method {
             Method::ZBuffer => self.order.extend(0..self.polys.len() as u32),
             Method::Sort => {

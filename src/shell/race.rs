@@ -11,7 +11,7 @@ use super::window::{Content, ShellError};
 use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, Track, World, step};
-use crate::render::{Camera, DrawList, Instance, Method, RenderOptions, Renderer};
+use crate::render::{Camera, DrawList, Instance, Method, RenderOptions, Renderer, TextureMode};
 
 /// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
 const MAX_CATCH_UP: f64 = 0.25;
@@ -119,6 +119,8 @@ pub struct Race {
     screen: Screen,
     laps: u32,
     frame_ms: f64,
+    debug: super::debug_overlay::DebugOverlay,
+    settings_open: bool,
 }
 
 impl Race {
@@ -137,6 +139,8 @@ impl Race {
             screen: if menu { Screen::Menu } else { Screen::Race },
             laps,
             frame_ms: 0.0,
+            debug: super::debug_overlay::DebugOverlay::default(),
+            settings_open: false,
         }
     }
 
@@ -236,6 +240,7 @@ impl Content for Race {
                     View::Trackside => View::ChaseNear,
                 };
             }
+            KeyCode::F3 => self.debug.visible = !self.debug.visible,
             KeyCode::KeyP => {
                 self.screen = match self.screen {
                     Screen::Race => Screen::Paused,
@@ -268,6 +273,8 @@ impl Content for Race {
         let stats = self.renderer.render(frame, width, height, &self.camera(), &list, &self.options)?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * ms;
+        let occupancy = if self.debug.visible { self.renderer.bucket_occupancy() } else { Vec::new() };
+        self.debug.record(ms, &stats, occupancy);
         Ok(format!(
             "{}{} — {:?} — {} {:.1} ms, {} polygons",
             if self.screen == Screen::Paused { "PAUSED — " } else { "" },
@@ -298,6 +305,9 @@ impl Content for Race {
                             if ui.button("Race").clicked() {
                                 self.screen = Screen::Race;
                             }
+                            if ui.button("Settings").clicked() {
+                                self.settings_open = !self.settings_open;
+                            }
                             if ui.button("Quit").clicked() {
                                 quit = true;
                             }
@@ -318,6 +328,9 @@ impl Content for Race {
                             self.restart();
                             self.screen = Screen::Race;
                         }
+                        if ui.button("Settings").clicked() {
+                            self.settings_open = !self.settings_open;
+                        }
                         if ui.button("Main menu").clicked() {
                             self.restart();
                             self.screen = Screen::Menu;
@@ -329,6 +342,10 @@ impl Content for Race {
             }
             Screen::Race => {}
         }
+        if self.settings_open && self.screen != Screen::Race {
+            self.settings(ctx);
+        }
+        self.debug.show(ctx);
         if self.screen != Screen::Menu {
             self.hud(ctx);
         }
@@ -340,6 +357,38 @@ impl Content for Race {
 }
 
 impl Race {
+    /// Rendering and view settings (from the main and pause menus).
+    fn settings(&mut self, ctx: &egui::Context) {
+        let mut open = true;
+        egui::Window::new("Settings").open(&mut open).resizable(false).show(ctx, |ui| {
+            egui::ComboBox::from_label("visibility method").selected_text(self.options.method.name()).show_ui(
+                ui,
+                |ui| {
+                    for m in Method::ALL {
+                        ui.selectable_value(&mut self.options.method, m, m.name());
+                    }
+                },
+            );
+            ui.add(egui::Slider::new(&mut self.options.buckets, 8..=65536).logarithmic(true).text("buckets"));
+            ui.add(egui::Slider::new(&mut self.options.lod_bias, -3.0..=3.0).text("LOD bias"));
+            egui::ComboBox::from_label("texture mapping")
+                .selected_text(format!("{:?}", self.options.texture_mode))
+                .show_ui(ui, |ui| {
+                    for m in [TextureMode::Perspective, TextureMode::Subdivided, TextureMode::Affine] {
+                        ui.selectable_value(&mut self.options.texture_mode, m, format!("{m:?}"));
+                    }
+                });
+            egui::ComboBox::from_label("view").selected_text(format!("{:?}", self.view)).show_ui(ui, |ui| {
+                for v in [View::ChaseNear, View::ChaseFar, View::Bumper, View::Trackside] {
+                    ui.selectable_value(&mut self.view, v, format!("{v:?}"));
+                }
+            });
+            ui.checkbox(&mut self.debug.visible, "debug overlay (F3)");
+            ui.label("Internal resolution: '-' and '=' change the window pixels per rendered pixel.");
+        });
+        self.settings_open = open;
+    }
+
     /// Speed, position, lap, times and the countdown.
     fn hud(&self, ctx: &egui::Context) {
         let race = &self.world.race;

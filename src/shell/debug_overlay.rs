@@ -1,0 +1,116 @@
+//! The debug overlay (F3): frame-time plot, time per render stage, polygons in and drawn, LOD counts and
+//! ordering-table bucket occupancy.
+
+use std::collections::VecDeque;
+
+use crate::render::Stats;
+
+/// Frames kept for the plot.
+const HISTORY: usize = 240;
+/// Buckets are summed into this many bars.
+const BARS: usize = 48;
+
+/// What the overlay shows, gathered frame by frame.
+#[derive(Debug, Default)]
+pub struct DebugOverlay {
+    /// Shown or hidden.
+    pub visible: bool,
+    frame_ms: VecDeque<f32>,
+    stats: Stats,
+    occupancy: Vec<u32>,
+}
+
+impl DebugOverlay {
+    /// Records one frame: its render time, statistics and bucket occupancy.
+    pub fn record(&mut self, ms: f64, stats: &Stats, occupancy: Vec<u32>) {
+        if self.frame_ms.len() == HISTORY {
+            self.frame_ms.pop_front();
+        }
+        self.frame_ms.push_back(ms as f32);
+        self.stats = stats.clone();
+        self.occupancy = occupancy;
+    }
+
+    /// Draws the overlay in a corner window.
+    pub fn show(&self, ctx: &egui::Context) {
+        if !self.visible {
+            return;
+        }
+        let s = &self.stats;
+        egui::Window::new("Debug (F3)").anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0]).resizable(false).show(ctx, |ui| {
+            let max = self.frame_ms.iter().copied().fold(1.0f32, f32::max);
+            ui.label(format!(
+                "frame: {:.2} ms (max {:.2} over {} frames)",
+                self.frame_ms.back().unwrap_or(&0.0),
+                max,
+                self.frame_ms.len()
+            ));
+            plot(ui, self.frame_ms.iter().copied(), max, egui::Color32::from_rgb(120, 220, 120));
+            ui.label(format!(
+                "transform {:.2}  clip {:.2}  order {:.2}  fill {:.2} ms",
+                s.ms_transform, s.ms_clip, s.ms_order, s.ms_fill
+            ));
+            ui.label(format!(
+                "polygons in {}  drawn {}  (culled objects {}, back faces {}, outside {}, clipped {})",
+                s.polygons_in,
+                s.polygons_drawn,
+                s.polygons_in_culled_objects,
+                s.polygons_backface,
+                s.polygons_outside,
+                s.polygons_clipped
+            ));
+            ui.label(format!(
+                "LOD close {}  mid {}  long {}  (saved {} polygons)",
+                s.lod_close, s.lod_mid, s.lod_long, s.polygons_saved_by_lod
+            ));
+            ui.label(format!(
+                "pixels written {}  shaded {}  rejected {}",
+                s.pixels_written, s.pixels_shaded, s.pixels_rejected
+            ));
+            if self.occupancy.is_empty() {
+                ui.label("bucket occupancy: (z-buffer or sort: no ordering table)");
+            } else {
+                let per = self.occupancy.len().div_ceil(BARS);
+                let bars: Vec<f32> = self.occupancy.chunks(per).map(|c| c.iter().sum::<u32>() as f32).collect();
+                let top = bars.iter().copied().fold(1.0f32, f32::max);
+                let used = self.occupancy.iter().filter(|&&n| n > 0).count();
+                ui.label(format!(
+                    "bucket occupancy, near to far: {} of {} buckets used, fullest bar {}",
+                    used,
+                    self.occupancy.len(),
+                    top
+                ));
+                bars_plot(ui, &bars, top);
+            }
+        });
+    }
+}
+
+fn plot(ui: &mut egui::Ui, values: impl Iterator<Item = f32>, max: f32, color: egui::Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(300.0, 60.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, egui::Color32::from_black_alpha(140));
+    let pts: Vec<egui::Pos2> = values
+        .enumerate()
+        .map(|(i, v)| {
+            let x = rect.left() + rect.width() * i as f32 / (HISTORY - 1) as f32;
+            egui::pos2(x, rect.bottom() - rect.height() * (v / max).clamp(0.0, 1.0))
+        })
+        .collect();
+    painter.add(egui::Shape::line(pts, egui::Stroke::new(1.5, color)));
+}
+
+fn bars_plot(ui: &mut egui::Ui, bars: &[f32], top: f32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(300.0, 50.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, egui::Color32::from_black_alpha(140));
+    let w = rect.width() / bars.len().max(1) as f32;
+    for (i, b) in bars.iter().enumerate() {
+        let h = rect.height() * (b / top).clamp(0.0, 1.0);
+        let r = egui::Rect::from_min_max(
+            egui::pos2(rect.left() + i as f32 * w, rect.bottom() - h),
+            egui::pos2(rect.left() + (i + 1) as f32 * w - 1.0, rect.bottom()),
+        );
+        painter.rect_filled(r, 0.0, egui::Color32::from_rgb(230, 180, 60));
+    }
+}
