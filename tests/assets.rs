@@ -348,3 +348,47 @@ fn grid_frame_lod_saves_polygons_and_stays_close_to_the_reference() {
     // LOD may cost a little accuracy, never much: at most one percentage point more wrong pixels.
     assert!(auto.1 <= close.1 + 0.01, "LOD wrong pixels {:.3} vs all-close {:.3}", auto.1, close.1);
 }
+
+#[test]
+fn lod_sets_by_naming_convention_load_like_msft_lod() {
+    // Rewrite car_4 without the extension: a parent node with children NAME_LOD0, NAME_LOD1, NAME_LOD2.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("named-lods");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for e in std::fs::read_dir(assets().join("cars")).unwrap() {
+        let p = e.unwrap().path();
+        if p.file_name().unwrap().to_string_lossy().starts_with("car_4") {
+            std::fs::copy(&p, dir.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let original = load(&dir.join("car_4.gltf")).unwrap();
+    let text = std::fs::read_to_string(dir.join("car_4.gltf")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let nodes = v["nodes"].as_array().unwrap().clone();
+    let primary = nodes.iter().position(|n| n.get("extensions").is_some()).unwrap();
+    let ids: Vec<u64> = nodes[primary]["extensions"]["MSFT_lod"]["ids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i.as_u64().unwrap())
+        .collect();
+    let mesh_of = |i: usize| nodes[i]["mesh"].clone();
+    let named = serde_json::json!([
+        {"name": "car", "children": [1, 2, 3]},
+        {"name": "car_LOD0", "mesh": mesh_of(primary)},
+        {"name": "car_LOD1", "mesh": mesh_of(ids[0] as usize)},
+        {"name": "car_LOD2", "mesh": mesh_of(ids[1] as usize)},
+    ]);
+    v["nodes"] = named;
+    v["scenes"] = serde_json::json!([{"nodes": [0]}]);
+    v.as_object_mut().unwrap().remove("extensionsUsed");
+    v.as_object_mut().unwrap().remove("cameras");
+    std::fs::write(dir.join("named.gltf"), serde_json::to_vec(&v).unwrap()).unwrap();
+    let named = load(&dir.join("named.gltf")).unwrap();
+    assert_eq!(named.lod_sets.len(), 1);
+    assert_eq!(named.instances.len(), 1, "LOD1 and LOD2 are not drawn on their own");
+    assert!(named.instances[0].lod.is_some());
+    let polys = |s: &scanline_racer::asset::LoadedScene| s.lod_sets[0].meshes.map(|m| s.meshes[m].polygons().len());
+    assert_eq!(polys(&named), polys(&original));
+    assert_eq!(named.lod_sets[0].switch_px, scanline_racer::asset::loader::DEFAULT_SWITCH_PX);
+}
