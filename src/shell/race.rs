@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use winit::keyboard::KeyCode;
 
-use super::window::{Content, ShellError};
+use super::window::{Content, ShellError, method_key};
 use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, Track, World, step};
@@ -248,11 +248,11 @@ impl Content for Race {
                     Screen::Menu => Screen::Menu,
                 };
             }
-            KeyCode::Digit1 => self.options.method = Method::ZBuffer,
-            KeyCode::Digit2 => self.options.method = Method::Sort,
-            KeyCode::Digit3 => self.options.method = Method::BucketFar,
-            KeyCode::Digit4 => self.options.method = Method::BucketNear,
-            _ => {}
+            _ => {
+                if let Some(m) = method_key(code) {
+                    self.options.method = m;
+                }
+            }
         }
         false
     }

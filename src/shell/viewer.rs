@@ -3,9 +3,9 @@
 use glam::{Mat4, Vec3};
 use winit::keyboard::KeyCode;
 
-use super::window::{Content, ShellError};
+use super::window::{Content, ShellError, method_key};
 use crate::asset::LoadedScene;
-use crate::render::{Camera, Method, Projection, RenderOptions, Renderer};
+use crate::render::{Camera, Projection, RenderOptions, Renderer};
 
 /// Keys that move the camera, held or not.
 #[derive(Debug, Default)]
@@ -103,11 +103,11 @@ impl Content for Viewer {
             KeyCode::KeyE | KeyCode::PageUp => self.held.up = down,
             KeyCode::KeyQ | KeyCode::PageDown => self.held.down = down,
             _ if !down => {}
-            KeyCode::Digit1 => self.options.method = Method::ZBuffer,
-            KeyCode::Digit2 => self.options.method = Method::Sort,
-            KeyCode::Digit3 => self.options.method = Method::BucketFar,
-            KeyCode::Digit4 => self.options.method = Method::BucketNear,
-            _ => {}
+            _ => {
+                if let Some(m) = method_key(code) {
+                    self.options.method = m;
+                }
+            }
         }
         false
     }
