@@ -7,6 +7,7 @@
 pub mod asset;
 pub mod cli;
 pub mod game;
+pub mod input;
 pub mod measure;
 pub mod render;
 pub mod shell;

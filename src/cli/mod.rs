@@ -5,6 +5,7 @@
 
 mod play_cmd;
 mod render_cmd;
+mod replay_cmd;
 
 use std::process::ExitCode;
 
@@ -13,6 +14,7 @@ use thiserror::Error;
 
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
+pub use replay_cmd::{ReplayArgs, ReplaySummary, replay_command, replay_headless};
 
 /// Top-level arguments.
 #[derive(Debug, Parser)]
@@ -30,6 +32,8 @@ pub enum Command {
     Play(PlayArgs),
     /// Draw a glTF scene to a PNG with the software renderer (headless).
     Render(RenderArgs),
+    /// Replay a recorded race, in the window or headless (`--headless --frames DIR`).
+    Replay(ReplayArgs),
 }
 
 /// Why a command failed.
@@ -67,6 +71,9 @@ pub enum CliError {
     /// The window could not be opened or failed.
     #[error(transparent)]
     Shell(#[from] crate::shell::window::ShellError),
+    /// A trace could not be replayed (unreadable, corrupt, another version, or diverging).
+    #[error("{0}")]
+    Replay(String),
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),
@@ -79,6 +86,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Render(args)) => render_command(&args),
         Some(Command::Play(args)) => play_command(args),
+        Some(Command::Replay(args)) => replay_command(&args),
         None => play_command(PlayArgs::default()),
     };
     match result {

@@ -6,8 +6,10 @@ use clap::Args;
 
 use super::CliError;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
+use crate::input::trace::TraceWriter;
 use crate::render::{Method, RenderOptions};
-use crate::shell::race::{Race, RaceScene, find_assets};
+use crate::shell::race::{Race, header_for};
+use crate::shell::race_scene::{RaceScene, find_assets};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
 
@@ -42,6 +44,9 @@ pub struct PlayArgs {
     /// Fly a camera around the built-in demo scene instead of racing.
     #[arg(long, conflicts_with = "scene")]
     pub demo: bool,
+    /// Record the race to this trace file (replay it with `scanline-racer replay FILE`).
+    #[arg(long)]
+    pub record: Option<PathBuf>,
     /// Start racing at once instead of showing the main menu.
     #[arg(long)]
     pub no_menu: bool,
@@ -67,6 +72,7 @@ impl Default for PlayArgs {
             threads: 0,
             scene: None,
             demo: false,
+            record: None,
             no_menu: false,
             laps: 3,
             exit_after_frames: None,
@@ -111,7 +117,13 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
-            run(window, &mut Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu))?;
+            let mut race = Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu);
+            if let Some(path) = &args.record {
+                let header = header_for(race.world());
+                race = race
+                    .recording(TraceWriter::create(path, &header).map_err(|e| CliError::BadArgument(e.to_string()))?);
+            }
+            run(window, &mut race)?;
         }
     }
     Ok(())

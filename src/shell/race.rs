@@ -1,75 +1,19 @@
-//! The race in the window: the simulation fed at a fixed tick from the real clock, the keyboard as the
-//! player's controls, chase, bumper and trackside cameras, and the cars drawn at their levels of detail.
+//! The race in the window: the simulation fed at a fixed tick from the real clock, with the player's
+//! controls from the keyboard or, in a replay, from a trace (the one seam where the source changes),
+//! optionally recorded to a trace; menus, HUD and the debug overlay.
 
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
-
-use glam::{Mat4, Vec3};
 use winit::keyboard::KeyCode;
 
+use super::race_scene::{FIELD, RaceScene, View};
 use super::window::{Content, ShellError, method_key};
-use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::rules::{Phase, format_ticks};
-use crate::game::{Controls, DT, Track, World, step};
-use crate::render::{Camera, DrawList, Instance, Method, RenderOptions, Renderer, TextureMode};
+use crate::game::{Controls, DT, TICK_HZ, World};
+use crate::input::replay::{TraceSource, lap_mm, step_recorded};
+use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
+use crate::render::{Method, RenderOptions, Renderer, TextureMode};
 
 /// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
 const MAX_CATCH_UP: f64 = 0.25;
-/// Number of cars in a race.
-pub const FIELD: usize = 8;
-
-/// Where the shipped assets are: `$SCANLINE_RACER_ASSETS`, `./assets`, or beside the executable's build tree.
-#[must_use]
-pub fn find_assets() -> Option<PathBuf> {
-    let mut candidates: Vec<PathBuf> =
-        std::env::var_os("SCANLINE_RACER_ASSETS").map(PathBuf::from).into_iter().collect();
-    candidates.push(PathBuf::from("assets"));
-    if let Ok(exe) = std::env::current_exe() {
-        // target/release/scanline-racer -> ../../assets
-        if let Some(root) = exe.parent().and_then(Path::parent).and_then(Path::parent) {
-            candidates.push(root.join("assets"));
-        }
-    }
-    candidates.into_iter().find(|p| p.join("track/circuit.gltf").is_file())
-}
-
-/// The circuit and the cars, loaded and merged into one scene.
-pub struct RaceScene {
-    scene: LoadedScene,
-    statics: usize,
-    car_sets: Vec<usize>,
-    track: Arc<Track>,
-}
-
-impl RaceScene {
-    /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
-    pub fn load(dir: &Path) -> Result<Self, AssetError> {
-        let mut scene = load(&dir.join("track/circuit.gltf"))?;
-        let statics = scene.instances.len();
-        let mut car_sets = vec![];
-        for n in 1..=FIELD {
-            let car = load(&dir.join(format!("cars/car_{n}.gltf")))?;
-            let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], ..car });
-            car_sets.push(first);
-        }
-        let line = dir.join("track/centerline.json");
-        let text = std::fs::read_to_string(&line)
-            .map_err(|e| AssetError::Read { file: line.display().to_string(), reason: e.to_string() })?;
-        let track = Track::from_json(&text)
-            .map_err(|e| AssetError::Scene { file: line.display().to_string(), reason: e.to_string() })?;
-        scene.instances.truncate(statics);
-        Ok(Self { scene, statics, car_sets, track: Arc::new(track) })
-    }
-}
-
-/// Camera placements, switched with C (as Virtua Racing's view buttons).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum View {
-    ChaseNear,
-    ChaseFar,
-    Bumper,
-    Trackside,
-}
 
 /// Which screen the race shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,6 +65,36 @@ pub struct Race {
     frame_ms: f64,
     debug: super::debug_overlay::DebugOverlay,
     settings_open: bool,
+    /// In a replay, where the player's controls come from.
+    source: Option<TraceSource>,
+    /// When recording, where the controls go.
+    recorder: Option<TraceWriter>,
+    /// Replay speed (1 = real time).
+    speed: f64,
+    /// Ticks to run while paused (single-step).
+    steps: u32,
+    /// Why the replay or recording stopped, shown in the HUD.
+    notice: Option<String>,
+    /// The trace being replayed, for R (restart).
+    replay_path: Option<std::path::PathBuf>,
+}
+
+/// Ticks between checksums in recorded traces: one second.
+pub const CHECKSUM_EVERY: u32 = TICK_HZ;
+
+/// The trace header for a race of `world`.
+#[must_use]
+pub fn header_for(world: &World) -> Header {
+    Header {
+        sim_version: SIM_VERSION,
+        game_version: env!("CARGO_PKG_VERSION").to_string(),
+        track_length_mm: lap_mm(world),
+        cars: world.cars.len() as u32,
+        laps: world.race.laps,
+        seed: 0,
+        tick_hz: TICK_HZ,
+        checksum_every: CHECKSUM_EVERY,
+    }
 }
 
 impl Race {
@@ -141,26 +115,65 @@ impl Race {
             frame_ms: 0.0,
             debug: super::debug_overlay::DebugOverlay::default(),
             settings_open: false,
+            source: None,
+            recorder: None,
+            speed: 1.0,
+            steps: 0,
+            notice: None,
+            replay_path: None,
         }
     }
 
-    fn camera(&self) -> Camera {
-        let car = &self.world.cars[0];
-        let p = car.position3();
-        let f = car.forward();
-        let fwd = Vec3::new(f.x, 0.0, f.y);
-        let (eye, target, yfov) = match self.view {
-            View::ChaseNear => (p - fwd * 6.5 + Vec3::Y * 2.3, p + fwd * 6.0 + Vec3::Y * 0.8, 0.95),
-            View::ChaseFar => (p - fwd * 12.0 + Vec3::Y * 4.0, p + fwd * 8.0 + Vec3::Y * 0.8, 0.85),
-            View::Bumper => (p + fwd * 0.6 + Vec3::Y * 0.9, p + fwd * 20.0 + Vec3::Y * 0.7, 1.05),
-            View::Trackside => {
-                // The nearest of a camera every 150 m, just behind the right-hand barrier, 6 m up.
-                let s = (car.loc.s / 150.0).round() * 150.0 + 60.0;
-                let (pos, _) = self.world.track.point_at(s, car.loc.barrier[1] + 2.0);
-                (pos + Vec3::Y * 6.0, p + Vec3::Y * 0.6, 0.5)
-            }
+    /// The world being raced.
+    #[must_use]
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// Records the race to a trace as it is driven.
+    #[must_use]
+    pub fn recording(mut self, writer: TraceWriter) -> Self {
+        self.recorder = Some(writer);
+        self
+    }
+
+    /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, [ and ] halve and
+    /// double the speed (1/4x to 16x), R restarts.
+    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ShellError> {
+        let source = TraceSource::open(path).map_err(|e| ShellError::Window(e.to_string()))?;
+        let mut race = Self::new(scene, options, source.header.laps, false);
+        race.restart();
+        source.check_track(&race.world).map_err(|e| ShellError::Window(e.to_string()))?;
+        race.source = Some(source);
+        race.replay_path = Some(path.to_path_buf());
+        Ok(race)
+    }
+
+    /// One simulation tick with the controls from the keyboard or the trace (the seam), recorded if asked.
+    fn tick(&mut self) {
+        let c = match self.source.as_mut() {
+            None => self.keys.controls(),
+            Some(src) => match src.next_controls(&self.world) {
+                Ok(Some(c)) => c,
+                Ok(None) => {
+                    self.notice = Some(format!(
+                        "end of replay at tick {} ({} checksums verified)",
+                        self.world.tick, src.verified
+                    ));
+                    self.screen = Screen::Paused;
+                    return;
+                }
+                Err(e) => {
+                    self.notice = Some(e.to_string());
+                    self.screen = Screen::Paused;
+                    return;
+                }
+            },
         };
-        Camera::look_at(eye, target, yfov, 0.3, None)
+        if let Err(e) = step_recorded(&mut self.world, c, self.recorder.as_mut(), CHECKSUM_EVERY) {
+            self.notice = Some(format!("recording stopped: {e}"));
+            self.recorder = None;
+        }
     }
 
     /// A fresh start on the grid with the current number of laps.
@@ -169,6 +182,9 @@ impl Race {
         self.accumulator = 0.0;
         self.keys = Keys::default();
         self.renderer.reset_lod();
+        if self.recorder.take().is_some() {
+            self.notice = Some("recording ended at the restart".into());
+        }
     }
 
     /// The race status for the title bar: countdown, lap, times, position, or the results.
@@ -208,14 +224,17 @@ impl Race {
 
 impl Content for Race {
     fn update(&mut self, dt: f64) {
+        while self.steps > 0 {
+            self.steps -= 1;
+            self.tick();
+        }
         if self.screen != Screen::Race {
             return;
         }
-        self.accumulator = (self.accumulator + dt).min(MAX_CATCH_UP);
-        while self.accumulator >= f64::from(DT) {
+        self.accumulator = (self.accumulator + dt * self.speed).min(MAX_CATCH_UP * self.speed.max(1.0));
+        while self.accumulator >= f64::from(DT) && self.screen == Screen::Race {
             self.accumulator -= f64::from(DT);
-            let c = self.keys.controls();
-            step(&mut self.world, &c);
+            self.tick();
         }
     }
 
@@ -232,15 +251,21 @@ impl Content for Race {
             KeyCode::ArrowUp | KeyCode::KeyW => self.keys.throttle = down,
             KeyCode::ArrowDown | KeyCode::KeyS => self.keys.brake = down,
             _ if !down => {}
-            KeyCode::KeyC => {
-                self.view = match self.view {
-                    View::ChaseNear => View::ChaseFar,
-                    View::ChaseFar => View::Bumper,
-                    View::Bumper => View::Trackside,
-                    View::Trackside => View::ChaseNear,
-                };
-            }
+            KeyCode::KeyC => self.view = self.view.next(),
             KeyCode::F3 => self.debug.visible = !self.debug.visible,
+            KeyCode::KeyR if self.replay_path.is_some() => {
+                if let Some(path) = self.replay_path.clone() {
+                    self.restart();
+                    match TraceSource::open(&path) {
+                        Ok(src) => self.source = Some(src),
+                        Err(e) => self.notice = Some(e.to_string()),
+                    }
+                    self.screen = Screen::Race;
+                }
+            }
+            KeyCode::KeyN if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
+            KeyCode::BracketLeft if self.source.is_some() => self.speed = (self.speed * 0.5).max(0.25),
+            KeyCode::BracketRight if self.source.is_some() => self.speed = (self.speed * 2.0).min(16.0),
             KeyCode::KeyP => {
                 self.screen = match self.screen {
                     Screen::Race => Screen::Paused,
@@ -258,19 +283,9 @@ impl Content for Race {
     }
 
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
-        let mut instances: Vec<Instance> = self.scene.scene.instances[..self.scene.statics].to_vec();
-        for (i, car) in self.world.cars.iter().enumerate() {
-            let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
-            instances.push(Instance::of_lod_set(self.scene.car_sets[i % self.scene.car_sets.len()], model));
-        }
-        let list = DrawList {
-            meshes: &self.scene.scene.meshes,
-            textures: &self.scene.scene.textures,
-            instances: &instances,
-            lod_sets: &self.scene.scene.lod_sets,
-        };
         let t = std::time::Instant::now();
-        let stats = self.renderer.render(frame, width, height, &self.camera(), &list, &self.options)?;
+        let stats =
+            self.scene.render(&mut self.renderer, &self.world, self.view, &self.options, (frame, width, height))?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * ms;
         let occupancy = if self.debug.visible { self.renderer.bucket_occupancy() } else { Vec::new() };
@@ -379,7 +394,7 @@ impl Race {
                     }
                 });
             egui::ComboBox::from_label("view").selected_text(format!("{:?}", self.view)).show_ui(ui, |ui| {
-                for v in [View::ChaseNear, View::ChaseFar, View::Bumper, View::Trackside] {
+                for v in View::ALL {
                     ui.selectable_value(&mut self.view, v, format!("{v:?}"));
                 }
             });
@@ -412,6 +427,18 @@ impl Race {
                 ctx,
                 |ui| {
                     ui.label(big(text, 64.0));
+                },
+            );
+        }
+        if self.source.is_some() || self.notice.is_some() {
+            let text = match &self.notice {
+                Some(n) => n.clone(),
+                None => format!("REPLAY {}x — P pause, N step, [ ] speed, R restart", self.speed),
+            };
+            egui::Area::new(egui::Id::unique("hud-notice")).anchor(egui::Align2::CENTER_BOTTOM, [0.0, -40.0]).show(
+                ctx,
+                |ui| {
+                    ui.label(big(text, 16.0));
                 },
             );
         }

@@ -1,0 +1,137 @@
+//! `scanline-racer replay FILE`: a recorded race, in the window or headless to PNG frames.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::CliError;
+use crate::game::{World, step};
+use crate::input::replay::TraceSource;
+use crate::render::{Method, RenderOptions, Renderer};
+use crate::shell::png::write_png;
+use crate::shell::race::Race;
+use crate::shell::race_scene::{FIELD, RaceScene, View, find_assets};
+use crate::shell::window::{WindowConfig, run};
+
+/// Arguments of `replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The trace file (written by `play --record FILE`).
+    pub trace: PathBuf,
+    /// No window: simulate, check every checksum, and write frames if `--frames` is given.
+    #[arg(long)]
+    pub headless: bool,
+    /// Folder for PNG frames (headless), named `frame_TICK.png`.
+    #[arg(long)]
+    pub frames: Option<PathBuf>,
+    /// Write every Nth tick's frame.
+    #[arg(long, default_value_t = 60)]
+    pub every: u64,
+    /// Frame width.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Frame height.
+    #[arg(long, default_value_t = 360)]
+    pub height: usize,
+    /// Visibility method.
+    #[arg(long, default_value = "zbuffer")]
+    pub method: Method,
+    /// Renderer worker threads (default: the cores available); frames are identical for every count.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+/// What a headless replay did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReplaySummary {
+    /// Ticks simulated.
+    pub ticks: u64,
+    /// Checksums that matched.
+    pub verified: u64,
+    /// Frames written.
+    pub frames: u64,
+}
+
+/// Replays a trace without a window, checking checksums and writing frames; `progress` gets each tick.
+pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Result<ReplaySummary, CliError> {
+    let dir = find_assets().ok_or_else(|| {
+        CliError::BadArgument(
+            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+        )
+    })?;
+    let scene = RaceScene::load(&dir)?;
+    let mut source = TraceSource::open(&args.trace).map_err(|e| CliError::Replay(e.to_string()))?;
+    let mut world = World::with_laps(scene.track.clone(), FIELD, source.header.laps);
+    source.check_track(&world).map_err(|e| CliError::Replay(e.to_string()))?;
+    if source.header.cars as usize != FIELD {
+        return Err(CliError::Replay(format!(
+            "{}: recorded with {} cars, this build races {FIELD}",
+            args.trace.display(),
+            source.header.cars
+        )));
+    }
+    if let Some(d) = &args.frames {
+        std::fs::create_dir_all(d)
+            .map_err(|e| CliError::Write { path: d.display().to_string(), reason: e.to_string() })?;
+    }
+    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
+    let mut renderer = Renderer::new();
+    let mut frame = vec![0u32; args.width * args.height];
+    let mut frames = 0;
+    while let Some(c) = source.next_controls(&world).map_err(|e| CliError::Replay(e.to_string()))? {
+        step(&mut world, &c);
+        progress(world.tick);
+        if let Some(d) = &args.frames
+            && world.tick.is_multiple_of(args.every.max(1))
+        {
+            scene.render(&mut renderer, &world, View::ChaseNear, &options, (&mut frame, args.width, args.height))?;
+            write_png(&d.join(format!("frame_{:06}.png", world.tick)), &frame, args.width, args.height)?;
+            frames += 1;
+        }
+    }
+    Ok(ReplaySummary { ticks: world.tick, verified: source.verified, frames })
+}
+
+/// Runs `replay`.
+pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
+    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
+        return Err(CliError::BadArgument(format!(
+            "--width {} --height {}: each must be 1 to 16384",
+            args.width, args.height
+        )));
+    }
+    if args.headless {
+        let mut err = std::io::stderr();
+        let summary = replay_headless(args, |tick| {
+            if tick.is_multiple_of(120) {
+                let _ = write!(err, "\rreplaying: {:>6.1} s simulated", tick as f64 / 120.0);
+                let _ = err.flush();
+            }
+        })?;
+        eprintln!(
+            "\rreplayed {} ticks ({:.1} s), {} checksums verified, {} frames written",
+            summary.ticks,
+            summary.ticks as f64 / 120.0,
+            summary.verified,
+            summary.frames
+        );
+        return Ok(());
+    }
+    let dir = find_assets().ok_or_else(|| {
+        CliError::BadArgument(
+            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+        )
+    })?;
+    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
+    let mut race = Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?;
+    let window = WindowConfig {
+        size: (args.width.max(640) as u32, args.height.max(360) as u32),
+        fullscreen: false,
+        scale: 1,
+        exit_after_frames: None,
+        screenshot: None,
+    };
+    run(window, &mut race)?;
+    Ok(())
+}

@@ -1,0 +1,276 @@
+//! Input traces: the controls of every tick of a race, so the race can be replayed exactly.
+//!
+//! The format is documented in `docs/trace-format.md`. In short, little-endian:
+//! `b"SRTRACE\0"`, `u16` format version, `u32` header length, a JSON header (what decides the simulation),
+//! then records: tag `1` + controls (`i16` steer, `u8` throttle, `u8` brake) for each tick in order, and
+//! every [`Header::checksum_every`] ticks tag `2` + `u64` tick + `u64` state checksum. Records are written
+//! as they happen and flushed with each checksum, so a killed process leaves a valid prefix.
+//!
+//! Controls are quantized to what the file can hold *before* the simulation sees them ([`quantize`]), in
+//! play and in replay alike, so a trace holds exactly what the simulation saw.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::Path;
+
+use thiserror::Error;
+
+use crate::game::Controls;
+
+/// The file's first eight bytes.
+pub const MAGIC: &[u8; 8] = b"SRTRACE\0";
+/// The format version this build writes and reads.
+pub const FORMAT_VERSION: u16 = 1;
+/// Version of the simulation rules: bumped when `game::step` changes behaviour, so an old trace is refused
+/// with a clear message instead of diverging (build details that do not change the simulation keep it).
+pub const SIM_VERSION: u32 = 1;
+/// Largest header accepted.
+const MAX_HEADER: u32 = 64 * 1024;
+
+const TAG_CONTROLS: u8 = 1;
+const TAG_CHECKSUM: u8 = 2;
+
+/// What decides the simulation, written at the start of a trace.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Header {
+    /// The simulation rules' version ([`SIM_VERSION`]).
+    pub sim_version: u32,
+    /// The program version that wrote the trace (informative).
+    pub game_version: String,
+    /// The circuit's lap length in millimetres (identifies the track).
+    pub track_length_mm: u64,
+    /// Cars in the race.
+    pub cars: u32,
+    /// Laps.
+    pub laps: u32,
+    /// Seed of the race's random choices.
+    pub seed: u64,
+    /// Simulation ticks per second.
+    pub tick_hz: u32,
+    /// Ticks between state checksums.
+    pub checksum_every: u32,
+}
+
+/// One record of a trace.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Record {
+    /// The player's controls for the next tick.
+    Controls(Controls),
+    /// The world checksum after `tick`.
+    Checksum {
+        /// The tick.
+        tick: u64,
+        /// `World::checksum()` after it.
+        sum: u64,
+    },
+}
+
+/// Why a trace could not be written or read.
+#[derive(Debug, Error)]
+pub enum TraceError {
+    /// The file could not be opened, read or written.
+    #[error("{path}: {reason}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The I/O error.
+        reason: String,
+    },
+    /// Not a trace file.
+    #[error("{path}: not a scanline-racer trace (wrong magic bytes)")]
+    Magic {
+        /// The file.
+        path: String,
+    },
+    /// A trace of another format version.
+    #[error("{path}: trace format version {found}, but this build reads version {FORMAT_VERSION}")]
+    Version {
+        /// The file.
+        path: String,
+        /// The version in the file.
+        found: u16,
+    },
+    /// A trace of another simulation version.
+    #[error("{path}: recorded with simulation version {found}, but this build runs version {SIM_VERSION}")]
+    SimVersion {
+        /// The file.
+        path: String,
+        /// The version in the file.
+        found: u32,
+    },
+    /// The header is missing, too long, or does not parse.
+    #[error("{path}: bad header: {reason}")]
+    Header {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A record with an unknown tag.
+    #[error("{path}: corrupt record at byte {offset} (tag {tag})")]
+    Corrupt {
+        /// The file.
+        path: String,
+        /// Byte offset of the record.
+        offset: u64,
+        /// The tag found.
+        tag: u8,
+    },
+}
+
+/// Rounds controls to what a trace stores: steer in 1/32767 steps, throttle and brake in 1/255 steps.
+#[must_use]
+pub fn quantize(c: Controls) -> Controls {
+    let (steer, throttle, brake) = encode(c);
+    decode(steer, throttle, brake)
+}
+
+fn encode(c: Controls) -> (i16, u8, u8) {
+    let c = c.sanitized();
+    ((c.steer * 32767.0).round() as i16, (c.throttle * 255.0).round() as u8, (c.brake * 255.0).round() as u8)
+}
+
+fn decode(steer: i16, throttle: u8, brake: u8) -> Controls {
+    Controls {
+        steer: (f32::from(steer) / 32767.0).clamp(-1.0, 1.0),
+        throttle: f32::from(throttle) / 255.0,
+        brake: f32::from(brake) / 255.0,
+    }
+}
+
+/// Writes a trace as the race runs.
+pub struct TraceWriter {
+    out: BufWriter<File>,
+    path: String,
+}
+
+impl TraceWriter {
+    /// Creates `path` and writes the header.
+    pub fn create(path: &Path, header: &Header) -> Result<Self, TraceError> {
+        let name = path.display().to_string();
+        let io = |e: std::io::Error| TraceError::Io { path: name.clone(), reason: e.to_string() };
+        let mut out = BufWriter::new(File::create(path).map_err(io)?);
+        let json =
+            serde_json::to_vec(header).map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
+        out.write_all(MAGIC).map_err(io)?;
+        out.write_all(&FORMAT_VERSION.to_le_bytes()).map_err(io)?;
+        out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
+        out.write_all(&json).map_err(io)?;
+        out.flush().map_err(io)?;
+        Ok(Self { out, path: name })
+    }
+
+    /// Appends one tick's controls (quantized).
+    pub fn controls(&mut self, c: Controls) -> Result<(), TraceError> {
+        let (s, t, b) = encode(c);
+        let mut rec = [TAG_CONTROLS, 0, 0, t, b];
+        rec[1..3].copy_from_slice(&s.to_le_bytes());
+        self.write(&rec)
+    }
+
+    /// Appends a checksum and flushes, so everything up to here survives a crash.
+    pub fn checksum(&mut self, tick: u64, sum: u64) -> Result<(), TraceError> {
+        let mut rec = [0u8; 17];
+        rec[0] = TAG_CHECKSUM;
+        rec[1..9].copy_from_slice(&tick.to_le_bytes());
+        rec[9..17].copy_from_slice(&sum.to_le_bytes());
+        self.write(&rec)?;
+        self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> Result<(), TraceError> {
+        self.out.write_all(bytes).map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+    }
+}
+
+/// Reads a trace record by record; a record cut short at the end of the file ends the trace quietly
+/// (that is what a killed recording leaves).
+pub struct TraceReader {
+    input: BufReader<File>,
+    path: String,
+    offset: u64,
+}
+
+impl TraceReader {
+    /// Opens `path` and reads and checks its header.
+    pub fn open(path: &Path) -> Result<(Header, Self), TraceError> {
+        let name = path.display().to_string();
+        let file = File::open(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
+        let mut input = BufReader::new(file);
+        let mut head = [0u8; 14];
+        let short = || TraceError::Header { path: name.clone(), reason: "file ends inside the header".into() };
+        input.read_exact(&mut head).map_err(|_| short())?;
+        if &head[..8] != MAGIC {
+            return Err(TraceError::Magic { path: name });
+        }
+        let version = u16::from_le_bytes([head[8], head[9]]);
+        if version != FORMAT_VERSION {
+            return Err(TraceError::Version { path: name, found: version });
+        }
+        let len = u32::from_le_bytes([head[10], head[11], head[12], head[13]]);
+        if len > MAX_HEADER {
+            return Err(TraceError::Header { path: name, reason: format!("header of {len} bytes is over the limit") });
+        }
+        let mut json = vec![0u8; len as usize];
+        input.read_exact(&mut json).map_err(|_| short())?;
+        let header: Header = serde_json::from_slice(&json)
+            .map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
+        if header.sim_version != SIM_VERSION {
+            return Err(TraceError::SimVersion { path: name, found: header.sim_version });
+        }
+        let bad = |what: &str| TraceError::Header { path: name.clone(), reason: what.to_string() };
+        if header.tick_hz != crate::game::TICK_HZ {
+            return Err(bad("tick rate differs from this build's"));
+        }
+        if !(1..=64).contains(&header.cars) || !(1..=99).contains(&header.laps) || header.checksum_every == 0 {
+            return Err(bad("cars, laps or checksum interval out of range"));
+        }
+        Ok((header, Self { input, path: name, offset: 14 + u64::from(len) }))
+    }
+
+    /// The next record, `Ok(None)` at the end (including a record cut short by a crash).
+    pub fn next_record(&mut self) -> Result<Option<Record>, TraceError> {
+        let mut tag = [0u8; 1];
+        if self.input.read_exact(&mut tag).is_err() {
+            return Ok(None);
+        }
+        let at = self.offset;
+        match tag[0] {
+            TAG_CONTROLS => {
+                let mut b = [0u8; 4];
+                if self.input.read_exact(&mut b).is_err() {
+                    return Ok(None);
+                }
+                self.offset += 5;
+                Ok(Some(Record::Controls(decode(i16::from_le_bytes([b[0], b[1]]), b[2], b[3]))))
+            }
+            TAG_CHECKSUM => {
+                let mut b = [0u8; 16];
+                if self.input.read_exact(&mut b).is_err() {
+                    return Ok(None);
+                }
+                self.offset += 17;
+                let tick = u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]);
+                let sum = u64::from_le_bytes([b[8], b[9], b[10], b[11], b[12], b[13], b[14], b[15]]);
+                Ok(Some(Record::Checksum { tick, sum }))
+            }
+            other => Err(TraceError::Corrupt { path: self.path.clone(), offset: at, tag: other }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantizing_is_idempotent_and_clamps() {
+        let c = Controls { steer: 0.123_456, throttle: 0.5, brake: 2.0 };
+        let q = quantize(c);
+        assert_eq!(quantize(q), q);
+        assert_eq!(q.brake, 1.0);
+        assert!((q.steer - 0.123_456).abs() < 1.0 / 32767.0);
+        let nan = quantize(Controls { steer: f32::NAN, throttle: f32::NAN, brake: f32::NAN });
+        assert_eq!(nan, Controls::default());
+    }
+}

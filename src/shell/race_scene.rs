@@ -1,0 +1,127 @@
+//! What a race looks like, shared by the window and headless replays: the merged circuit and car scene,
+//! the cameras, and drawing one frame of a world.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+
+use crate::asset::{AssetError, LoadedScene, load};
+use crate::game::{Track, World};
+use crate::render::{Camera, DrawList, Instance, RenderError, RenderOptions, Renderer, Stats};
+
+/// Number of cars in a race.
+pub const FIELD: usize = 8;
+
+/// Where the shipped assets are: `$SCANLINE_RACER_ASSETS`, `./assets`, or beside the executable's build tree.
+#[must_use]
+pub fn find_assets() -> Option<PathBuf> {
+    let mut candidates: Vec<PathBuf> =
+        std::env::var_os("SCANLINE_RACER_ASSETS").map(PathBuf::from).into_iter().collect();
+    candidates.push(PathBuf::from("assets"));
+    if let Ok(exe) = std::env::current_exe() {
+        // target/release/scanline-racer -> ../../assets
+        if let Some(root) = exe.parent().and_then(Path::parent).and_then(Path::parent) {
+            candidates.push(root.join("assets"));
+        }
+    }
+    candidates.into_iter().find(|p| p.join("track/circuit.gltf").is_file())
+}
+
+/// The circuit and the cars, loaded and merged into one scene.
+pub struct RaceScene {
+    scene: LoadedScene,
+    statics: usize,
+    car_sets: Vec<usize>,
+    /// The circuit's centre line for the simulation.
+    pub track: Arc<Track>,
+}
+
+/// Camera placements, switched with C (as Virtua Racing's view buttons).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    /// Just behind and above the player's car.
+    ChaseNear,
+    /// Further back and higher.
+    ChaseFar,
+    /// On the front bumper.
+    Bumper,
+    /// A TV camera behind the barrier, the nearest of one every 150 m.
+    Trackside,
+}
+
+impl View {
+    /// Every view, in the order C cycles through them.
+    pub const ALL: [View; 4] = [View::ChaseNear, View::ChaseFar, View::Bumper, View::Trackside];
+
+    /// The view after this one.
+    #[must_use]
+    pub fn next(self) -> View {
+        let i = View::ALL.iter().position(|&v| v == self).unwrap_or(0);
+        View::ALL[(i + 1) % View::ALL.len()]
+    }
+}
+
+/// The camera of `view` on the player's car (car 0) in `world`.
+#[must_use]
+pub fn camera_for(world: &World, view: View) -> Camera {
+    let car = &world.cars[0];
+    let p = car.position3();
+    let f = car.forward();
+    let fwd = Vec3::new(f.x, 0.0, f.y);
+    let (eye, target, yfov) = match view {
+        View::ChaseNear => (p - fwd * 6.5 + Vec3::Y * 2.3, p + fwd * 6.0 + Vec3::Y * 0.8, 0.95),
+        View::ChaseFar => (p - fwd * 12.0 + Vec3::Y * 4.0, p + fwd * 8.0 + Vec3::Y * 0.8, 0.85),
+        View::Bumper => (p + fwd * 0.6 + Vec3::Y * 0.9, p + fwd * 20.0 + Vec3::Y * 0.7, 1.05),
+        View::Trackside => {
+            let s = (car.loc.s / 150.0).round() * 150.0 + 60.0;
+            let (pos, _) = world.track.point_at(s, car.loc.barrier[1] + 2.0);
+            (pos + Vec3::Y * 6.0, p + Vec3::Y * 0.6, 0.5)
+        }
+    };
+    Camera::look_at(eye, target, yfov, 0.3, None)
+}
+
+impl RaceScene {
+    /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
+    pub fn load(dir: &Path) -> Result<Self, AssetError> {
+        let mut scene = load(&dir.join("track/circuit.gltf"))?;
+        let statics = scene.instances.len();
+        let mut car_sets = vec![];
+        for n in 1..=FIELD {
+            let car = load(&dir.join(format!("cars/car_{n}.gltf")))?;
+            let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], ..car });
+            car_sets.push(first);
+        }
+        let line = dir.join("track/centerline.json");
+        let text = std::fs::read_to_string(&line)
+            .map_err(|e| AssetError::Read { file: line.display().to_string(), reason: e.to_string() })?;
+        let track = Track::from_json(&text)
+            .map_err(|e| AssetError::Scene { file: line.display().to_string(), reason: e.to_string() })?;
+        scene.instances.truncate(statics);
+        Ok(Self { scene, statics, car_sets, track: Arc::new(track) })
+    }
+
+    /// Draws `world` seen from `view` into `frame`.
+    pub fn render(
+        &self,
+        renderer: &mut Renderer,
+        world: &World,
+        view: View,
+        options: &RenderOptions,
+        (frame, width, height): (&mut [u32], usize, usize),
+    ) -> Result<Stats, RenderError> {
+        let mut instances: Vec<Instance> = self.scene.instances[..self.statics].to_vec();
+        for (i, car) in world.cars.iter().enumerate() {
+            let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
+            instances.push(Instance::of_lod_set(self.car_sets[i % self.car_sets.len()], model));
+        }
+        let list = DrawList {
+            meshes: &self.scene.meshes,
+            textures: &self.scene.textures,
+            instances: &instances,
+            lod_sets: &self.scene.lod_sets,
+        };
+        renderer.render(frame, width, height, &camera_for(world, view), &list, options)
+    }
+}

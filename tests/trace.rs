@@ -1,0 +1,202 @@
+//! Traces: a recorded race replays exactly; truncated, corrupted, foreign and hostile files are refused in one
+//! line or replay their valid prefix, never panic; headless replay frames are identical for any thread count.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+
+use common::*;
+use scanline_racer::game::ai::{Driver, drive};
+use scanline_racer::game::{Track, World};
+use scanline_racer::input::replay::{TraceSource, step_recorded};
+use scanline_racer::input::trace::TraceWriter;
+use scanline_racer::shell::race::{CHECKSUM_EVERY, header_for};
+
+fn circuit() -> Arc<Track> {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/centerline.json")).unwrap();
+    Arc::new(Track::from_json(&text).unwrap())
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trace");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Records `ticks` ticks of a race whose player is driven by a scripted (AI) driver; returns the checksums.
+fn record(path: &Path, ticks: u64) -> Vec<(u64, u64)> {
+    let mut w = World::with_laps(circuit(), 8, 3);
+    let mut rec = TraceWriter::create(path, &header_for(&w)).unwrap();
+    let mut sums = vec![];
+    for _ in 0..ticks {
+        let c = drive(&Driver::field(3), 0, &w.cars, &w.track, &w.params);
+        step_recorded(&mut w, c, Some(&mut rec), CHECKSUM_EVERY).unwrap();
+        if w.tick.is_multiple_of(u64::from(CHECKSUM_EVERY)) {
+            sums.push((w.tick, w.checksum()));
+        }
+    }
+    sums
+}
+
+/// Replays a trace in-process; returns the ticks reached or the error message.
+fn replay(path: &Path) -> Result<u64, String> {
+    let mut src = TraceSource::open(path).map_err(|e| e.to_string())?;
+    let mut w = World::with_laps(circuit(), src.header.cars as usize, src.header.laps);
+    src.check_track(&w).map_err(|e| e.to_string())?;
+    while let Some(c) = src.next_controls(&w).map_err(|e| e.to_string())? {
+        scanline_racer::game::step(&mut w, &c);
+    }
+    Ok(w.tick)
+}
+
+#[test]
+fn a_recorded_race_replays_exactly_and_a_cut_trace_replays_its_prefix() {
+    let path = tmp("race.trace");
+    let sums = record(&path, 120 * 20);
+    assert_eq!(sums.len(), 20);
+    assert_eq!(replay(&path), Ok(120 * 20));
+    let bytes = std::fs::read(&path).unwrap();
+    // Cut anywhere after the header: the prefix replays, to the last whole record.
+    let header_end = 14 + u32::from_le_bytes([bytes[10], bytes[11], bytes[12], bytes[13]]) as usize;
+    for cut in [header_end, header_end + 1, header_end + 3, bytes.len() / 2, bytes.len() - 1] {
+        let p = tmp("cut.trace");
+        std::fs::write(&p, &bytes[..cut]).unwrap();
+        let ticks = replay(&p).unwrap_or_else(|e| panic!("cut at {cut}: {e}"));
+        assert!(ticks <= 120 * 20);
+    }
+    // Cut inside the header: one clear error.
+    for cut in [0, 5, 12, header_end - 1] {
+        let p = tmp("cut-header.trace");
+        std::fs::write(&p, &bytes[..cut]).unwrap();
+        let e = replay(&p).unwrap_err();
+        assert!(e.contains("header") || e.contains("magic"), "cut at {cut}: {e}");
+    }
+}
+
+#[test]
+fn corruption_is_caught_at_the_first_checksum_after_it() {
+    let path = tmp("corrupt.trace");
+    record(&path, 120 * 10);
+    let mut bytes = std::fs::read(&path).unwrap();
+    let header_end = 14 + u32::from_le_bytes([bytes[10], bytes[11], bytes[12], bytes[13]]) as usize;
+    // Controls records are 5 bytes, checksums 17 after every 120 controls: find tick 300's controls.
+    let per_second = 120 * 5 + 17;
+    // Tick 601's record (the first of the sixth second; the countdown holds the cars until tick 360).
+    let at = header_end + 5 * per_second;
+    assert_eq!(bytes[at], 1, "a controls record");
+    bytes[at + 3] = bytes[at + 3].wrapping_add(200); // throttle
+    bytes[at + 1] ^= 0x7f; // steer
+    let p = tmp("corrupt2.trace");
+    std::fs::write(&p, &bytes).unwrap();
+    let e = replay(&p).unwrap_err();
+    assert!(e.contains("diverges") && e.contains("tick 720"), "{e}");
+    // A bad tag is named with its offset.
+    bytes[at] = 9;
+    std::fs::write(&p, &bytes).unwrap();
+    let e = replay(&p).unwrap_err();
+    assert!(e.contains(&format!("corrupt record at byte {at}")), "{e}");
+}
+
+#[test]
+fn random_mutations_never_panic() {
+    let path = tmp("fuzz-base.trace");
+    record(&path, 120 * 3);
+    let base = std::fs::read(&path).unwrap();
+    let mut rng = Rng(0xf00d);
+    let p = tmp("fuzz.trace");
+    let (mut ok, mut err) = (0, 0);
+    for _ in 0..600 {
+        let mut b = base.clone();
+        let n = 1 + rng.range(0, 8) as usize;
+        for _ in 0..n {
+            let i = rng.range(0, b.len() as i64) as usize;
+            b[i] = rng.next_u64() as u8;
+        }
+        if rng.next_u64().is_multiple_of(4) {
+            b.truncate(rng.range(0, b.len() as i64) as usize);
+        }
+        std::fs::write(&p, &b).unwrap();
+        match replay(&p) {
+            Ok(_) => ok += 1,
+            Err(e) => {
+                assert!(!e.is_empty() && !e.contains('\n'), "{e}");
+                err += 1;
+            }
+        }
+    }
+    assert!(ok > 0 && err > 0, "mutations both pass (unchanged prefix) and fail: {ok} ok, {err} errors");
+}
+
+#[test]
+fn foreign_versions_and_files_are_refused_with_both_versions_named() {
+    let path = tmp("version.trace");
+    record(&path, 120);
+    let bytes = std::fs::read(&path).unwrap();
+    let mut v2 = bytes.clone();
+    v2[8] = 2;
+    let p = tmp("v2.trace");
+    std::fs::write(&p, &v2).unwrap();
+    let e = replay(&p).unwrap_err();
+    assert!(e.contains("version 2") && e.contains("version 1"), "{e}");
+    let mut sim7 = bytes.clone();
+    let key = b"\"sim_version\":1";
+    let pos = sim7.windows(key.len()).position(|w| w == key).expect("sim_version in the header");
+    sim7[pos + key.len() - 1] = b'7';
+    std::fs::write(&p, &sim7).unwrap();
+    let e = replay(&p).unwrap_err();
+    assert!(e.contains("simulation version 7") && e.contains("version 1"), "{e}");
+    std::fs::write(&p, b"PNG\x89 not a trace at all").unwrap();
+    assert!(replay(&p).unwrap_err().contains("magic"));
+    let mut huge = bytes.clone();
+    huge[10..14].copy_from_slice(&u32::MAX.to_le_bytes());
+    std::fs::write(&p, &huge).unwrap();
+    assert!(replay(&p).unwrap_err().contains("over the limit"), "no huge allocation for an absurd header length");
+}
+
+#[test]
+fn headless_replay_writes_identical_frames_for_any_thread_count() {
+    let path = tmp("frames.trace");
+    record(&path, 120 * 6);
+    let mut outputs = vec![];
+    for threads in ["1", "2"] {
+        let dir = tmp(&format!("frames-{threads}"));
+        let _ = std::fs::remove_dir_all(&dir);
+        let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+            .args(["replay", path.to_str().unwrap(), "--headless", "--frames", dir.to_str().unwrap()])
+            .args(["--every", "240", "--width", "160", "--height", "90", "--threads", threads])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(
+            err.contains("replayed 720 ticks") && err.contains("6 checksums verified") && err.contains("3 frames"),
+            "{err}"
+        );
+        let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+        names.sort();
+        outputs.push(names.iter().map(|p| std::fs::read(p).unwrap()).collect::<Vec<_>>());
+    }
+    assert_eq!(outputs[0].len(), 3);
+    assert!(outputs[0] == outputs[1], "frames differ between 1 and 2 threads");
+    // A diverging trace stops the command with one line naming the tick.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let header_end = 14 + u32::from_le_bytes([bytes[10], bytes[11], bytes[12], bytes[13]]) as usize;
+    bytes[header_end + 3] = 255; // full throttle at tick 1, during the countdown: no effect on the state...
+    bytes[header_end + (120 * 5 + 17) * 4 + 5 * 10 + 1] ^= 0x40; // ...but a steering change at tick 491 does.
+    let p = tmp("diverge.trace");
+    std::fs::write(&p, &bytes).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["replay", p.to_str().unwrap(), "--headless"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("diverges from the recording at tick 600"), "{err}");
+}
