@@ -8,6 +8,7 @@
 pub mod accessor;
 pub mod loader;
 pub mod quads;
+pub mod scene;
 pub mod uri;
 
 pub use loader::{AssetError, LoadedScene, SceneCamera, load};

@@ -1,0 +1,118 @@
+//! A loaded scene: meshes, textures, LOD sets, placed instances and cameras, and what callers do with it
+//! (draw it, find a camera, frame it, merge another scene into it).
+
+use glam::Vec3;
+
+use crate::render::{Camera, DrawList, Instance, LodSet, Mesh, Texture};
+
+/// A camera placed in the scene by a node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneCamera {
+    /// The node's name, else the camera's name, else `camera N`.
+    pub name: String,
+    /// The camera's name in the file, if any.
+    pub camera_name: Option<String>,
+    /// The camera, with the node's world transform inverted as its view.
+    pub camera: Camera,
+}
+
+/// Everything loaded from one glTF file, ready to hand to the renderer.
+#[derive(Clone, Debug, Default)]
+pub struct LoadedScene {
+    /// Meshes (one per glTF mesh used by the scene).
+    pub meshes: Vec<Mesh>,
+    /// Base-colour textures.
+    pub textures: Vec<Texture>,
+    /// Placed meshes (or LOD sets) in node traversal order.
+    pub instances: Vec<Instance>,
+    /// Close/mid/long mesh sets, from `MSFT_lod` or the `_LOD0/1/2` naming convention.
+    pub lod_sets: Vec<LodSet>,
+    /// Camera nodes in traversal order.
+    pub cameras: Vec<SceneCamera>,
+    /// Primitives skipped because they are points or lines.
+    pub skipped_primitives: usize,
+    /// World-space bounds of all finite vertex positions, if any.
+    pub bounds: Option<(Vec3, Vec3)>,
+}
+
+impl LoadedScene {
+    /// The draw list over this scene.
+    #[must_use]
+    pub fn draw_list(&self) -> DrawList<'_> {
+        DrawList {
+            meshes: &self.meshes,
+            textures: &self.textures,
+            instances: &self.instances,
+            lod_sets: &self.lod_sets,
+        }
+    }
+
+    /// Total polygons over all instances, counting LOD sets at their close model.
+    #[must_use]
+    pub fn polygon_count(&self) -> usize {
+        self.instances
+            .iter()
+            .filter_map(|i| {
+                let mesh = match i.lod {
+                    Some(set) => self.lod_sets.get(set)?.meshes[0],
+                    None => i.mesh,
+                };
+                self.meshes.get(mesh)
+            })
+            .map(|m| m.polygons().len())
+            .sum()
+    }
+
+    /// Appends another scene's meshes, textures, LOD sets, instances and cameras; returns the index its first
+    /// LOD set got here (its LOD set `k` is this scene's `k + returned`).
+    pub fn append(&mut self, other: LoadedScene) -> usize {
+        let (meshes, textures, sets) = (self.meshes.len(), self.textures.len(), self.lod_sets.len());
+        self.meshes.extend(other.meshes.into_iter().map(|mut m| {
+            m.rebase_textures(textures);
+            m
+        }));
+        self.textures.extend(other.textures);
+        self.lod_sets.extend(other.lod_sets.into_iter().map(|mut s| {
+            s.meshes = s.meshes.map(|m| m + meshes);
+            s
+        }));
+        self.instances.extend(other.instances.into_iter().map(|mut i| {
+            i.mesh += meshes;
+            i.lod = i.lod.map(|l| l + sets);
+            i
+        }));
+        self.cameras.extend(other.cameras);
+        self.skipped_primitives += other.skipped_primitives;
+        self.bounds = match (self.bounds, other.bounds) {
+            (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+            (x, None) => x,
+            (None, y) => y,
+        };
+        sets
+    }
+
+    /// Picks a camera by traversal index or by node or camera name.
+    #[must_use]
+    pub fn find_camera(&self, sel: &str) -> Option<&SceneCamera> {
+        if let Ok(i) = sel.parse::<usize>() {
+            return self.cameras.get(i);
+        }
+        self.cameras.iter().find(|c| c.name == sel || c.camera_name.as_deref() == Some(sel))
+    }
+
+    /// A perspective camera that frames the scene's bounds for a view of the given aspect (width / height).
+    #[must_use]
+    pub fn framing_camera(&self, aspect: f32) -> Camera {
+        let (center, radius) = match self.bounds {
+            Some((lo, hi)) => ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6)),
+            None => (Vec3::ZERO, 1.0),
+        };
+        let yfov = 0.8f32;
+        let half_x = ((0.5 * yfov).tan() * aspect.clamp(0.05, 20.0)).atan();
+        let half = half_x.min(0.5 * yfov);
+        let dist = radius / half.sin() * 1.02;
+        let eye = center + Vec3::new(0.55, 0.45, 1.0).normalize() * dist;
+        let znear = ((dist - radius) * 0.9).max(dist * 1e-3);
+        Camera::look_at(eye, center, yfov, znear, Some(dist + radius * 1.1))
+    }
+}
