@@ -7,20 +7,10 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::Arc;
 
 use common::*;
-use scanline_racer::game::ai::{Driver, drive};
-use scanline_racer::game::{Track, World};
-use scanline_racer::input::replay::{TraceSource, step_recorded};
-use scanline_racer::input::trace::TraceWriter;
-use scanline_racer::shell::race::{CHECKSUM_EVERY, header_for};
-
-fn circuit() -> Arc<Track> {
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/centerline.json")).unwrap();
-    Arc::new(Track::from_json(&text).unwrap())
-}
+use scanline_racer::game::World;
+use scanline_racer::input::replay::TraceSource;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trace");
@@ -28,19 +18,8 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
-/// Records `ticks` ticks of a race whose player is driven by a scripted (AI) driver; returns the checksums.
 fn record(path: &Path, ticks: u64) -> Vec<(u64, u64)> {
-    let mut w = World::with_laps(circuit(), 8, 3);
-    let mut rec = TraceWriter::create(path, &header_for(&w)).unwrap();
-    let mut sums = vec![];
-    for _ in 0..ticks {
-        let c = drive(&Driver::field(3), 0, &w.cars, &w.track, &w.params);
-        step_recorded(&mut w, c, Some(&mut rec), CHECKSUM_EVERY).unwrap();
-        if w.tick.is_multiple_of(u64::from(CHECKSUM_EVERY)) {
-            sums.push((w.tick, w.checksum()));
-        }
-    }
-    sums
+    record_trace(path, ticks)
 }
 
 /// Replays a trace in-process; returns the ticks reached or the error message.

@@ -172,3 +172,79 @@ fn no_display_is_one_line_naming_the_headless_command() {
         assert!(err.contains("no display") && err.contains("scanline-racer render"), "{err}");
     }
 }
+
+#[test]
+fn a_replayed_race_in_the_window_shows_the_frame_the_headless_renderer_draws() {
+    // Drive the real binary in a real window with a recorded race, stop at a tick, screenshot the X display
+    // and compare it with the headless replay's frame of the same tick.
+    let x = Xvfb::start();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-replay");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let trace = dir.join("race.trace");
+    record_trace(&trace, 120 * 8);
+    let (w, h, tick) = (320usize, 180usize, 720u64);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["replay", trace.to_str().unwrap(), "--width", "320", "--height", "180", "--lod", "close"])
+        .args(["--stop-at", &tick.to_string(), "--no-hud"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the line saying the replay froze at the tick.
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        for line in std::io::BufReader::new(stderr).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let deadline = Instant::now() + Duration::from_secs(90);
+    let mut seen = vec![];
+    loop {
+        match rx.recv_timeout(Duration::from_millis(200)) {
+            Ok(line) if line.contains("replay stopped at tick") => {
+                seen.push(line);
+                break;
+            }
+            Ok(line) => seen.push(line),
+            Err(_) if Instant::now() > deadline => {
+                let _ = child.kill();
+                panic!("the replay did not reach tick {tick}: {seen:?}");
+            }
+            Err(_) => {
+                if let Ok(Some(st)) = child.try_wait() {
+                    panic!("the replay window exited early ({st}): {seen:?}");
+                }
+            }
+        }
+    }
+    assert!(seen.last().is_some_and(|l| l.ends_with(&format!("tick {tick}"))), "{seen:?}");
+    // Let the frozen frame be presented, then take the X display.
+    std::thread::sleep(Duration::from_millis(700));
+    let dump = Command::new("xwd").args(["-root", "-silent", "-display", &x.display]).output().unwrap_or_else(|e| {
+        panic!("cannot run xwd ({e}): run scripts/test, which installs it (apt-get install x11-apps)")
+    });
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(dump.status.success());
+    let (screen, sw, _) = read_xwd(&dump.stdout).expect("a 32-bit ZPixmap dump");
+    // No window manager under Xvfb: the window's pixels sit at the display's top-left corner.
+    let window: Vec<u32> = (0..h).flat_map(|y| screen[y * sw..y * sw + w].to_vec()).collect();
+    let frames = dir.join("frames");
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["replay", trace.to_str().unwrap(), "--headless", "--frames", frames.to_str().unwrap()])
+        .args(["--every", &tick.to_string(), "--width", "320", "--height", "180", "--lod", "close"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (headless, _, _) = read_png(&frames.join(format!("frame_{tick:06}.png"))).unwrap();
+    let wrong = window.iter().zip(&headless).filter(|(a, b)| channel_diff(**a, **b) > 8).count();
+    if wrong > 0 {
+        write_png(&dir.join("window.png"), &window, w, h);
+    }
+    assert_eq!(wrong, 0, "the window differs from the headless frame in {wrong} pixels (see {})", dir.display());
+}

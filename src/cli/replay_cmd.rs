@@ -8,7 +8,7 @@ use clap::Args;
 use super::CliError;
 use crate::game::{World, step};
 use crate::input::replay::TraceSource;
-use crate::render::{Method, RenderOptions, Renderer};
+use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View, find_assets};
@@ -40,6 +40,15 @@ pub struct ReplayArgs {
     /// Renderer worker threads (default: the cores available); frames are identical for every count.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Level of detail: auto, or close, mid or long for every car and tree.
+    #[arg(long, default_value = "auto")]
+    pub lod: LodMode,
+    /// In the window: stop (freeze the frame) when the replay reaches this tick.
+    #[arg(long)]
+    pub stop_at: Option<u64>,
+    /// In the window: draw no menus or HUD over the race.
+    #[arg(long)]
+    pub no_hud: bool,
 }
 
 /// What a headless replay did.
@@ -75,7 +84,8 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
         std::fs::create_dir_all(d)
             .map_err(|e| CliError::Write { path: d.display().to_string(), reason: e.to_string() })?;
     }
-    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
+    let options =
+        RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
@@ -123,10 +133,12 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
             "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
         )
     })?;
-    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
-    let mut race = Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?;
+    let options =
+        RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
+    let mut race =
+        Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?.stopping_at(args.stop_at, !args.no_hud);
     let window = WindowConfig {
-        size: (args.width.max(640) as u32, args.height.max(360) as u32),
+        size: (args.width as u32, args.height as u32),
         fullscreen: false,
         scale: 1,
         exit_after_frames: None,

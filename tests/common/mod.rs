@@ -141,3 +141,54 @@ pub fn channel_diff(a: u32, b: u32) -> u32 {
 pub fn samples() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/gltf-samples")
 }
+
+/// The circuit's centre line from the shipped assets.
+pub fn circuit() -> std::sync::Arc<scanline_racer::game::Track> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/centerline.json");
+    let text = std::fs::read_to_string(path).expect("centre line");
+    std::sync::Arc::new(scanline_racer::game::Track::from_json(&text).expect("valid centre line"))
+}
+
+/// Records `ticks` ticks of a three-lap race whose player is driven by a scripted (AI) driver, through the
+/// same recording step the window uses; returns the checksums written.
+pub fn record_trace(path: &std::path::Path, ticks: u64) -> Vec<(u64, u64)> {
+    use scanline_racer::game::ai::{Driver, drive};
+    use scanline_racer::shell::race::{CHECKSUM_EVERY, header_for};
+    let mut w = scanline_racer::game::World::with_laps(circuit(), 8, 3);
+    let mut rec = scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w)).expect("create trace");
+    let mut sums = vec![];
+    for _ in 0..ticks {
+        let c = drive(&Driver::field(3), 0, &w.cars, &w.track, &w.params);
+        scanline_racer::input::replay::step_recorded(&mut w, c, Some(&mut rec), CHECKSUM_EVERY).expect("record");
+        if w.tick.is_multiple_of(u64::from(CHECKSUM_EVERY)) {
+            sums.push((w.tick, w.checksum()));
+        }
+    }
+    sums
+}
+
+/// Reads an X window dump (`xwd -root`) of 24/32-bit ZPixmap as `0x00RRGGBB` pixels.
+pub fn read_xwd(bytes: &[u8]) -> Option<(Vec<u32>, usize, usize)> {
+    let field = |i: usize| -> Option<u32> { Some(u32::from_be_bytes(bytes.get(4 * i..4 * i + 4)?.try_into().ok()?)) };
+    let header_size = field(0)? as usize;
+    let (format, width, height) = (field(2)?, field(4)? as usize, field(5)? as usize);
+    let (byte_order, bits_per_pixel, bytes_per_line) = (field(7)?, field(11)?, field(12)? as usize);
+    let ncolors = field(19)? as usize;
+    if format != 2 || bits_per_pixel != 32 {
+        return None;
+    }
+    let data = bytes.get(header_size + 12 * ncolors..)?;
+    let mut px = Vec::with_capacity(width * height);
+    for y in 0..height {
+        for x in 0..width {
+            let p = data.get(y * bytes_per_line + 4 * x..y * bytes_per_line + 4 * x + 4)?;
+            let v = if byte_order == 0 {
+                u32::from_le_bytes(p.try_into().ok()?)
+            } else {
+                u32::from_be_bytes(p.try_into().ok()?)
+            };
+            px.push(v & 0x00ff_ffff);
+        }
+    }
+    Some((px, width, height))
+}

@@ -26,6 +26,8 @@ enum Screen {
     Race,
     /// The pause menu (nothing moves).
     Paused,
+    /// A replay stopped at its `--stop-at` tick: the frame stays, nothing moves, no menu.
+    Frozen,
 }
 
 /// Keyboard state turned into smoothed controls.
@@ -79,6 +81,10 @@ pub struct Race {
     notice: Option<String>,
     /// The trace being replayed, for R (restart).
     replay_path: Option<std::path::PathBuf>,
+    /// A replay freezes when the world reaches this tick.
+    stop_at: Option<u64>,
+    /// Whether menus and HUD are drawn over the race.
+    hud: bool,
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -123,7 +129,18 @@ impl Race {
             steps: 0,
             notice: None,
             replay_path: None,
+            stop_at: None,
+            hud: true,
         }
+    }
+
+    /// Freezes the replay when the world reaches `tick` (and prints one line saying so), and hides the HUD
+    /// when `hud` is false: for comparing the window with headless frames.
+    #[must_use]
+    pub fn stopping_at(mut self, tick: Option<u64>, hud: bool) -> Self {
+        self.stop_at = tick;
+        self.hud = hud;
+        self
     }
 
     /// The world being raced.
@@ -235,6 +252,11 @@ impl Content for Race {
         }
         self.accumulator = (self.accumulator + dt * self.speed).min(MAX_CATCH_UP * self.speed.max(1.0));
         while self.accumulator >= f64::from(DT) && self.screen == Screen::Race {
+            if self.stop_at.is_some_and(|t| self.world.tick >= t) {
+                self.screen = Screen::Frozen;
+                eprintln!("replay stopped at tick {}", self.world.tick);
+                break;
+            }
             self.accumulator -= f64::from(DT);
             self.tick();
         }
@@ -243,7 +265,7 @@ impl Content for Race {
     fn key(&mut self, code: KeyCode, down: bool) -> bool {
         match code {
             KeyCode::Escape if down => match self.screen {
-                Screen::Menu => return true,
+                Screen::Menu | Screen::Frozen => return true,
                 Screen::Race => self.screen = Screen::Paused,
                 Screen::Paused => self.screen = Screen::Race,
             },
@@ -272,7 +294,7 @@ impl Content for Race {
                 self.screen = match self.screen {
                     Screen::Race => Screen::Paused,
                     Screen::Paused => Screen::Race,
-                    Screen::Menu => Screen::Menu,
+                    other => other,
                 };
             }
             _ => {
@@ -305,6 +327,9 @@ impl Content for Race {
 
     fn ui(&mut self, ctx: &egui::Context) -> bool {
         let mut quit = false;
+        if !self.hud || self.screen == Screen::Frozen {
+            return false;
+        }
         match self.screen {
             Screen::Menu => {
                 egui::Window::new("scanline-racer")
@@ -357,7 +382,7 @@ impl Content for Race {
                         }
                     });
             }
-            Screen::Race => {}
+            Screen::Race | Screen::Frozen => {}
         }
         if self.settings_open && self.screen != Screen::Race {
             self.settings(ctx);
