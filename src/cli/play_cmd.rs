@@ -47,6 +47,9 @@ pub struct PlayArgs {
     /// Record the race to this trace file (replay it with `scanline-racer replay FILE`).
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// Let the AI drive your car (attract mode; with --record it makes a demo trace).
+    #[arg(long)]
+    pub autopilot: bool,
     /// Start racing at once instead of showing the main menu.
     #[arg(long)]
     pub no_menu: bool,
@@ -72,6 +75,7 @@ impl Default for PlayArgs {
             threads: 0,
             scene: None,
             demo: false,
+            autopilot: false,
             record: None,
             no_menu: false,
             laps: 3,
@@ -117,7 +121,8 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
-            let mut race = Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu);
+            let mut race =
+                Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu).autopilot(args.autopilot);
             if let Some(path) = &args.record {
                 let header = header_for(race.world());
                 race = race

@@ -113,8 +113,10 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     }
     if args.headless {
         let mut err = std::io::stderr();
+        let terminal = std::io::IsTerminal::is_terminal(&err);
         let summary = replay_headless(args, |tick| {
-            if tick.is_multiple_of(120) {
+            // A progress line on a terminal; nothing in a log.
+            if terminal && tick.is_multiple_of(120) {
                 let _ = write!(err, "\rreplaying: {:>6.1} s simulated", tick as f64 / 120.0);
                 let _ = err.flush();
             }

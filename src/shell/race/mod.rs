@@ -8,6 +8,7 @@ mod ui;
 
 use super::race_scene::{FIELD, RaceScene, View};
 use super::window::{Content, ShellError, method_key};
+use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::replay::{TraceSource, lap_mm, step_recorded};
@@ -85,6 +86,8 @@ pub struct Race {
     stop_at: Option<u64>,
     /// Whether menus and HUD are drawn over the race.
     hud: bool,
+    /// The player's car drives itself (attract mode); its controls are still recorded like a player's.
+    autopilot: bool,
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -131,6 +134,7 @@ impl Race {
             replay_path: None,
             stop_at: None,
             hud: true,
+            autopilot: false,
         }
     }
 
@@ -140,6 +144,13 @@ impl Race {
     pub fn stopping_at(mut self, tick: Option<u64>, hud: bool) -> Self {
         self.stop_at = tick;
         self.hud = hud;
+        self
+    }
+
+    /// Lets the AI drive the player's car (the controls it chooses are recorded like a player's).
+    #[must_use]
+    pub fn autopilot(mut self, on: bool) -> Self {
+        self.autopilot = on;
         self
     }
 
@@ -171,6 +182,10 @@ impl Race {
     /// One simulation tick with the controls from the keyboard or the trace (the seam), recorded if asked.
     fn tick(&mut self) {
         let c = match self.source.as_mut() {
+            None if self.autopilot => {
+                let w = &self.world;
+                drive(&Driver::field(FIELD), 0, &w.cars, &w.track, &w.params)
+            }
             None => self.keys.controls(),
             Some(src) => match src.next_controls(&self.world) {
                 Ok(Some(c)) => c,
