@@ -1,5 +1,6 @@
 //! Input: turning devices into per-tick [`crate::game::Controls`], and the trace format that records them
 //! and replays them through the same seam.
 
+pub mod gamepad;
 pub mod replay;
 pub mod trace;

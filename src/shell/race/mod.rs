@@ -88,6 +88,8 @@ pub struct Race {
     hud: bool,
     /// The player's car drives itself (attract mode); its controls are still recorded like a player's.
     autopilot: bool,
+    /// Gamepads (none is fine: keyboard only).
+    pads: crate::input::gamepad::Gamepads,
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -135,6 +137,7 @@ impl Race {
             stop_at: None,
             hud: true,
             autopilot: false,
+            pads: crate::input::gamepad::Gamepads::new(),
         }
     }
 
@@ -186,7 +189,18 @@ impl Race {
                 let w = &self.world;
                 drive(&Driver::field(FIELD), 0, &w.cars, &w.track, &w.params)
             }
-            None => self.keys.controls(),
+            None => {
+                // Keyboard and pad together: steering adds, pedals take the larger.
+                let k = self.keys.controls();
+                match self.pads.controls() {
+                    Some(p) => Controls {
+                        steer: (k.steer + p.steer).clamp(-1.0, 1.0),
+                        throttle: k.throttle.max(p.throttle),
+                        brake: k.brake.max(p.brake),
+                    },
+                    None => k,
+                }
+            }
             Some(src) => match src.next_controls(&self.world) {
                 Ok(Some(c)) => c,
                 Ok(None) => {
@@ -207,6 +221,35 @@ impl Race {
         if let Err(e) = step_recorded(&mut self.world, c, self.recorder.as_mut(), CHECKSUM_EVERY) {
             self.notice = Some(format!("recording stopped: {e}"));
             self.recorder = None;
+        }
+    }
+
+    /// Reacts to gamepad buttons and hot-plug: unplugging the active pad mid-race pauses the race.
+    fn gamepad_events(&mut self) {
+        use crate::input::gamepad::{PadButton, PadEvent};
+        for ev in self.pads.poll() {
+            match ev {
+                PadEvent::Connected(name) => self.notice = Some(format!("gamepad connected: {name}")),
+                PadEvent::ActiveDisconnected => {
+                    if self.screen == Screen::Race {
+                        self.screen = Screen::Paused;
+                    }
+                    self.notice = Some("gamepad disconnected: race paused".into());
+                }
+                PadEvent::Pressed(PadButton::Confirm) if matches!(self.screen, Screen::Menu | Screen::Paused) => {
+                    self.screen = Screen::Race;
+                }
+                PadEvent::Pressed(PadButton::Pause) => {
+                    self.screen = match self.screen {
+                        Screen::Race => Screen::Paused,
+                        Screen::Paused => Screen::Race,
+                        other => other,
+                    };
+                }
+                PadEvent::Pressed(PadButton::Back) if self.screen == Screen::Paused => self.screen = Screen::Race,
+                PadEvent::Pressed(PadButton::View) => self.view = self.view.next(),
+                PadEvent::Pressed(_) => {}
+            }
         }
     }
 
@@ -258,6 +301,7 @@ impl Race {
 
 impl Content for Race {
     fn update(&mut self, dt: f64) {
+        self.gamepad_events();
         while self.steps > 0 {
             self.steps -= 1;
             self.tick();

@@ -34,6 +34,12 @@ impl Race {
                 }
             });
             ui.checkbox(&mut self.debug.visible, "debug overlay (F3)");
+            ui.separator();
+            if self.pads.unavailable() || !self.pads.active() {
+                ui.label("No gamepad found: keyboard only (a pad plugged in later is picked up).");
+            }
+            ui.add(egui::Slider::new(&mut self.pads.deadzone, 0.0..=0.3).text("stick deadzone"));
+            ui.add(egui::Slider::new(&mut self.pads.curve, 1.0..=3.0).text("steering curve"));
             ui.label("Internal resolution: '-' and '=' change the window pixels per rendered pixel.");
         });
         self.settings_open = open;
