@@ -45,6 +45,10 @@ pub enum PadButton {
     View,
     /// Back (B, Circle).
     Back,
+    /// Menu focus up (D-pad up).
+    Up,
+    /// Menu focus down (D-pad down).
+    Down,
 }
 
 /// What happened to the gamepads since the last poll.
@@ -139,6 +143,8 @@ impl Gamepads {
                         Button::Start => Some(PadButton::Pause),
                         Button::North => Some(PadButton::View),
                         Button::East => Some(PadButton::Back),
+                        Button::DPadUp => Some(PadButton::Up),
+                        Button::DPadDown => Some(PadButton::Down),
                         _ => None,
                     };
                     out.extend(mapped.map(PadEvent::Pressed));

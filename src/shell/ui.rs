@@ -34,6 +34,11 @@ impl Ui {
         self.state.on_window_event(window, event).consumed
     }
 
+    /// Adds input events (beyond the window's own) to the next pass.
+    pub fn push_events(&mut self, events: Vec<egui::Event>) {
+        self.state.egui_input_mut().events.extend(events);
+    }
+
     /// True while egui wants the keyboard (a text field has focus).
     #[must_use]
     pub fn wants_keyboard(&self) -> bool {

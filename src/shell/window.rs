@@ -51,6 +51,14 @@ pub trait Content {
     fn ui(&mut self, _ctx: &egui::Context) -> bool {
         false
     }
+    /// Extra input for the UI (a gamepad's menu navigation, as key presses).
+    fn ui_events(&mut self) -> Vec<egui::Event> {
+        Vec::new()
+    }
+    /// The window pixels per rendered pixel the content wants, given the current one.
+    fn scale(&mut self, current: u32) -> u32 {
+        current
+    }
 }
 
 /// The visibility method keys 1-4 select (z-buffer, sort, bucket-far, bucket-near), in every window.
@@ -178,6 +186,7 @@ impl App<'_> {
             return Ok(false);
         };
         surface.resize(ww, wh).map_err(|e| ShellError::Window(e.to_string()))?;
+        self.config.scale = self.content.scale(self.config.scale).clamp(1, 8);
         let scale = self.config.scale.max(1);
         let (fw, fh) = (size.width.div_ceil(scale) as usize, size.height.div_ceil(scale) as usize);
         if self.frame_size != (fw, fh) {
@@ -196,6 +205,7 @@ impl App<'_> {
         if let Some(ui) = self.ui.as_mut() {
             let content = &mut *self.content;
             let mut quit = false;
+            ui.push_events(content.ui_events());
             ui.run(window, |ctx| quit |= content.ui(ctx));
             self.quit |= quit;
             ui.paint(&mut buffer, bw, size.height as usize);

@@ -90,6 +90,12 @@ pub struct Race {
     autopilot: bool,
     /// Gamepads (none is fine: keyboard only).
     pads: crate::input::gamepad::Gamepads,
+    /// Key presses for the UI from the gamepad (D-pad moves the focus, A presses the focused button).
+    pad_ui: Vec<egui::Event>,
+    /// The trace path typed in the main menu.
+    replay_input: String,
+    /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
+    scale: (u32, Option<u32>),
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -138,6 +144,9 @@ impl Race {
             hud: true,
             autopilot: false,
             pads: crate::input::gamepad::Gamepads::new(),
+            pad_ui: Vec::new(),
+            replay_input: String::new(),
+            scale: (1, None),
         }
     }
 
@@ -173,13 +182,28 @@ impl Race {
     /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, [ and ] halve and
     /// double the speed (1/4x to 16x), R restarts.
     pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ShellError> {
-        let source = TraceSource::open(path).map_err(|e| ShellError::Window(e.to_string()))?;
-        let mut race = Self::new(scene, options, source.header.laps, false);
-        race.restart();
-        source.check_track(&race.world).map_err(|e| ShellError::Window(e.to_string()))?;
-        race.source = Some(source);
-        race.replay_path = Some(path.to_path_buf());
+        let mut race = Self::new(scene, options, 3, false);
+        race.start_replay(path).map_err(ShellError::Window)?;
         Ok(race)
+    }
+
+    /// Switches to replaying the trace at `path` from its start; the message says what is wrong otherwise.
+    fn start_replay(&mut self, path: &std::path::Path) -> Result<(), String> {
+        let source = TraceSource::open(path).map_err(|e| e.to_string())?;
+        if source.header.cars as usize != FIELD {
+            return Err(format!(
+                "{}: recorded with {} cars, this build races {FIELD}",
+                path.display(),
+                source.header.cars
+            ));
+        }
+        self.laps = source.header.laps;
+        self.restart();
+        source.check_track(&self.world).map_err(|e| e.to_string())?;
+        self.source = Some(source);
+        self.replay_path = Some(path.to_path_buf());
+        self.screen = Screen::Race;
+        Ok(())
     }
 
     /// One simulation tick with the controls from the keyboard or the trace (the seam), recorded if asked.
@@ -236,8 +260,25 @@ impl Race {
                     }
                     self.notice = Some("gamepad disconnected: race paused".into());
                 }
-                PadEvent::Pressed(PadButton::Confirm) if matches!(self.screen, Screen::Menu | Screen::Paused) => {
-                    self.screen = Screen::Race;
+                PadEvent::Pressed(b @ (PadButton::Confirm | PadButton::Up | PadButton::Down))
+                    if matches!(self.screen, Screen::Menu | Screen::Paused)
+                        || self.world.race.phase == Phase::Finished =>
+                {
+                    // In menus the pad works like the keyboard: D-pad moves the focus, A presses the button.
+                    let (key, modifiers) = match b {
+                        PadButton::Up => (egui::Key::Tab, egui::Modifiers::SHIFT),
+                        PadButton::Down => (egui::Key::Tab, egui::Modifiers::NONE),
+                        _ => (egui::Key::Enter, egui::Modifiers::NONE),
+                    };
+                    for pressed in [true, false] {
+                        self.pad_ui.push(egui::Event::Key {
+                            key,
+                            physical_key: None,
+                            pressed,
+                            repeat: false,
+                            modifiers,
+                        });
+                    }
                 }
                 PadEvent::Pressed(PadButton::Pause) => {
                     self.screen = match self.screen {
@@ -337,13 +378,10 @@ impl Content for Race {
             KeyCode::KeyC => self.view = self.view.next(),
             KeyCode::F3 => self.debug.visible = !self.debug.visible,
             KeyCode::KeyR if self.replay_path.is_some() => {
-                if let Some(path) = self.replay_path.clone() {
-                    self.restart();
-                    match TraceSource::open(&path) {
-                        Ok(src) => self.source = Some(src),
-                        Err(e) => self.notice = Some(e.to_string()),
-                    }
-                    self.screen = Screen::Race;
+                if let Some(path) = self.replay_path.clone()
+                    && let Err(e) = self.start_replay(&path)
+                {
+                    self.notice = Some(e);
                 }
             }
             KeyCode::KeyN if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
@@ -384,6 +422,16 @@ impl Content for Race {
         ))
     }
 
+    fn ui_events(&mut self) -> Vec<egui::Event> {
+        std::mem::take(&mut self.pad_ui)
+    }
+
+    fn scale(&mut self, current: u32) -> u32 {
+        let wanted = self.scale.1.take().unwrap_or(current);
+        self.scale.0 = wanted;
+        wanted
+    }
+
     fn ui(&mut self, ctx: &egui::Context) -> bool {
         let mut quit = false;
         if !self.hud || self.screen == Screen::Frozen {
@@ -413,7 +461,24 @@ impl Content for Race {
                                 quit = true;
                             }
                         });
+                        ui.horizontal(|ui| {
+                            ui.add(
+                                egui::TextEdit::singleline(&mut self.replay_input)
+                                    .hint_text("race.trace")
+                                    .desired_width(180.0),
+                            );
+                            if ui.button("Replay a file").clicked() {
+                                let path = std::path::PathBuf::from(self.replay_input.trim());
+                                if let Err(e) = self.start_replay(&path) {
+                                    self.notice = Some(e);
+                                }
+                            }
+                        });
+                        if let Some(n) = &self.notice {
+                            ui.label(n.as_str());
+                        }
                         ui.label("Arrows steer, accelerate and brake; C changes the view; Esc pauses.");
+                        ui.label("Gamepad: stick steers, triggers drive; D-pad and A in menus; Start pauses.");
                     });
             }
             Screen::Paused => {

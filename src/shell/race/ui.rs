@@ -40,7 +40,11 @@ impl Race {
             }
             ui.add(egui::Slider::new(&mut self.pads.deadzone, 0.0..=0.3).text("stick deadzone"));
             ui.add(egui::Slider::new(&mut self.pads.curve, 1.0..=3.0).text("steering curve"));
-            ui.label("Internal resolution: '-' and '=' change the window pixels per rendered pixel.");
+            let mut scale = self.scale.0;
+            if ui.add(egui::Slider::new(&mut scale, 1..=4).text("window pixels per rendered pixel ('-' '=')")).changed()
+            {
+                self.scale.1 = Some(scale);
+            }
         });
         self.settings_open = open;
     }
