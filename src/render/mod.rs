@@ -7,6 +7,7 @@
 //! polygons ([`monotone`]), visibility ordering ([`ordering_table`], or a sort, or a z-buffer), the scanline
 //! walk ([`scanline`]) and span shading ([`span`], [`texture`]). The pipeline itself is in [`pipeline`].
 
+pub mod bands;
 pub mod camera;
 pub mod clip;
 pub mod cull;

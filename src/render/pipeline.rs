@@ -12,6 +12,7 @@ use std::time::Instant;
 use glam::{Mat4, Vec4};
 use thiserror::Error;
 
+use super::bands::{FillContext, split_bands};
 use super::clip::{CLIP_ATTRS, ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
 use super::cull::{Frustum, world_sphere};
 use super::fixed::Fx28_4;
@@ -19,8 +20,8 @@ use super::lod::{Level, LodMode, LodState, choose};
 use super::mesh::AlphaMode;
 use super::monotone::triangulate;
 use super::ordering_table::{Direction, OrderingTable};
-use super::scanline::{ATTRS, ScreenVertex, fill_spans, is_y_monotone, signed_area2, slot};
-use super::span::{Row, Shading, SpanCounts, TextureMode, Visibility, draw_span};
+use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
+use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
 use super::{Camera, DepthKey, DrawList, Method, RenderOptions, Stats};
 
@@ -54,14 +55,14 @@ pub enum RenderError {
 
 /// A polygon (or a piece of one) ready for the fill stage.
 #[derive(Clone, Copy, Debug)]
-struct DrawPolygon {
-    first: u32,
-    count: u32,
-    key: f32,
-    texture: Option<u32>,
-    sampler: Sampler,
-    alpha_cutoff: Option<f32>,
-    constant_color: Option<[f32; 4]>,
+pub(super) struct DrawPolygon {
+    pub(super) first: u32,
+    pub(super) count: u32,
+    pub(super) key: f32,
+    pub(super) texture: Option<u32>,
+    pub(super) sampler: Sampler,
+    pub(super) alpha_cutoff: Option<f32>,
+    pub(super) constant_color: Option<[f32; 4]>,
 }
 
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
@@ -458,95 +459,6 @@ impl Renderer {
             }
             Ok(total)
         })
-    }
-}
-
-/// The rows of one band and their buffers.
-struct Band<'a> {
-    y0: usize,
-    rows: usize,
-    color: &'a mut [u32],
-    depth: &'a mut [f32],
-    coverage: &'a mut [u64],
-}
-
-fn split_bands<'a>(
-    mut color: &'a mut [u32],
-    mut depth: &'a mut [f32],
-    mut coverage: &'a mut [u64],
-    width: usize,
-    words: usize,
-    rows_per_band: usize,
-) -> Vec<Band<'a>> {
-    let height = color.len() / width;
-    let mut bands = Vec::new();
-    let mut y0 = 0;
-    while y0 < height {
-        let rows = rows_per_band.min(height - y0);
-        let (c, rest) = std::mem::take(&mut color).split_at_mut(rows * width);
-        color = rest;
-        let (d, rest) = if depth.is_empty() {
-            (&mut [][..], &mut [][..])
-        } else {
-            std::mem::take(&mut depth).split_at_mut(rows * width)
-        };
-        depth = rest;
-        let (v, rest) = if coverage.is_empty() {
-            (&mut [][..], &mut [][..])
-        } else {
-            std::mem::take(&mut coverage).split_at_mut(rows * words)
-        };
-        coverage = rest;
-        bands.push(Band { y0, rows, color: c, depth: d, coverage: v });
-        y0 += rows;
-    }
-    bands
-}
-
-/// Read-only state shared by the fill workers.
-struct FillContext<'a> {
-    polys: &'a [DrawPolygon],
-    screen: &'a [ScreenVertex],
-    order: &'a [u32],
-    list: &'a DrawList<'a>,
-    options: &'a RenderOptions,
-    visibility: Visibility,
-    width: usize,
-    words: usize,
-}
-
-impl FillContext<'_> {
-    fn fill_band(&self, band: Band<'_>) -> SpanCounts {
-        let Band { y0, rows, color, depth, coverage } = band;
-        let mut total = SpanCounts::default();
-        let (w, words) = (self.width, self.words);
-        for &pi in self.order {
-            let p = &self.polys[pi as usize];
-            let verts = &self.screen[p.first as usize..(p.first + p.count) as usize];
-            let shading = Shading {
-                texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
-                sampler: p.sampler,
-                filter: self.options.filter,
-                mode: self.options.texture_mode,
-                alpha_cutoff: p.alpha_cutoff,
-                constant_color: p.constant_color,
-                visibility: self.visibility,
-            };
-            let band_rows = (y0 as i32, (y0 + rows) as i32);
-            fill_spans(verts, band_rows, w as i32, |span| {
-                let r = span.y as usize - y0;
-                let mut row = Row {
-                    color: &mut color[r * w..(r + 1) * w],
-                    depth: if depth.is_empty() { &mut [] } else { &mut depth[r * w..(r + 1) * w] },
-                    coverage: if coverage.is_empty() { &mut [] } else { &mut coverage[r * words..(r + 1) * words] },
-                };
-                let c = draw_span(span, &shading, &mut row);
-                total.shaded += c.shaded;
-                total.written += c.written;
-                total.rejected += c.rejected;
-            });
-        }
-        total
     }
 }
 
