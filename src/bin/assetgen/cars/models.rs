@@ -1,192 +1,14 @@
-//! The cars: eight designs, each one glTF file holding a close-up, a middle-range and a long-shot model
-//! (seed 003, Namco) with textures of matching resolution, linked by `MSFT_lod`.
-//!
-//! - close: a lofted body, cabin, four ten-sided wheels, mirrors and (on some) a rear wing, about 240
-//!   polygons, textured from a 256x256 atlas; the parts that must stay sharp when enlarged (number plates,
-//!   race numbers, head and tail lamps) are separate polygons on a 128x128 detail texture of their own, so
-//!   they get several times the atlas's texel density.
-//! - mid: a coarse body and cabin and flat wheel discs, 20-30 polygons, on the same atlas box-filtered to 64x64.
-//! - long: a hexahedron (6 polygons) on the atlas box-filtered to 16x16.
-//!
-//! Why these sizes: the models switch where the next coarser texture still has about one texel per pixel.
-//! A car is about 4.5 m long and its atlas spends its full width on that length; the switch to the middle
-//! model comes when the car's projected bounding sphere is 100 px tall at 720 px (the car then spans about
-//! 80 px, and the 64-texel middle atlas gives 0.8 texel per pixel), and to the long shot at 25 px (the
-//! 16-texel atlas gives 0.8 texel per pixel over about 20 px). Above 100 px the 256-texel atlas is at most
-//! magnified 1:1 until the car is 250 px long, and the detail parts until several times that.
+//! The car models: lofted bodies and cabins, wheels, mirrors and wings mapped into the atlas by face
+//! orientation, the detail polygons, and the middle and long-shot models.
 
-use std::path::Path;
+use glam::{Vec2, Vec3};
 
-use glam::{Vec2, Vec3, Vec4};
-use serde_json::json;
+use super::{
+    BACK, Design, FRONT, HEADLAMP, PLATE, RIDE, ROUNDEL, SIDE, TAIL_LAMP, TOP, UNDER, WHEEL, WHEEL_RADIUS, WHEEL_WIDTH,
+};
+use crate::gltf_out::Primitive;
 
-use crate::gltf_out::{Doc, Primitive, WrapMode};
-use crate::paint::{Canvas, Rgba};
-
-/// What the grid scene needs to know about each car file.
-#[derive(Clone, Debug)]
-pub struct CarInfo {
-    /// File stem, e.g. `car_1` (the file is `cars/car_1.gltf`).
-    pub name: String,
-}
-
-/// How the livery's second colour is laid out.
-#[derive(Clone, Copy, Debug)]
-enum Pattern {
-    Stripe,
-    TwoTone,
-    Chevron,
-    Band,
-}
-
-/// One car design: proportions and livery.
-#[derive(Clone, Copy, Debug)]
-struct Design {
-    number: u32,
-    length: f32,
-    width: f32,
-    /// Height of the body's top (the cabin rises above it).
-    body_height: f32,
-    cabin_height: f32,
-    /// Cabin start and end along the length (0 = nose, 1 = tail).
-    cabin: (f32, f32),
-    /// Nose height as a fraction of the body height.
-    nose: f32,
-    wing: bool,
-    base: Rgba,
-    accent: Rgba,
-    pattern: Pattern,
-}
-
-const DESIGNS: [Design; 8] = [
-    Design {
-        number: 1,
-        length: 4.5,
-        width: 1.9,
-        body_height: 0.75,
-        cabin_height: 1.15,
-        cabin: (0.38, 0.72),
-        nose: 0.55,
-        wing: true,
-        base: [200, 30, 30, 255],
-        accent: [250, 250, 250, 255],
-        pattern: Pattern::Stripe,
-    },
-    Design {
-        number: 2,
-        length: 4.7,
-        width: 1.95,
-        body_height: 0.7,
-        cabin_height: 1.1,
-        cabin: (0.42, 0.75),
-        nose: 0.5,
-        wing: true,
-        base: [20, 60, 170, 255],
-        accent: [250, 200, 20, 255],
-        pattern: Pattern::TwoTone,
-    },
-    Design {
-        number: 3,
-        length: 4.3,
-        width: 1.85,
-        body_height: 0.8,
-        cabin_height: 1.25,
-        cabin: (0.35, 0.8),
-        nose: 0.65,
-        wing: false,
-        base: [30, 140, 60, 255],
-        accent: [240, 240, 240, 255],
-        pattern: Pattern::Band,
-    },
-    Design {
-        number: 5,
-        length: 4.6,
-        width: 1.9,
-        body_height: 0.72,
-        cabin_height: 1.12,
-        cabin: (0.4, 0.7),
-        nose: 0.5,
-        wing: true,
-        base: [250, 200, 20, 255],
-        accent: [20, 20, 20, 255],
-        pattern: Pattern::Chevron,
-    },
-    Design {
-        number: 7,
-        length: 4.4,
-        width: 1.8,
-        body_height: 0.78,
-        cabin_height: 1.2,
-        cabin: (0.36, 0.76),
-        nose: 0.6,
-        wing: false,
-        base: [240, 240, 240, 255],
-        accent: [30, 90, 200, 255],
-        pattern: Pattern::Stripe,
-    },
-    Design {
-        number: 8,
-        length: 4.8,
-        width: 2.0,
-        body_height: 0.68,
-        cabin_height: 1.05,
-        cabin: (0.45, 0.74),
-        nose: 0.45,
-        wing: true,
-        base: [240, 110, 20, 255],
-        accent: [40, 40, 120, 255],
-        pattern: Pattern::TwoTone,
-    },
-    Design {
-        number: 11,
-        length: 4.5,
-        width: 1.88,
-        body_height: 0.74,
-        cabin_height: 1.16,
-        cabin: (0.4, 0.73),
-        nose: 0.55,
-        wing: true,
-        base: [120, 30, 160, 255],
-        accent: [240, 240, 240, 255],
-        pattern: Pattern::Band,
-    },
-    Design {
-        number: 27,
-        length: 4.35,
-        width: 1.86,
-        body_height: 0.82,
-        cabin_height: 1.28,
-        cabin: (0.34, 0.78),
-        nose: 0.62,
-        wing: false,
-        base: [25, 25, 25, 255],
-        accent: [220, 30, 30, 255],
-        pattern: Pattern::Chevron,
-    },
-];
-
-/// Coverage hints for `MSFT_screencoverage` (fractions of a 720-pixel frame): see the module docs.
-const COVERAGE: [f32; 3] = [100.0 / 720.0, 25.0 / 720.0, 0.0];
-
-// Atlas layout (fractions of the 256x256 atlas; the 64 and 16 versions share it).
-const SIDE: [f32; 4] = [0.0, 0.0, 1.0, 0.375];
-const TOP: [f32; 4] = [0.0, 0.375, 1.0, 0.6875];
-const FRONT: [f32; 4] = [0.0, 0.6875, 0.25, 1.0];
-const BACK: [f32; 4] = [0.25, 0.6875, 0.5, 1.0];
-const WHEEL: [f32; 4] = [0.5, 0.6875, 0.75, 1.0];
-const UNDER: [f32; 4] = [0.75, 0.6875, 1.0, 1.0];
-
-// Detail texture layout (fractions of the 128x128 detail texture).
-const PLATE: [f32; 4] = [0.0, 0.0, 1.0, 0.25];
-const ROUNDEL: [f32; 4] = [0.0, 0.25, 0.5, 0.75];
-const HEADLAMP: [f32; 4] = [0.5, 0.25, 1.0, 0.5];
-const TAIL_LAMP: [f32; 4] = [0.5, 0.5, 1.0, 0.75];
-
-const WHEEL_RADIUS: f32 = 0.33;
-const WHEEL_WIDTH: f32 = 0.26;
-const RIDE: f32 = 0.14;
-
-fn region_uv(r: [f32; 4], s: f32, t: f32) -> Vec2 {
+pub(super) fn region_uv(r: [f32; 4], s: f32, t: f32) -> Vec2 {
     Vec2::new(r[0] + (r[2] - r[0]) * s.clamp(0.0, 1.0), r[1] + (r[3] - r[1]) * t.clamp(0.0, 1.0))
 }
 
@@ -269,7 +91,7 @@ fn loft(prim: &mut Primitive, frame: &Frame, sections: &[(f32, Vec<Vec2>)], open
 }
 
 /// Body height along the length (0 = nose, 1 = tail).
-fn body_profile(d: &Design, t: f32) -> f32 {
+pub(super) fn body_profile(d: &Design, t: f32) -> f32 {
     let nose = d.nose * d.body_height;
     if t < 0.3 { nose + (d.body_height - nose) * (t / 0.3).powf(0.7) } else { d.body_height * (1.0 - 0.08 * (t - 0.3)) }
 }
@@ -292,7 +114,7 @@ fn body_section(d: &Design, t: f32) -> Vec<Vec2> {
     ]
 }
 
-fn z_at(d: &Design, t: f32) -> f32 {
+pub(super) fn z_at(d: &Design, t: f32) -> f32 {
     (t - 0.5) * d.length
 }
 
@@ -360,11 +182,11 @@ fn atlas_box(prim: &mut Primitive, frame: &Frame, lo: Vec3, hi: Vec3, skip_botto
     }
 }
 
-fn axle_z(d: &Design) -> [f32; 2] {
+pub(super) fn axle_z(d: &Design) -> [f32; 2] {
     [z_at(d, 0.17), z_at(d, 0.81)]
 }
 
-fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primitive> {
+pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primitive> {
     let frame = Frame { length: d.length, width: d.width, height: d.cabin_height };
     let mut body = Primitive::new(atlas);
     let ts: Vec<f32> = (0..=10).map(|i| i as f32 / 10.0).collect();
@@ -519,7 +341,7 @@ fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primitive> {
     vec![body, det]
 }
 
-fn mid_model(d: &Design, atlas: usize) -> Vec<Primitive> {
+pub(super) fn mid_model(d: &Design, atlas: usize) -> Vec<Primitive> {
     let frame = Frame { length: d.length, width: d.width, height: d.cabin_height };
     let mut p = Primitive::new(atlas);
     let quad_section = |t: f32| {
@@ -556,7 +378,7 @@ fn mid_model(d: &Design, atlas: usize) -> Vec<Primitive> {
     vec![p]
 }
 
-fn long_model(d: &Design, atlas: usize) -> Vec<Primitive> {
+pub(super) fn long_model(d: &Design, atlas: usize) -> Vec<Primitive> {
     let frame = Frame { length: d.length, width: d.width, height: d.cabin_height };
     let mut p = Primitive::new(atlas);
     let h = 0.5 * (d.body_height + d.cabin_height);
@@ -568,126 +390,4 @@ fn long_model(d: &Design, atlas: usize) -> Vec<Primitive> {
         false,
     );
     vec![p]
-}
-
-fn shade(c: Rgba, f: f32) -> Rgba {
-    [
-        (f32::from(c[0]) * f).min(255.0) as u8,
-        (f32::from(c[1]) * f).min(255.0) as u8,
-        (f32::from(c[2]) * f).min(255.0) as u8,
-        255,
-    ]
-}
-
-/// Paints the 256x256 atlas: livery on the sides and top, grille and lamps front and back, wheel and tyre.
-fn paint_atlas(d: &Design) -> Canvas {
-    let mut c = Canvas::new(256, 256, d.base);
-    let glass = [40, 55, 75, 255];
-    let dark = [25, 25, 28, 255];
-    let sub = |r: [f32; 4], x0: f32, y0: f32, x1: f32, y1: f32| {
-        [r[0] + (r[2] - r[0]) * x0, r[1] + (r[3] - r[1]) * y0, r[0] + (r[2] - r[0]) * x1, r[1] + (r[3] - r[1]) * y1]
-    };
-    // Side: v = 1 - y / cabin_height; sill dark, livery, windows at cabin height.
-    let v_of = |y: f32| 1.0 - y / d.cabin_height;
-    match d.pattern {
-        Pattern::Stripe => c.rect(sub(SIDE, 0.0, v_of(0.52), 1.0, v_of(0.42)), d.accent),
-        Pattern::TwoTone => c.rect(sub(SIDE, 0.0, 0.0, 1.0, v_of(0.5)), d.accent),
-        Pattern::Band => c.rect(sub(SIDE, 0.55, 0.0, 0.75, 1.0), d.accent),
-        Pattern::Chevron => {
-            for k in 0..8 {
-                let x = 0.1 + 0.1 * k as f32;
-                c.rect(sub(SIDE, x, v_of(0.6 - 0.03 * k as f32), x + 0.05, v_of(0.3 + 0.03 * k as f32)), d.accent);
-            }
-        }
-    }
-    c.rect(sub(SIDE, 0.0, v_of(RIDE + 0.1), 1.0, 1.0), shade(d.base, 0.45));
-    let (c0, c1) = d.cabin;
-    let base = body_profile(d, c0).min(body_profile(d, c1));
-    c.rect(sub(SIDE, c0 + 0.03, v_of(d.cabin_height - 0.05), c1 - 0.03, v_of(base + 0.05)), glass);
-    for z in axle_z(d) {
-        let t = z / d.length + 0.5;
-        let cx = SIDE[0] + t * (SIDE[2] - SIDE[0]);
-        let cy = SIDE[1] + v_of(WHEEL_RADIUS) * (SIDE[3] - SIDE[1]);
-        c.disc(cx, cy, WHEEL_RADIUS / d.length * 1.1, dark);
-    }
-    // The race number painted on the door too, for the mid and long models (the close one has its own polygon).
-    let door_t = 0.5 * (c0 + c1);
-    let (rx, ry) = (SIDE[0] + door_t * (SIDE[2] - SIDE[0]), SIDE[1] + v_of(0.42) * (SIDE[3] - SIDE[1]));
-    c.disc(rx, ry, 0.05, [250, 250, 250, 255]);
-    c.number(d.number, rx, ry, 0.05, [10, 10, 10, 255]);
-    // Top: racing stripes, windscreen and roof.
-    if !matches!(d.pattern, Pattern::Band) {
-        c.rect(sub(TOP, 0.0, 0.4, 1.0, 0.48), d.accent);
-        c.rect(sub(TOP, 0.0, 0.52, 1.0, 0.6), d.accent);
-    }
-    c.rect(sub(TOP, c0, 0.15, c0 + 0.3 * (c1 - c0), 0.85), glass);
-    c.rect(sub(TOP, c0 + 0.8 * (c1 - c0), 0.15, c1, 0.85), glass);
-    // Front: grille and lamp areas; back: tail-light bar.
-    c.rect(sub(FRONT, 0.25, 0.65, 0.75, 0.85), dark);
-    c.rect(sub(FRONT, 0.05, 0.45, 0.3, 0.6), [240, 240, 200, 255]);
-    c.rect(sub(FRONT, 0.7, 0.45, 0.95, 0.6), [240, 240, 200, 255]);
-    c.rect(sub(FRONT, 0.15, 0.0, 0.85, 0.35), glass);
-    c.rect(sub(BACK, 0.05, 0.45, 0.95, 0.6), [200, 20, 20, 255]);
-    c.rect(sub(BACK, 0.15, 0.0, 0.85, 0.35), glass);
-    // Wheel face: tyre with a hub; underside and tread: dark.
-    c.rect(WHEEL, dark);
-    c.disc(0.5 + 0.125, 0.6875 + 0.15625, 0.07, [170, 170, 175, 255]);
-    c.disc(0.5 + 0.125, 0.6875 + 0.15625, 0.025, shade(d.base, 0.8));
-    c.rect(UNDER, [35, 35, 38, 255]);
-    c
-}
-
-/// Paints the 128x128 detail texture: number plate, race-number roundel, head and tail lamps.
-fn paint_detail(d: &Design) -> Canvas {
-    let mut c = Canvas::new(128, 128, [0, 0, 0, 255]);
-    c.rect(PLATE, [245, 245, 235, 255]);
-    c.rect([0.03, 0.03, 0.97, 0.22], [250, 250, 245, 255]);
-    c.number(1000 + d.number * 37 % 1000, 0.5, 0.125, 0.13, [20, 20, 20, 255]);
-    c.rect(ROUNDEL, d.base);
-    c.disc(0.25, 0.5, 0.22, [250, 250, 250, 255]);
-    c.number(d.number, 0.25, 0.5, 0.2, [10, 10, 10, 255]);
-    c.rect(HEADLAMP, [60, 60, 60, 255]);
-    c.disc(0.75, 0.375, 0.11, [255, 250, 210, 255]);
-    c.disc(0.72, 0.35, 0.04, [255, 255, 255, 255]);
-    c.rect(TAIL_LAMP, [70, 0, 0, 255]);
-    c.rect([0.55, 0.55, 0.95, 0.7], [230, 30, 30, 255]);
-    c.rect([0.0, 0.75, 1.0, 1.0], d.accent);
-    c
-}
-
-/// Writes one glTF file per design (with its textures) into `dir`.
-pub fn generate(dir: &Path) -> std::io::Result<Vec<CarInfo>> {
-    let mut out = vec![];
-    for (i, d) in DESIGNS.iter().enumerate() {
-        let name = format!("car_{}", i + 1);
-        let atlas = paint_atlas(d);
-        atlas.save(&dir.join(format!("{name}_256.png")))?;
-        atlas.downscale(64, 64).save(&dir.join(format!("{name}_64.png")))?;
-        atlas.downscale(16, 16).save(&dir.join(format!("{name}_16.png")))?;
-        paint_detail(d).save(&dir.join(format!("{name}_detail.png")))?;
-        let mut doc = Doc::new();
-        let textures = [
-            doc.texture(&format!("{name}_256.png"), WrapMode::Clamp),
-            doc.texture(&format!("{name}_detail.png"), WrapMode::Clamp),
-            doc.texture(&format!("{name}_64.png"), WrapMode::Clamp),
-            doc.texture(&format!("{name}_16.png"), WrapMode::Clamp),
-        ];
-        let white = Vec4::ONE;
-        let m_close = doc.material("body 256", white, Some(textures[0]), false, None);
-        let m_detail = doc.material("detail 128", white, Some(textures[1]), false, None);
-        let m_mid = doc.material("body 64", white, Some(textures[2]), false, None);
-        let m_long = doc.material("body 16", white, Some(textures[3]), false, None);
-        let close = doc.mesh(&format!("{name} close"), &close_model(d, m_close, m_detail));
-        let mid = doc.mesh(&format!("{name} mid"), &mid_model(d, m_mid));
-        let long = doc.mesh(&format!("{name} long"), &long_model(d, m_long));
-        doc.lod_node(&name, [close, mid, long], COVERAGE, json!({}), true);
-        // Cameras for quick looks: front three-quarter, side, rear three-quarter.
-        let target = Vec3::new(0.0, 0.5, 0.0);
-        doc.camera_node("front", Vec3::new(-4.0, 2.2, -5.5), target, 0.7);
-        doc.camera_node("side", Vec3::new(-8.0, 1.0, 0.0), target, 0.7);
-        doc.camera_node("rear", Vec3::new(4.5, 2.5, 6.0), target, 0.7);
-        doc.write(dir, &name)?;
-        out.push(CarInfo { name });
-    }
-    Ok(out)
 }
