@@ -4,6 +4,8 @@
 //!   box-filtered.
 //! - Wrong pixels: the share of pixels whose colour differs by more than 8/255 in any channel.
 //! - PSNR over the three colour channels.
+//! - FLIP (NVIDIA's perceptual difference, LDR), mean and 99th percentile of its per-pixel error map, at
+//!   the viewing condition `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (a 0.7 m wide monitor of 3840 px at 0.7 m).
 
 use crate::render::{Camera, DrawList, Level, LodMode, Method, RenderError, RenderOptions, Renderer, TextureMode};
 
@@ -85,6 +87,53 @@ pub fn psnr(a: &[u32], b: &[u32]) -> f64 {
     if mse == 0.0 { f64::INFINITY } else { 10.0 * (255.0 * 255.0 / mse).log10() }
 }
 
+/// FLIP statistics of a test image against a reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Flip {
+    /// Mean FLIP error, 0 (identical) to 1.
+    pub mean: f32,
+    /// 99th percentile of the per-pixel error.
+    pub p99: f32,
+    /// The per-pixel error map, 0-1, row-major.
+    pub map: Vec<f32>,
+}
+
+impl Flip {
+    /// Share (0-1) of pixels whose FLIP error is above `threshold`.
+    #[must_use]
+    pub fn share_above(&self, threshold: f32) -> f64 {
+        if self.map.is_empty() {
+            return 0.0;
+        }
+        self.map.iter().filter(|e| **e > threshold).count() as f64 / self.map.len() as f64
+    }
+
+    /// The error map as a picture (FLIP's magma colour map), `0x00RRGGBB` pixels.
+    #[must_use]
+    pub fn magma(&self, width: usize, height: usize) -> Vec<u32> {
+        let img = nv_flip::FlipImageFloat::with_data(width as u32, height as u32, &self.map);
+        let rgb = img.apply_color_lut(&nv_flip::magma_lut()).to_vec();
+        rgb.chunks_exact(3).map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])).collect()
+    }
+}
+
+/// FLIP of `test` against `reference` (`0x00RRGGBB`, `width` x `height`); `None` when the sizes disagree
+/// with the slices or an image is empty.
+#[must_use]
+pub fn flip(reference: &[u32], test: &[u32], width: usize, height: usize) -> Option<Flip> {
+    let n = width.checked_mul(height)?;
+    if n == 0 || reference.len() != n || test.len() != n {
+        return None;
+    }
+    let rgb =
+        |img: &[u32]| -> Vec<u8> { img.iter().flat_map(|p| [(p >> 16) as u8, (p >> 8) as u8, *p as u8]).collect() };
+    let r = nv_flip::FlipImageRgb8::with_data(width as u32, height as u32, &rgb(reference));
+    let t = nv_flip::FlipImageRgb8::with_data(width as u32, height as u32, &rgb(test));
+    let map = nv_flip::flip(r, t, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let mut pool = nv_flip::FlipPool::from_image(&map);
+    Some(Flip { mean: pool.mean(), p99: pool.get_percentile(0.99, false), map: map.to_vec() })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,5 +146,26 @@ mod tests {
         assert!(psnr(&a, &a).is_infinite());
         let p = psnr(&a, &b);
         assert!((p - 10.0 * (65025.0f64 / ((81.0 + 64.0) / 12.0)).log10()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn flip_is_zero_for_equal_images_and_grows_with_the_difference() {
+        let (w, h) = (32, 24);
+        let a: Vec<u32> = (0..w * h).map(|i| if (i / 4) % 2 == 0 { 0x204060 } else { 0xc0a080 }).collect();
+        let same = flip(&a, &a, w, h).unwrap();
+        assert_eq!(same.mean, 0.0);
+        let mut b = a.clone();
+        b[..w * 4].fill(0xff0000);
+        let small = flip(&a, &b, w, h).unwrap();
+        b.fill(0xff0000);
+        let big = flip(&a, &b, w, h).unwrap();
+        assert!(small.mean > 0.0 && big.mean > small.mean, "{} {}", small.mean, big.mean);
+        assert!(big.p99 >= big.mean);
+        assert_eq!(big.share_above(0.0), 1.0);
+        assert_eq!(same.share_above(0.0), 0.0);
+        assert!((small.share_above(0.01) - 1.0 / 6.0).abs() < 0.1, "{}", small.share_above(0.01));
+        assert_eq!(big.magma(w, h).len(), w * h);
+        assert!(flip(&a, &b, w, h + 1).is_none());
+        assert!(flip(&[], &[], 0, 0).is_none());
     }
 }

@@ -6,8 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
-use crate::game::{World, step};
-use crate::input::replay::TraceSource;
+use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
@@ -70,16 +69,8 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
         )
     })?;
     let scene = RaceScene::load(&dir)?;
-    let mut source = TraceSource::open(&args.trace).map_err(|e| CliError::Replay(e.to_string()))?;
-    let mut world = World::with_laps(scene.track.clone(), FIELD, source.header.laps);
-    source.check_track(&world).map_err(|e| CliError::Replay(e.to_string()))?;
-    if source.header.cars as usize != FIELD {
-        return Err(CliError::Replay(format!(
-            "{}: recorded with {} cars, this build races {FIELD}",
-            args.trace.display(),
-            source.header.cars
-        )));
-    }
+    let mut replay =
+        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
     if let Some(d) = &args.frames {
         std::fs::create_dir_all(d)
             .map_err(|e| CliError::Write { path: d.display().to_string(), reason: e.to_string() })?;
@@ -89,18 +80,18 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
-    while let Some(c) = source.next_controls(&world).map_err(|e| CliError::Replay(e.to_string()))? {
-        step(&mut world, &c);
+    while replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+        let world = &replay.world;
         progress(world.tick);
         if let Some(d) = &args.frames
             && world.tick.is_multiple_of(args.every.max(1))
         {
-            scene.render(&mut renderer, &world, View::ChaseNear, &options, (&mut frame, args.width, args.height))?;
+            scene.render(&mut renderer, world, View::ChaseNear, &options, (&mut frame, args.width, args.height))?;
             write_png(&d.join(format!("frame_{:06}.png", world.tick)), &frame, args.width, args.height)?;
             frames += 1;
         }
     }
-    Ok(ReplaySummary { ticks: world.tick, verified: source.verified, frames })
+    Ok(ReplaySummary { ticks: replay.world.tick, verified: replay.source.verified, frames })
 }
 
 /// Runs `replay`.

@@ -32,6 +32,16 @@ pub enum ReplayError {
         /// Tick of the world.
         expected: u64,
     },
+    /// The trace was recorded with another number of cars.
+    #[error("{path}: recorded with {found} cars, this build races {expected}")]
+    Cars {
+        /// The trace file.
+        path: String,
+        /// Cars in the header.
+        found: u32,
+        /// Cars this build races.
+        expected: usize,
+    },
     /// The trace was recorded on another circuit.
     #[error("{path}: recorded on a track of {found} mm per lap, this track is {expected} mm")]
     Track {
@@ -91,6 +101,39 @@ impl TraceSource {
                     self.verified += 1;
                 }
             }
+        }
+    }
+}
+
+/// A recorded race being replayed without a window: the world and the trace that drives its player.
+pub struct Replay {
+    /// The world as of the last tick replayed.
+    pub world: World,
+    /// The trace.
+    pub source: TraceSource,
+}
+
+impl Replay {
+    /// Opens the trace at `path` for a race of `cars` cars on `track`, refusing a trace of another track or
+    /// field size.
+    pub fn open(path: &Path, track: std::sync::Arc<crate::game::Track>, cars: usize) -> Result<Self, ReplayError> {
+        let source = TraceSource::open(path)?;
+        if source.header.cars as usize != cars {
+            return Err(ReplayError::Cars { path: source.path.clone(), found: source.header.cars, expected: cars });
+        }
+        let world = World::with_laps(track, cars, source.header.laps);
+        source.check_track(&world)?;
+        Ok(Self { world, source })
+    }
+
+    /// Replays one tick; `Ok(false)` at the end of the trace.
+    pub fn advance(&mut self) -> Result<bool, ReplayError> {
+        match self.source.next_controls(&self.world)? {
+            Some(c) => {
+                crate::game::step(&mut self.world, &c);
+                Ok(true)
+            }
+            None => Ok(false),
         }
     }
 }

@@ -178,6 +178,11 @@ impl TraceWriter {
         self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
     }
 
+    /// Flushes what is buffered (dropping the writer does too, but cannot report an error).
+    pub fn finish(&mut self) -> Result<(), TraceError> {
+        self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+    }
+
     fn write(&mut self, bytes: &[u8]) -> Result<(), TraceError> {
         self.out.write_all(bytes).map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
     }

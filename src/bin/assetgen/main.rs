@@ -1,4 +1,5 @@
-//! `assetgen`: writes the shipped assets (`assets/cars`, `assets/track`, `assets/grid.gltf`) from code.
+//! `assetgen`: writes the shipped assets (`assets/cars`, `assets/track`, `assets/grid.gltf`,
+//! `assets/replays`) from code.
 //!
 //! Deterministic: no clock, no OS randomness, no hash-map iteration; running it twice gives identical
 //! bytes, and `tests/assets.rs` checks that the committed assets equal what it makes.
@@ -8,6 +9,7 @@ mod cars;
 mod gltf_out;
 mod grid;
 mod paint;
+mod replays;
 mod track;
 
 use std::path::PathBuf;
@@ -20,7 +22,8 @@ fn run(out: &std::path::Path) -> std::io::Result<()> {
     std::fs::create_dir_all(&track_dir)?;
     let cars = cars::generate(&cars_dir)?;
     let track = track::generate(&track_dir)?;
-    grid::generate(out, &cars, &track)
+    grid::generate(out, &cars, &track)?;
+    replays::generate(&out.join("replays"), &track_dir)
 }
 
 fn main() -> ExitCode {

@@ -1,0 +1,283 @@
+//! Headless replays of the demo traces in `assets/replays/`, compared with stored expectations.
+//!
+//! - Exact determinism: every 600th tick (5 s) of every trace is rendered at 320x180 in `zbuffer` and in
+//!   the default method, and an FNV-1a hash of each frame is compared with `tests/golden/replays.hashes`.
+//!   The same frames are rendered with 1, 2 and 3 renderer threads and must hash the same.
+//! - Perceptual goldens: a few frames per trace at 480x270 in the default method are compared with PNGs in
+//!   `tests/golden/replay-*.png` by FLIP (the `nv-flip` crate). Threshold: mean FLIP at most 0.005 and at
+//!   most 0.05% of pixels (65) with a FLIP error above 0.5. Measured on tick 1500 of the demo race
+//!   (`cargo test --test replays flip_threshold -- --nocapture`): the camera moved by 0.1 mm, a LOD bias of
+//!   0.5 and subdivided instead of exact perspective texturing score means of 0.0003-0.0034 and at most
+//!   0.012% bad pixels, and pass; the nearest rival missing scores 0.0028 but 0.27% bad pixels, a band of
+//!   the frame left unrendered 0.18 and 18%, and fail; so do bilinear filtering (0.026) and z-buffered
+//!   instead of painter's visibility (0.011, 0.77%), changes big enough to regenerate on purpose.
+//!
+//! On failure the tests write the actual frame and the FLIP error map (magma colours) under
+//! `target/golden-failures/` and print the command that regenerates the expectations on purpose:
+//! `UPDATE_GOLDENS=1 cargo test --test replays` (then look at the PNGs before committing them).
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::*;
+use scanline_racer::input::replay::Replay;
+use scanline_racer::measure::flip;
+use scanline_racer::render::{Filter, Method, RenderOptions, Renderer, TextureMode};
+use scanline_racer::shell::race_scene::{FIELD, RaceScene, View};
+
+/// Ticks between hashed frames.
+const HASH_EVERY: u64 = 600;
+/// Size of hashed frames.
+const HASH_SIZE: (usize, usize) = (320, 180);
+/// Size of the perceptual goldens.
+const GOLDEN_SIZE: (usize, usize) = (480, 270);
+/// Mean FLIP a golden frame may reach.
+const FLIP_MEAN_MAX: f32 = 0.005;
+/// FLIP error above which a pixel counts as visibly wrong.
+const FLIP_BAD: f32 = 0.5;
+/// Share of visibly wrong pixels a golden frame may have (0.05%: 65 pixels at 480x270).
+const FLIP_BAD_SHARE_MAX: f64 = 0.0005;
+
+/// Whether a FLIP comparison is within the threshold.
+fn within(f: &scanline_racer::measure::Flip) -> bool {
+    f.mean <= FLIP_MEAN_MAX && f.share_above(FLIP_BAD) <= FLIP_BAD_SHARE_MAX
+}
+
+/// The ticks of each trace that have a PNG golden.
+fn golden_ticks(trace: &str) -> &'static [u64] {
+    match trace {
+        "demo-race" => &[400, 1500, 6000, 11000],
+        "scuffle" => &[900, 2400, 3600],
+        _ => &[1200],
+    }
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scene() -> RaceScene {
+    RaceScene::load(&root().join("assets")).expect("race assets")
+}
+
+/// Every committed demo trace, by name, in name order.
+fn traces() -> Vec<(String, PathBuf)> {
+    let mut v: Vec<(String, PathBuf)> = std::fs::read_dir(root().join("assets/replays"))
+        .expect("assets/replays")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "trace"))
+        .map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), p))
+        .collect();
+    v.sort();
+    v
+}
+
+fn fnv(px: &[u32]) -> u64 {
+    px.iter()
+        .flat_map(|p| p.to_le_bytes())
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// Replays `path` to its end, calling `at` with the world after every tick.
+fn replay(scene: &RaceScene, path: &Path, mut at: impl FnMut(&scanline_racer::game::World)) -> u64 {
+    let mut r = Replay::open(path, scene.track.clone(), FIELD).unwrap_or_else(|e| panic!("{e}"));
+    while r.advance().unwrap_or_else(|e| panic!("{e}")) {
+        at(&r.world);
+    }
+    assert!(r.source.verified > 0, "{}: no checksum verified", path.display());
+    r.world.tick
+}
+
+fn frame(
+    scene: &RaceScene,
+    r: &mut Renderer,
+    w: &scanline_racer::game::World,
+    o: &RenderOptions,
+    size: (usize, usize),
+) -> Vec<u32> {
+    let mut px = vec![0u32; size.0 * size.1];
+    scene.render(r, w, View::ChaseNear, o, (&mut px, size.0, size.1)).unwrap();
+    px
+}
+
+fn updating() -> bool {
+    let update = std::env::var_os("UPDATE_GOLDENS").is_some();
+    assert!(!(update && std::env::var_os("CI").is_some()), "UPDATE_GOLDENS is for people, not CI");
+    update
+}
+
+const REGENERATE: &str = "If the change is intended, regenerate with: UPDATE_GOLDENS=1 cargo test --test replays (then look at tests/golden/replay-*.png)";
+
+#[test]
+fn demo_traces_exist_and_one_is_a_full_field_race_of_a_minute_or_more() {
+    let scene = scene();
+    let t = traces();
+    assert!(t.len() >= 2, "{t:?}");
+    let longest = t.iter().map(|(_, p)| replay(&scene, p, |_| {})).max().unwrap();
+    assert!(longest >= 60 * 120, "longest demo trace is {longest} ticks");
+    let demo = Replay::open(&root().join("assets/replays/demo-race.trace"), scene.track.clone(), FIELD).unwrap();
+    assert_eq!(demo.source.header.cars, 8);
+}
+
+#[test]
+fn replay_frames_hash_as_recorded_for_every_thread_count() {
+    let update = updating();
+    let scene = scene();
+    let hashes_path = root().join("tests/golden/replays.hashes");
+    let mut got = BTreeMap::new();
+    let methods = [Method::ZBuffer, Method::default()];
+    for (name, path) in traces() {
+        let mut renderers: Vec<Renderer> = (0..3).map(|_| Renderer::new()).collect();
+        replay(&scene, &path, |w| {
+            if !w.tick.is_multiple_of(HASH_EVERY) {
+                return;
+            }
+            for m in methods {
+                let mut hashes = vec![];
+                for (k, r) in renderers.iter_mut().enumerate() {
+                    let o = RenderOptions { method: m, threads: k + 1, ..RenderOptions::default() };
+                    hashes.push(fnv(&frame(&scene, r, w, &o, HASH_SIZE)));
+                }
+                assert!(
+                    hashes.iter().all(|h| *h == hashes[0]),
+                    "{name} tick {} {m}: threads differ {hashes:x?}",
+                    w.tick
+                );
+                got.insert(format!("{name} {:>6} {m}", w.tick), hashes[0]);
+            }
+        });
+    }
+    let text: String = got.iter().map(|(k, h)| format!("{k} {h:016x}\n")).collect();
+    if update {
+        std::fs::write(&hashes_path, &text).unwrap();
+        eprintln!("updated {}", hashes_path.display());
+        return;
+    }
+    let stored = std::fs::read_to_string(&hashes_path).unwrap_or_default();
+    if stored != text {
+        let actual = root().join("target/golden-failures/replays.hashes");
+        std::fs::create_dir_all(actual.parent().unwrap()).unwrap();
+        std::fs::write(&actual, &text).unwrap();
+        let first = stored.lines().zip(text.lines()).find(|(a, b)| a != b);
+        panic!(
+            "replay frame hashes differ from {}; first difference: {first:?} ({} stored, {} now)\n  actual: {}\n{REGENERATE}",
+            hashes_path.display(),
+            stored.lines().count(),
+            text.lines().count(),
+            actual.display()
+        );
+    }
+}
+
+#[test]
+fn replay_frames_match_their_goldens_by_flip() {
+    let update = updating();
+    let scene = scene();
+    let (gw, gh) = GOLDEN_SIZE;
+    let golden_dir = root().join("tests/golden");
+    let fail_dir = root().join("target/golden-failures");
+    let mut failures = vec![];
+    let mut checked = 0;
+    for (name, path) in traces() {
+        let ticks = golden_ticks(&name);
+        let mut r = Renderer::new();
+        replay(&scene, &path, |w| {
+            if !ticks.contains(&w.tick) {
+                return;
+            }
+            let px = frame(&scene, &mut r, w, &RenderOptions::default(), GOLDEN_SIZE);
+            let golden_path = golden_dir.join(format!("replay-{name}-{}.png", w.tick));
+            if update {
+                write_png(&golden_path, &px, gw, gh);
+                eprintln!("updated {}", golden_path.display());
+                return;
+            }
+            checked += 1;
+            let Some((golden, w0, h0)) = read_png(&golden_path).filter(|g| (g.1, g.2) == GOLDEN_SIZE) else {
+                failures.push(format!("{}: missing, unreadable or not {gw}x{gh}", golden_path.display()));
+                return;
+            };
+            debug_assert_eq!((w0, h0), GOLDEN_SIZE);
+            let f = flip(&golden, &px, gw, gh).unwrap();
+            if !within(&f) {
+                let actual = fail_dir.join(format!("replay-{name}-{}.actual.png", w.tick));
+                let diff = fail_dir.join(format!("replay-{name}-{}.flip.png", w.tick));
+                write_png(&actual, &px, gw, gh);
+                write_png(&diff, &f.magma(gw, gh), gw, gh);
+                failures.push(format!(
+                    "{name} tick {}: FLIP mean {:.4} (max {FLIP_MEAN_MAX}), {:.3}% of pixels above {FLIP_BAD} (max {}%)\n  golden: {}\n  actual: {}\n  FLIP map: {}",
+                    w.tick,
+                    f.mean,
+                    f.share_above(FLIP_BAD) * 100.0,
+                    FLIP_BAD_SHARE_MAX * 100.0,
+                    golden_path.display(),
+                    actual.display(),
+                    diff.display()
+                ));
+            }
+        });
+    }
+    assert!(failures.is_empty(), "{}\n{REGENERATE}", failures.join("\n"));
+    assert!(update || checked >= 5, "only {checked} golden frames were reached");
+}
+
+/// The FLIP threshold tells a change within noise from a broken frame, on a real replay frame.
+#[test]
+fn flip_threshold_separates_small_changes_from_broken_frames() {
+    let scene = scene();
+    let (gw, gh) = GOLDEN_SIZE;
+    let mut world = None;
+    replay(&scene, &root().join("assets/replays/demo-race.trace"), |w| {
+        if w.tick == 1500 {
+            world = Some(w.clone());
+        }
+    });
+    let w = world.expect("tick 1500 reached");
+    let mut r = Renderer::new();
+    let mut render = |w: &scanline_racer::game::World, o: RenderOptions| frame(&scene, &mut r, w, &o, GOLDEN_SIZE);
+    let base = render(&w, RenderOptions::default());
+    let mut shifted = w.clone();
+    shifted.cars[0].pos += glam::Vec2::new(0.0001, 0.0);
+    let mut gone = w.clone();
+    let me = gone.cars[0].pos;
+    let nearest = (1..gone.cars.len())
+        .min_by(|&a, &b| gone.cars[a].pos.distance(me).total_cmp(&gone.cars[b].pos.distance(me)))
+        .unwrap();
+    gone.cars[nearest].pos += glam::Vec2::new(0.0, 5000.0);
+    let mut band = base.clone();
+    band[gw * gh / 3..gw * gh / 2].fill(0x87ceeb);
+    let cases: Vec<(&str, Vec<u32>, bool)> = vec![
+        // Within noise: the camera moved by 0.1 mm; LOD bias nudged; subdivided instead of exact perspective.
+        ("camera moved 0.1 mm", render(&shifted, RenderOptions::default()), true),
+        ("LOD bias 0.5", render(&w, RenderOptions { lod_bias: 0.5, ..RenderOptions::default() }), true),
+        (
+            "subdivided texturing",
+            render(&w, RenderOptions { texture_mode: TextureMode::Subdivided, ..RenderOptions::default() }),
+            true,
+        ),
+        // Broken: the nearest rival missing; a band left unrendered.
+        ("nearest rival missing", render(&gone, RenderOptions::default()), false),
+        ("unrendered band", band, false),
+        // Changes big enough to need new goldens on purpose.
+        (
+            "bilinear filtering",
+            render(&w, RenderOptions { filter: Filter::Bilinear, ..RenderOptions::default() }),
+            false,
+        ),
+        (
+            "z-buffer instead of painter's",
+            render(&w, RenderOptions { method: Method::ZBuffer, ..RenderOptions::default() }),
+            false,
+        ),
+    ];
+    for (what, px, pass) in cases {
+        let f = flip(&base, &px, gw, gh).unwrap();
+        let share = f.share_above(FLIP_BAD);
+        eprintln!("{what}: FLIP mean {:.4}, {:.3}% of pixels above {FLIP_BAD}", f.mean, share * 100.0);
+        assert_eq!(within(&f), pass, "{what}: mean {} share {share}", f.mean);
+    }
+}
