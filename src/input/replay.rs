@@ -71,6 +71,12 @@ impl TraceSource {
         Ok(Self { header, reader, path: path.display().to_string(), verified: 0 })
     }
 
+    /// A trace read from `input` (a pipe, or bytes in memory); `name` stands for it in messages.
+    pub fn from_reader(name: &str, input: Box<dyn std::io::Read>) -> Result<Self, ReplayError> {
+        let (header, reader) = TraceReader::from_reader(name, input)?;
+        Ok(Self { header, reader, path: name.to_string(), verified: 0 })
+    }
+
     /// Checks that the trace was recorded on `world`'s track.
     pub fn check_track(&self, world: &World) -> Result<(), ReplayError> {
         let expected = lap_mm(world);

@@ -191,7 +191,7 @@ impl TraceWriter {
 /// Reads a trace record by record; a record cut short at the end of the file ends the trace quietly
 /// (that is what a killed recording leaves).
 pub struct TraceReader {
-    input: BufReader<File>,
+    input: BufReader<Box<dyn Read>>,
     path: String,
     offset: u64,
 }
@@ -201,7 +201,14 @@ impl TraceReader {
     pub fn open(path: &Path) -> Result<(Header, Self), TraceError> {
         let name = path.display().to_string();
         let file = File::open(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
-        let mut input = BufReader::new(file);
+        Self::from_reader(&name, Box::new(file))
+    }
+
+    /// Reads and checks the header of a trace coming from `input`; `name` stands for it in messages. Nothing
+    /// is allocated from a length in the input except the header, which is bounded (64 KiB).
+    pub fn from_reader(name: &str, input: Box<dyn Read>) -> Result<(Header, Self), TraceError> {
+        let name = name.to_string();
+        let mut input = BufReader::new(input);
         let mut head = [0u8; 14];
         let short = || TraceError::Header { path: name.clone(), reason: "file ends inside the header".into() };
         input.read_exact(&mut head).map_err(|_| short())?;
