@@ -261,3 +261,84 @@ fn a_replayed_race_in_the_window_shows_the_frame_the_headless_renderer_draws() {
     }
     assert_eq!(wrong, 0, "the window differs from the headless frame in {wrong} pixels (see {})", dir.display());
 }
+
+/// Runs `xdotool` with `args` on `display`; false when it is not installed (and not required).
+fn xdotool(display: &str, args: &[&str]) -> Option<String> {
+    match Command::new("xdotool").args(args).env("DISPLAY", display).output() {
+        Ok(o) if o.status.success() => Some(String::from_utf8_lossy(&o.stdout).trim().to_string()),
+        Ok(o) => panic!("xdotool {args:?}: {}", String::from_utf8_lossy(&o.stderr)),
+        Err(e) if std::env::var_os(REQUIRE).is_some() => panic!("cannot run xdotool ({e}) and {REQUIRE} is set"),
+        Err(e) => {
+            eprintln!("NOT RUN: this window test needs xdotool ({e}); scripts/test installs it");
+            None
+        }
+    }
+}
+
+/// Checksum records in a trace file so far (each is tag 2 + 16 bytes; controls are tag 1 + 4 bytes).
+fn trace_records(path: &Path) -> (u64, u64, u64) {
+    use scanline_racer::input::trace::{Record, TraceReader};
+    let Ok((_, mut r)) = TraceReader::open(path) else { return (0, 0, 0) };
+    let (mut sums, mut throttle, mut steer) = (0, 0, 0);
+    while let Ok(Some(rec)) = r.next_record() {
+        match rec {
+            Record::Checksum { .. } => sums += 1,
+            Record::Controls(c) => {
+                throttle += u64::from(c.throttle > 0.0);
+                steer += u64::from(c.steer != 0.0);
+            }
+        }
+    }
+    (sums, throttle, steer)
+}
+
+#[test]
+fn a_race_recorded_in_the_window_and_killed_replays_its_prefix_with_every_checksum() {
+    let Some(x) = Xvfb::start() else { return };
+    let trace = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-killed.trace");
+    let _ = std::fs::remove_file(&trace);
+    let mut game = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["play", "--no-menu", "--width", "320", "--height", "180", "--record", trace.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let Some(wid) = xdotool(&x.display, &["search", "--sync", "--name", "scanline-racer"]) else {
+        let _ = game.kill();
+        return;
+    };
+    let wid = wid.lines().next().unwrap().to_string();
+    xdotool(&x.display, &["windowfocus", "--sync", &wid]);
+    // Scripted driving: hold the throttle through the countdown and after, with steering taps.
+    xdotool(&x.display, &["keydown", "Up"]);
+    let t = Instant::now();
+    let mut tap = 0;
+    while trace_records(&trace).0 < 6 && t.elapsed() < Duration::from_secs(60) {
+        let key = if tap % 2 == 0 { "Left" } else { "Right" };
+        xdotool(&x.display, &["keydown", key]);
+        std::thread::sleep(Duration::from_millis(300));
+        xdotool(&x.display, &["keyup", key]);
+        std::thread::sleep(Duration::from_millis(200));
+        tap += 1;
+    }
+    // Killed mid-race, with no chance to flush or clean up.
+    game.kill().unwrap();
+    let _ = game.wait();
+    let (sums, throttle, steer) = trace_records(&trace);
+    assert!(sums >= 6, "the recording reached {sums} checksums in 60 s");
+    assert!(
+        throttle > 120 && steer > 20,
+        "the scripted keys were recorded: {throttle} throttle, {steer} steering ticks"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["replay", trace.to_str().unwrap(), "--headless"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    // Every checksum in the prefix matches the replayed world's: identical up to the kill.
+    assert!(err.contains(&format!(", {sums} checksums verified")), "{err} (trace has {sums})");
+}
