@@ -307,6 +307,7 @@ fn a_race_recorded_in_the_window_and_killed_replays_its_prefix_with_every_checks
         .unwrap();
     let Some(wid) = xdotool(&x.display, &["search", "--sync", "--name", "scanline-racer"]) else {
         let _ = game.kill();
+        let _ = game.wait();
         return;
     };
     let wid = wid.lines().next().unwrap().to_string();
