@@ -97,6 +97,7 @@ fn window_shows_the_same_frame_as_the_headless_renderer() {
             shot.to_str().unwrap(),
         ])
         .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
         .env_remove("WAYLAND_DISPLAY")
         .output()
         .unwrap();
@@ -126,6 +127,7 @@ fn scaled_internal_resolution_and_a_user_scene() {
         .args(["play", "--scene", duck.to_str().unwrap(), "--width", "300", "--height", "200", "--scale", "3"])
         .args(["--method", "bucket-near", "--exit-after-frames", "3", "--screenshot", shot.to_str().unwrap()])
         .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -152,6 +154,7 @@ fn the_race_runs_in_the_window_with_the_cars_on_the_circuit() {
         ])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -202,6 +205,7 @@ fn a_replayed_race_in_the_window_shows_the_frame_the_headless_renderer_draws() {
         .args(["--stop-at", &tick.to_string(), "--no-hud"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -262,6 +266,19 @@ fn a_replayed_race_in_the_window_shows_the_frame_the_headless_renderer_draws() {
     assert_eq!(wrong, 0, "the window differs from the headless frame in {wrong} pixels (see {})", dir.display());
 }
 
+/// A settings file for the game under test (so a developer's own settings never leak into tests): absent
+/// for defaults, or with `json`.
+fn settings_file(name: &str, json: Option<&str>) -> std::path::PathBuf {
+    let p = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("settings-{name}.json"));
+    match json {
+        Some(j) => std::fs::write(&p, j).unwrap(),
+        None => {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+    p
+}
+
 /// Runs `xdotool` with `args` on `display`; false when it is not installed (and not required).
 fn xdotool(display: &str, args: &[&str]) -> Option<String> {
     match Command::new("xdotool").args(args).env("DISPLAY", display).output() {
@@ -293,14 +310,20 @@ fn trace_records(path: &Path) -> (u64, u64, u64) {
 }
 
 #[test]
-fn a_race_recorded_in_the_window_and_killed_replays_its_prefix_with_every_checksum() {
+fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_every_checksum() {
     let Some(x) = Xvfb::start() else { return };
     let trace = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-killed.trace");
     let _ = std::fs::remove_file(&trace);
+    // Rebound keys from the settings file: T throttle, J and L steer (the arrows then do nothing).
+    let settings = settings_file(
+        "rebound",
+        Some(r#"{"keys":{"throttle":["KeyT"],"steer_left":["KeyJ"],"steer_right":["KeyL"]}}"#),
+    );
     let mut game = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
         .args(["play", "--no-menu", "--width", "320", "--height", "180", "--record", trace.to_str().unwrap()])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", &settings)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -313,11 +336,11 @@ fn a_race_recorded_in_the_window_and_killed_replays_its_prefix_with_every_checks
     let wid = wid.lines().next().unwrap().to_string();
     xdotool(&x.display, &["windowfocus", "--sync", &wid]);
     // Scripted driving: hold the throttle through the countdown and after, with steering taps.
-    xdotool(&x.display, &["keydown", "Up"]);
+    xdotool(&x.display, &["keydown", "t"]);
     let t = Instant::now();
     let mut tap = 0;
     while trace_records(&trace).0 < 6 && t.elapsed() < Duration::from_secs(60) {
-        let key = if tap % 2 == 0 { "Left" } else { "Right" };
+        let key = if tap % 2 == 0 { "j" } else { "l" };
         xdotool(&x.display, &["keydown", key]);
         std::thread::sleep(Duration::from_millis(300));
         xdotool(&x.display, &["keyup", key]);

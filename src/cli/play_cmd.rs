@@ -10,6 +10,7 @@ use crate::input::trace::TraceWriter;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::{Race, header_for};
 use crate::shell::race_scene::{RaceScene, find_assets};
+use crate::shell::settings::{self, Settings};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
 
@@ -29,8 +30,13 @@ pub struct PlayArgs {
     #[arg(long)]
     pub fullscreen: bool,
     /// Window pixels per rendered pixel (1 = native; 2-4 for the retro look; '-' and '=' change it).
-    #[arg(long, default_value_t = 1)]
-    pub scale: u32,
+    /// Default: the settings file's, else 1.
+    #[arg(long)]
+    pub scale: Option<u32>,
+    /// The settings file (keys, gamepad, scale), read at start and written when Settings change. Default:
+    /// $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
+    #[arg(long)]
+    pub settings: Option<PathBuf>,
     /// Visibility method (keys 1-4 switch: zbuffer, sort, bucket-far, bucket-near). The z-buffer until the
     /// speed-accuracy chart picks the default: the demo scene's large ground polygons defeat painter's order.
     #[arg(long, default_value = "zbuffer")]
@@ -70,7 +76,8 @@ impl Default for PlayArgs {
             width: 1280,
             height: 720,
             fullscreen: false,
-            scale: 1,
+            scale: None,
+            settings: None,
             method: Method::ZBuffer,
             threads: 0,
             scene: None,
@@ -96,14 +103,16 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     if !(1..=99).contains(&args.laps) {
         return Err(CliError::BadArgument(format!("--laps {}: expected 1 to 99", args.laps)));
     }
-    if !(1..=16).contains(&args.scale) {
-        return Err(CliError::BadArgument(format!("--scale {}: expected 1 to 16", args.scale)));
+    if let Some(scale) = args.scale
+        && !(1..=16).contains(&scale)
+    {
+        return Err(CliError::BadArgument(format!("--scale {scale}: expected 1 to 16")));
     }
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
     let window = WindowConfig {
         size: (args.width, args.height),
         fullscreen: args.fullscreen,
-        scale: args.scale,
+        scale: args.scale.unwrap_or(1),
         exit_after_frames: args.exit_after_frames,
         screenshot: args.screenshot.clone(),
     };
@@ -121,8 +130,14 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
-            let mut race =
-                Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu).autopilot(args.autopilot);
+            let path = args.settings.clone().or_else(settings::default_path);
+            let (settings, note) = path.as_deref().map_or_else(|| (Settings::default(), None), Settings::load);
+            if let Some(n) = &note {
+                eprintln!("warning: {n}");
+            }
+            let mut race = Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu)
+                .autopilot(args.autopilot)
+                .with_settings(settings, path, args.scale, note);
             if let Some(path) = &args.record {
                 let header = header_for(race.world());
                 race = race

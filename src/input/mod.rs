@@ -1,6 +1,7 @@
 //! Input: turning devices into per-tick [`crate::game::Controls`], and the trace format that records them
 //! and replays them through the same seam.
 
+pub mod bindings;
 pub mod gamepad;
 pub mod replay;
 pub mod trace;

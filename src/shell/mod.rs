@@ -5,6 +5,7 @@ pub mod debug_overlay;
 pub mod png;
 pub mod race;
 pub mod race_scene;
+pub mod settings;
 pub mod ui;
 pub mod viewer;
 pub mod window;

@@ -7,10 +7,12 @@ use winit::keyboard::KeyCode;
 mod ui;
 
 use super::race_scene::{FIELD, RaceScene, View};
+use super::settings::Settings;
 use super::window::{Content, ShellError, method_key};
 use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
+use crate::input::bindings::{Action, Bindings};
 use crate::input::replay::{TraceSource, lap_mm, step_recorded};
 use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
 use crate::render::{RenderOptions, Renderer};
@@ -96,6 +98,12 @@ pub struct Race {
     replay_input: String,
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
     scale: (u32, Option<u32>),
+    /// Key bindings (from the settings file).
+    bindings: Bindings,
+    /// The action waiting for a key press in Settings.
+    rebinding: Option<Action>,
+    /// Where settings are saved (none: not saved), and what was saved or loaded last.
+    settings_file: Option<(std::path::PathBuf, Settings)>,
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -147,6 +155,55 @@ impl Race {
             pad_ui: Vec::new(),
             replay_input: String::new(),
             scale: (1, None),
+            bindings: Bindings::default(),
+            rebinding: None,
+            settings_file: None,
+        }
+    }
+
+    /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
+    /// changes made in Settings to `path`; `note` (a problem reading the file) is shown in the menu.
+    #[must_use]
+    pub fn with_settings(
+        mut self,
+        settings: Settings,
+        path: Option<std::path::PathBuf>,
+        scale: Option<u32>,
+        note: Option<String>,
+    ) -> Self {
+        self.bindings = settings.keys.clone();
+        self.pads.deadzone = settings.deadzone;
+        self.pads.curve = settings.curve;
+        // A scale from the command line is for this run: it is saved only with a change made in Settings.
+        let scale = scale.unwrap_or(settings.scale);
+        self.scale = (scale, Some(scale));
+        self.settings_file = path.map(|p| (p, Settings { scale, ..settings }));
+        if note.is_some() {
+            self.notice = note;
+        }
+        self
+    }
+
+    /// The settings as they stand now.
+    fn current_settings(&self) -> Settings {
+        Settings {
+            keys: self.bindings.clone(),
+            deadzone: self.pads.deadzone,
+            curve: self.pads.curve,
+            scale: self.scale.0,
+        }
+    }
+
+    /// Saves the settings if they changed since the last save (a failure is shown, not fatal).
+    fn save_settings(&mut self) {
+        let now = self.current_settings();
+        if let Some((path, saved)) = &mut self.settings_file
+            && *saved != now
+        {
+            if let Err(e) = now.save(path) {
+                self.notice = Some(e);
+            }
+            *saved = now;
         }
     }
 
@@ -363,37 +420,50 @@ impl Content for Race {
     }
 
     fn key(&mut self, code: KeyCode, down: bool) -> bool {
-        match code {
-            KeyCode::Escape if down => match self.screen {
+        let name = format!("{code:?}");
+        if let Some(action) = self.rebinding
+            && down
+        {
+            // Settings is waiting for a key: Escape cancels, anything else is bound (reserved keys refused).
+            self.rebinding = None;
+            if code != KeyCode::Escape
+                && let Err(e) = self.bindings.bind(action, &name)
+            {
+                self.notice = Some(e);
+            }
+            return false;
+        }
+        match (code, self.bindings.action(&name)) {
+            (KeyCode::Escape, _) if down => match self.screen {
                 Screen::Menu | Screen::Frozen => return true,
                 Screen::Race => self.screen = Screen::Paused,
                 Screen::Paused => self.screen = Screen::Race,
             },
-            KeyCode::Enter if down && self.screen == Screen::Menu => self.screen = Screen::Race,
-            KeyCode::ArrowLeft | KeyCode::KeyA => self.keys.left = down,
-            KeyCode::ArrowRight | KeyCode::KeyD => self.keys.right = down,
-            KeyCode::ArrowUp | KeyCode::KeyW => self.keys.throttle = down,
-            KeyCode::ArrowDown | KeyCode::KeyS => self.keys.brake = down,
+            (KeyCode::Enter, _) if down && self.screen == Screen::Menu => self.screen = Screen::Race,
+            (_, Some(Action::SteerLeft)) => self.keys.left = down,
+            (_, Some(Action::SteerRight)) => self.keys.right = down,
+            (_, Some(Action::Throttle)) => self.keys.throttle = down,
+            (_, Some(Action::Brake)) => self.keys.brake = down,
             _ if !down => {}
-            KeyCode::KeyC => self.view = self.view.next(),
-            KeyCode::F3 => self.debug.visible = !self.debug.visible,
-            KeyCode::KeyR if self.replay_path.is_some() => {
-                if let Some(path) = self.replay_path.clone()
-                    && let Err(e) = self.start_replay(&path)
-                {
-                    self.notice = Some(e);
-                }
-            }
-            KeyCode::KeyN if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
-            KeyCode::BracketLeft if self.source.is_some() => self.speed = (self.speed * 0.5).max(0.25),
-            KeyCode::BracketRight if self.source.is_some() => self.speed = (self.speed * 2.0).min(16.0),
-            KeyCode::KeyP => {
+            (_, Some(Action::ChangeView)) => self.view = self.view.next(),
+            (_, Some(Action::Pause)) => {
                 self.screen = match self.screen {
                     Screen::Race => Screen::Paused,
                     Screen::Paused => Screen::Race,
                     other => other,
                 };
             }
+            (KeyCode::F3, _) => self.debug.visible = !self.debug.visible,
+            (KeyCode::KeyR, _) if self.replay_path.is_some() => {
+                if let Some(path) = self.replay_path.clone()
+                    && let Err(e) = self.start_replay(&path)
+                {
+                    self.notice = Some(e);
+                }
+            }
+            (KeyCode::KeyN, _) if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
+            (KeyCode::BracketLeft, _) if self.source.is_some() => self.speed = (self.speed * 0.5).max(0.25),
+            (KeyCode::BracketRight, _) if self.source.is_some() => self.speed = (self.speed * 2.0).min(16.0),
             _ => {
                 if let Some(m) = method_key(code) {
                     self.options.method = m;
@@ -477,7 +547,15 @@ impl Content for Race {
                         if let Some(n) = &self.notice {
                             ui.label(n.as_str());
                         }
-                        ui.label("Arrows steer, accelerate and brake; C changes the view; Esc pauses.");
+                        let keys = |a: Action| self.bindings.keys(a).join("/");
+                        ui.label(format!(
+                            "Keys: {} and {} steer, {} accelerates, {} brakes, {} changes the view, Esc pauses (Settings rebinds).",
+                            keys(Action::SteerLeft),
+                            keys(Action::SteerRight),
+                            keys(Action::Throttle),
+                            keys(Action::Brake),
+                            keys(Action::ChangeView)
+                        ));
                         ui.label("Gamepad: stick steers, triggers drive; D-pad and A in menus; Start pauses.");
                     });
             }
@@ -510,7 +588,10 @@ impl Content for Race {
         }
         if self.settings_open && self.screen != Screen::Race {
             self.settings(ctx);
+        } else {
+            self.rebinding = None;
         }
+        self.save_settings();
         self.debug.show(ctx);
         if self.screen != Screen::Menu {
             self.hud(ctx);

@@ -3,6 +3,7 @@
 
 use super::{Race, Screen};
 use crate::game::rules::{Phase, format_ticks};
+use crate::input::bindings::{Action, Bindings};
 use crate::render::{Method, TextureMode};
 use crate::shell::race_scene::View;
 
@@ -40,6 +41,28 @@ impl Race {
             }
             ui.add(egui::Slider::new(&mut self.pads.deadzone, 0.0..=0.3).text("stick deadzone"));
             ui.add(egui::Slider::new(&mut self.pads.curve, 1.0..=3.0).text("steering curve"));
+            ui.separator();
+            ui.label("Keys (click, then press the new key; Esc cancels):");
+            egui::Grid::new("keys").show(ui, |ui| {
+                for action in Action::ALL {
+                    ui.label(action.label());
+                    let text = if self.rebinding == Some(action) {
+                        "press a key...".to_string()
+                    } else {
+                        self.bindings.keys(action).join(", ")
+                    };
+                    if ui.button(text).clicked() {
+                        self.rebinding = Some(action);
+                    }
+                    ui.end_row();
+                }
+            });
+            if ui.button("Default keys").clicked() {
+                self.bindings = Bindings::default();
+            }
+            if let Some((path, _)) = &self.settings_file {
+                ui.label(format!("Saved to {}", path.display()));
+            }
             let mut scale = self.scale.0;
             if ui.add(egui::Slider::new(&mut scale, 1..=4).text("window pixels per rendered pixel ('-' '=')")).changed()
             {
