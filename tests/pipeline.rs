@@ -435,3 +435,42 @@ fn wrap_modes_and_filters_through_the_pipeline() {
         assert!((mid >> 16) & 0xff > 40 && mid & 0xff > 40, "{wrap:?}: {mid:06x}");
     }
 }
+
+/// A see-through (screen-door) square over an opaque one: exactly the even pixels (x + y even) of the
+/// overlap show the front colour, in every method, whichever is submitted first; the odd ones show the back.
+#[test]
+fn see_through_instances_draw_a_checkerboard_in_every_method() {
+    let (w, h) = (64usize, 64usize);
+    let cam = pixel_camera(w, h);
+    let square = |x0: i64, y0: i64, x1: i64, y1: i64, z: f32, c: Vec4| {
+        let (a, b, cc, d) = (pix(x0, y0, h, z), pix(x1, y0, h, z), pix(x1, y1, h, z), pix(x0, y1, h, z));
+        tri_mesh(&[[a, b, cc], [a, cc, d]], &[c], true)
+    };
+    let back = square(8 * 16, 8 * 16, 40 * 16, 40 * 16, 10.0, Vec4::new(0.0, 0.0, 1.0, 1.0));
+    let ghost = square(24 * 16, 24 * 16, 56 * 16, 56 * 16, 20.0, Vec4::new(1.0, 0.0, 0.0, 1.0));
+    let meshes = [back, ghost];
+    for ghost_first in [false, true] {
+        let mut instances = vec![Instance::new(0, Mat4::IDENTITY), Instance::new(1, Mat4::IDENTITY).see_through()];
+        if ghost_first {
+            instances.reverse();
+        }
+        for m in Method::ALL {
+            let mut frame = vec![0u32; w * h];
+            let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[] };
+            let o = RenderOptions { background: Some(0), ..opts(m) };
+            Renderer::new().render(&mut frame, w, h, &cam, &list, &o).unwrap();
+            for y in 0..h {
+                for x in 0..w {
+                    let in_back = (8..40).contains(&x) && (8..40).contains(&y);
+                    let in_ghost = (24..56).contains(&x) && (24..56).contains(&y);
+                    let want = match (in_ghost && (x + y) % 2 == 0, in_back) {
+                        (true, _) => 0xff0000,
+                        (false, true) => 0x0000ff,
+                        (false, false) => 0,
+                    };
+                    assert_eq!(frame[y * w + x], want, "{m} ghost first {ghost_first} at ({x}, {y})");
+                }
+            }
+        }
+    }
+}

@@ -281,3 +281,48 @@ fn flip_threshold_separates_small_changes_from_broken_frames() {
         assert_eq!(within(&f), pass, "{what}: mean {} share {share}", f.mean);
     }
 }
+
+/// The ghost car is the player's fastest complete lap of a trace, and it is drawn see-through: every pixel
+/// it changes is on the even squares of a checkerboard, and about as many odd ones show what is behind.
+#[test]
+fn the_ghost_is_the_fastest_lap_and_is_drawn_see_through() {
+    use scanline_racer::input::ghost::best_lap_of_trace;
+    let scene = scene();
+    let demo = root().join("assets/replays/demo-race.trace");
+    let lap = best_lap_of_trace(&demo, scene.track.clone(), FIELD).unwrap().expect("the demo race has a lap");
+    let mut best = None;
+    let mut mid_lap = None;
+    replay(&scene, &demo, |w| {
+        best = w.race.standings[0].best_lap;
+        if w.tick == 10800 {
+            mid_lap = Some(w.clone());
+        }
+    });
+    assert_eq!(Some(lap.ticks()), best, "ghost lap length is the race's best lap");
+    let scuffle = root().join("assets/replays/scuffle.trace");
+    assert_eq!(best_lap_of_trace(&scuffle, scene.track.clone(), FIELD).unwrap(), None, "30 s: no complete lap");
+
+    // The ghost where the same lap was 0.2 s later (alone on the straight), in the chase view.
+    let w = mid_lap.unwrap();
+    let into_lap = w.tick - w.race.standings[0].lap_start;
+    let pose = lap.pose(into_lap + 24).unwrap();
+    let (gw, gh) = GOLDEN_SIZE;
+    let o = RenderOptions::default();
+    for method in Method::ALL {
+        let o = RenderOptions { method, ..o };
+        let plain = frame(&scene, &mut Renderer::new(), &w, &o, GOLDEN_SIZE);
+        let mut with = vec![0u32; gw * gh];
+        scene
+            .render_with_ghost(&mut Renderer::new(), &w, View::ChaseNear, &o, (&mut with, gw, gh), Some(pose))
+            .unwrap();
+        let changed: Vec<(usize, usize)> =
+            (0..gw * gh).filter(|&i| plain[i] != with[i]).map(|i| (i % gw, i / gw)).collect();
+        let odd = changed.iter().filter(|(x, y)| (x + y) % 2 == 1).count();
+        assert!(changed.len() > 150, "{method}: the ghost is visible ({} pixels changed)", changed.len());
+        // Painter's methods may differ on odd pixels only where the ghost's polygons reorder nothing: none.
+        assert_eq!(odd, 0, "{method}: {odd} odd pixels changed");
+    }
+    // A ghost pose past the end of its lap is not drawn.
+    assert_eq!(lap.pose(lap.ticks()), None);
+    assert!(lap.pose(0).is_some());
+}

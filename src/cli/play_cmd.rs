@@ -6,10 +6,11 @@ use clap::Args;
 
 use super::CliError;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
+use crate::input::ghost::best_lap_of_trace;
 use crate::input::trace::TraceWriter;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::{Race, header_for};
-use crate::shell::race_scene::{RaceScene, find_assets};
+use crate::shell::race_scene::{FIELD, RaceScene, find_assets};
 use crate::shell::settings::{self, Settings};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
@@ -53,6 +54,9 @@ pub struct PlayArgs {
     /// Record the race to this trace file (replay it with `scanline-racer replay FILE`).
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// Race against the fastest lap in this trace, as a see-through ghost car.
+    #[arg(long)]
+    pub ghost: Option<PathBuf>,
     /// Let the AI drive your car (attract mode; with --record it makes a demo trace).
     #[arg(long)]
     pub autopilot: bool,
@@ -84,6 +88,7 @@ impl Default for PlayArgs {
             demo: false,
             autopilot: false,
             record: None,
+            ghost: None,
             no_menu: false,
             laps: 3,
             exit_after_frames: None,
@@ -130,14 +135,26 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
                 )
             })?;
+            let scene = RaceScene::load(&dir)?;
+            let ghost = match &args.ghost {
+                Some(p) => Some(
+                    best_lap_of_trace(p, scene.track.clone(), FIELD)
+                        .map_err(|e| CliError::Replay(e.to_string()))?
+                        .ok_or_else(|| CliError::Replay(format!("{}: no complete lap to race against", p.display())))?,
+                ),
+                None => None,
+            };
             let path = args.settings.clone().or_else(settings::default_path);
             let (settings, note) = path.as_deref().map_or_else(|| (Settings::default(), None), Settings::load);
             if let Some(n) = &note {
                 eprintln!("warning: {n}");
             }
-            let mut race = Race::new(RaceScene::load(&dir)?, options, args.laps, !args.no_menu)
+            let mut race = Race::new(scene, options, args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
                 .with_settings(settings, path, args.scale, note);
+            if let Some(lap) = ghost {
+                race = race.with_ghost(lap);
+            }
             if let Some(path) = &args.record {
                 let header = header_for(race.world());
                 race = race

@@ -3,5 +3,6 @@
 
 pub mod bindings;
 pub mod gamepad;
+pub mod ghost;
 pub mod replay;
 pub mod trace;

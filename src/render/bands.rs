@@ -78,6 +78,7 @@ impl FillContext<'_> {
                 alpha_cutoff: p.alpha_cutoff,
                 constant_color: p.constant_color,
                 visibility: self.visibility,
+                screen_door: p.screen_door,
             };
             let band_rows = (y0 as i32, (y0 + rows) as i32);
             fill_spans(verts, band_rows, w as i32, |span| {

@@ -162,19 +162,29 @@ pub struct Instance {
     pub model: glam::Mat4,
     /// Index into [`DrawList::lod_sets`]: the model is chosen per frame from that set.
     pub lod: Option<usize>,
+    /// Drawn see-through: a screen door (every other pixel, in a checkerboard), so what is behind shows
+    /// between its pixels in every visibility method, with no blending and no sorting of its own (as the
+    /// Saturn drew its shadows and ghosts).
+    pub see_through: bool,
 }
 
 impl Instance {
     /// A single mesh placed by `model`.
     #[must_use]
     pub fn new(mesh: usize, model: glam::Mat4) -> Self {
-        Self { mesh, model, lod: None }
+        Self { mesh, model, lod: None, see_through: false }
     }
 
     /// A LOD set placed by `model`.
     #[must_use]
     pub fn of_lod_set(set: usize, model: glam::Mat4) -> Self {
-        Self { mesh: 0, model, lod: Some(set) }
+        Self { mesh: 0, model, lod: Some(set), see_through: false }
+    }
+
+    /// The same instance drawn see-through (see [`Instance::see_through`]).
+    #[must_use]
+    pub fn see_through(self) -> Self {
+        Self { see_through: true, ..self }
     }
 }
 

@@ -63,6 +63,7 @@ pub(super) struct DrawPolygon {
     pub(super) sampler: Sampler,
     pub(super) alpha_cutoff: Option<f32>,
     pub(super) constant_color: Option<[f32; 4]>,
+    pub(super) screen_door: bool,
 }
 
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
@@ -343,6 +344,7 @@ impl Renderer {
                     sampler: material.sampler,
                     alpha_cutoff,
                     constant_color,
+                    screen_door: inst.see_through,
                 };
                 if is_y_monotone(&self.screen[first..]) {
                     self.polys.push(base);

@@ -49,6 +49,8 @@ pub struct Shading<'a> {
     pub visibility: Visibility,
     /// The polygon's colour when all its vertices share one (enables the fast paths below).
     pub constant_color: Option<[f32; 4]>,
+    /// See-through: only pixels with `x + y` even are drawn (nothing is written or marked on the others).
+    pub screen_door: bool,
 }
 
 /// The buffers of one frame row.
@@ -165,6 +167,7 @@ fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row:
 /// Draws one span into a row and returns the pixel counts.
 pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
     match (sh.texture, sh.constant_color, sh.alpha_cutoff) {
+        _ if sh.screen_door => {}
         (None, Some(c), None) => return draw_flat(span, sh, c, row),
         (Some(t), Some([1.0, 1.0, 1.0, 1.0]), None)
             if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective =>
@@ -176,7 +179,7 @@ pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts
     draw_general(span, sh, row)
 }
 
-/// The general span: any texture mode, filter, vertex colours and alpha mask.
+/// The general span: any texture mode, filter, vertex colours, alpha mask and screen door.
 fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
     let mut counts = SpanCounts::default();
     let n = span.x1 - span.x0;
@@ -187,6 +190,9 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
     let mut seg_step: Surface = [0.0; 6];
     for k in 0..n {
         let x = (span.x0 + k) as usize;
+        if sh.screen_door && (span.x0 + k + span.y) & 1 != 0 {
+            continue;
+        }
         let kf = k as f32;
         let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
         match sh.visibility {

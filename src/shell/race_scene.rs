@@ -8,6 +8,7 @@ use glam::{Mat4, Vec3};
 
 use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::{Track, World};
+use crate::input::ghost::Pose;
 use crate::render::{Camera, DrawList, Instance, RenderError, RenderOptions, Renderer, Stats};
 
 /// Number of cars in a race.
@@ -109,12 +110,29 @@ impl RaceScene {
         world: &World,
         view: View,
         options: &RenderOptions,
+        frame: (&mut [u32], usize, usize),
+    ) -> Result<Stats, RenderError> {
+        self.render_with_ghost(renderer, world, view, options, frame, None)
+    }
+
+    /// Draws one frame of `world` with a ghost car (the player's model, see-through) at `ghost`.
+    pub fn render_with_ghost(
+        &self,
+        renderer: &mut Renderer,
+        world: &World,
+        view: View,
+        options: &RenderOptions,
         (frame, width, height): (&mut [u32], usize, usize),
+        ghost: Option<Pose>,
     ) -> Result<Stats, RenderError> {
         let mut instances: Vec<Instance> = self.scene.instances[..self.statics].to_vec();
         for (i, car) in world.cars.iter().enumerate() {
             let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
             instances.push(Instance::of_lod_set(self.car_sets[i % self.car_sets.len()], model));
+        }
+        if let Some(g) = ghost.filter(|g| g.position.is_finite() && g.yaw.is_finite()) {
+            let model = Mat4::from_translation(g.position) * Mat4::from_rotation_y(-g.yaw);
+            instances.push(Instance::of_lod_set(self.car_sets[0], model).see_through());
         }
         let list = DrawList {
             meshes: &self.scene.meshes,

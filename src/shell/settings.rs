@@ -1,4 +1,5 @@
-//! The settings file: key bindings, gamepad deadzone and curve, view and pixel scale, kept between runs.
+//! The settings file: key bindings, gamepad deadzone and curve, pixel scale and the ghost car, kept between
+//! runs.
 //!
 //! JSON, at `--settings FILE`, else `$SCANLINE_RACER_SETTINGS`, else
 //! `$XDG_CONFIG_HOME/scanline-racer/settings.json` (or `~/.config/...`). A missing file means defaults; an
@@ -27,11 +28,13 @@ pub struct Settings {
     pub curve: f32,
     /// Window pixels per rendered pixel, 1 to 4.
     pub scale: u32,
+    /// Whether the ghost car (the best lap) is drawn.
+    pub ghost: bool,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { keys: Bindings::default(), deadzone: DEFAULT_DEADZONE, curve: DEFAULT_CURVE, scale: 1 }
+        Self { keys: Bindings::default(), deadzone: DEFAULT_DEADZONE, curve: DEFAULT_CURVE, scale: 1, ghost: true }
     }
 }
 

@@ -13,6 +13,7 @@ use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::bindings::{Action, Bindings};
+use crate::input::ghost::{GhostLap, LapRecorder};
 use crate::input::replay::{TraceSource, lap_mm, step_recorded};
 use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
 use crate::render::{RenderOptions, Renderer};
@@ -104,6 +105,12 @@ pub struct Race {
     rebinding: Option<Action>,
     /// Where settings are saved (none: not saved), and what was saved or loaded last.
     settings_file: Option<(std::path::PathBuf, Settings)>,
+    /// The player's laps so far, the fastest kept for the ghost.
+    laps_rec: LapRecorder,
+    /// The lap the ghost car drives (from `--ghost FILE`, or the fastest lap of this session).
+    ghost: Option<GhostLap>,
+    /// Whether the ghost car is drawn.
+    show_ghost: bool,
 }
 
 /// Ticks between checksums in recorded traces: one second.
@@ -158,7 +165,27 @@ impl Race {
             bindings: Bindings::default(),
             rebinding: None,
             settings_file: None,
+            laps_rec: LapRecorder::default(),
+            ghost: None,
+            show_ghost: true,
         }
+    }
+
+    /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
+    #[must_use]
+    pub fn with_ghost(mut self, lap: GhostLap) -> Self {
+        self.ghost = Some(lap);
+        self
+    }
+
+    /// Where the ghost car is this tick: on its lap as far in as the player is into theirs.
+    fn ghost_pose(&self) -> Option<crate::input::ghost::Pose> {
+        let race = &self.world.race;
+        let me = &race.standings[0];
+        if !self.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
+            return None;
+        }
+        self.ghost.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
     }
 
     /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
@@ -172,6 +199,7 @@ impl Race {
         note: Option<String>,
     ) -> Self {
         self.bindings = settings.keys.clone();
+        self.show_ghost = settings.ghost;
         self.pads.deadzone = settings.deadzone;
         self.pads.curve = settings.curve;
         // A scale from the command line is for this run: it is saved only with a change made in Settings.
@@ -191,6 +219,7 @@ impl Race {
             deadzone: self.pads.deadzone,
             curve: self.pads.curve,
             scale: self.scale.0,
+            ghost: self.show_ghost,
         }
     }
 
@@ -303,6 +332,13 @@ impl Race {
             self.notice = Some(format!("recording stopped: {e}"));
             self.recorder = None;
         }
+        if self.laps_rec.observe(&self.world)
+            && let Some(best) = &self.laps_rec.best
+            && self.ghost.as_ref().is_none_or(|g| best.ticks() < g.ticks())
+        {
+            self.notice = Some(format!("best lap {}: the ghost drives it now", format_ticks(best.ticks())));
+            self.ghost = Some(best.clone());
+        }
     }
 
     /// Reacts to gamepad buttons and hot-plug: unplugging the active pad mid-race pauses the race.
@@ -357,6 +393,7 @@ impl Race {
         self.accumulator = 0.0;
         self.keys = Keys::default();
         self.renderer.reset_lod();
+        self.laps_rec.restart();
         if self.recorder.take().is_some() {
             self.notice = Some("recording ended at the restart".into());
         }
@@ -475,8 +512,15 @@ impl Content for Race {
 
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
         let t = std::time::Instant::now();
-        let stats =
-            self.scene.render(&mut self.renderer, &self.world, self.view, &self.options, (frame, width, height))?;
+        let ghost = self.ghost_pose();
+        let stats = self.scene.render_with_ghost(
+            &mut self.renderer,
+            &self.world,
+            self.view,
+            &self.options,
+            (frame, width, height),
+            ghost,
+        )?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * ms;
         let occupancy = if self.debug.visible { self.renderer.bucket_occupancy() } else { Vec::new() };

@@ -35,6 +35,11 @@ impl Race {
                 }
             });
             ui.checkbox(&mut self.debug.visible, "debug overlay (F3)");
+            let ghost = match &self.ghost {
+                Some(g) => format!("ghost car (best lap {})", format_ticks(g.ticks())),
+                None => "ghost car (after your first lap)".to_string(),
+            };
+            ui.checkbox(&mut self.show_ghost, ghost);
             ui.separator();
             if self.pads.unavailable() || !self.pads.active() {
                 ui.label("No gamepad found: keyboard only (a pad plugged in later is picked up).");
