@@ -53,7 +53,8 @@ fn nan_inf_and_huge_vertices_never_panic_and_are_counted() {
     let list_meshes = [mesh];
     let nan = Instance::new(0, Mat4::from_scale(Vec3::splat(f32::NAN)));
     let missing = Instance::new(7, Mat4::IDENTITY);
-    let list = DrawList { meshes: &list_meshes, textures: &[], instances: &[nan, missing], lod_sets: &[] };
+    let list =
+        DrawList { meshes: &list_meshes, textures: &[], instances: &[nan, missing], lod_sets: &[], view_lists: None };
     let stats = Renderer::new().render(&mut frame, w, h, &camera, &list, &opts(Method::ZBuffer)).unwrap();
     assert_eq!(stats.pixels_written, 0);
     let nan_cam = Camera::look_at(Vec3::splat(f32::NAN), Vec3::ZERO, 1.0, 0.1, None);
@@ -82,7 +83,7 @@ fn zero_sized_and_short_frames() {
     let mesh = tri_mesh(&[[Vec3::ZERO, Vec3::X, Vec3::Y]], &[RED], true);
     let meshes = [mesh];
     let instances = [Instance::new(0, Mat4::IDENTITY)];
-    let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[] };
+    let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[], view_lists: None };
     let mut r = Renderer::new();
     let stats = r.render(&mut [], 0, 0, &camera, &list, &RenderOptions::default()).unwrap();
     assert_eq!(stats.pixels_written, 0);
@@ -456,7 +457,8 @@ fn see_through_instances_draw_a_checkerboard_in_every_method() {
         }
         for m in Method::ALL {
             let mut frame = vec![0u32; w * h];
-            let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[] };
+            let list =
+                DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[], view_lists: None };
             let o = RenderOptions { background: Some(0), ..opts(m) };
             Renderer::new().render(&mut frame, w, h, &cam, &list, &o).unwrap();
             for y in 0..h {

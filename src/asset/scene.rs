@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::render::{Camera, DrawList, Instance, LodSet, Mesh, Texture};
+use crate::render::{Camera, DrawList, Instance, LodSet, Mesh, Texture, ViewLists};
 
 /// A camera placed in the scene by a node.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,6 +33,8 @@ pub struct LoadedScene {
     pub skipped_primitives: usize,
     /// World-space bounds of all finite vertex positions, if any.
     pub bounds: Option<(Vec3, Vec3)>,
+    /// Drawing orders made in advance for `view-lists` ([`LoadedScene::prepare_view_lists`]).
+    pub view_lists: Option<ViewLists>,
 }
 
 impl LoadedScene {
@@ -44,6 +46,7 @@ impl LoadedScene {
             textures: &self.textures,
             instances: &self.instances,
             lod_sets: &self.lod_sets,
+            view_lists: self.view_lists.as_ref(),
         }
     }
 
@@ -63,9 +66,18 @@ impl LoadedScene {
             .sum()
     }
 
+    /// Builds the drawing orders `view-lists` uses, for every mesh of at most `max_polygons` polygons
+    /// (rigid objects; a whole-world mesh is left to per-polygon ordering), at `level` (see
+    /// [`crate::render::view_lists::directions`]).
+    pub fn prepare_view_lists(&mut self, level: u32, max_polygons: usize) {
+        self.view_lists = Some(ViewLists::build(&self.meshes, level, max_polygons));
+    }
+
     /// Appends another scene's meshes, textures, LOD sets, instances and cameras; returns the index its first
-    /// LOD set got here (its LOD set `k` is this scene's `k + returned`).
+    /// LOD set got here (its LOD set `k` is this scene's `k + returned`). Orders made in advance are dropped
+    /// (the meshes changed).
     pub fn append(&mut self, other: LoadedScene) -> usize {
+        self.view_lists = None;
         let (meshes, textures, sets) = (self.meshes.len(), self.textures.len(), self.lod_sets.len());
         self.meshes.extend(other.meshes.into_iter().map(|mut m| {
             m.rebase_textures(textures);

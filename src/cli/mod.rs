@@ -3,6 +3,7 @@
 //! This is the only place where the loader, the renderer and output files meet. Errors go to stderr as
 //! `scanline-racer: error: ...` with exit status 1; bad usage exits with 2 (clap's convention).
 
+mod bench_cmd;
 mod play_cmd;
 mod render_cmd;
 mod replay_cmd;
@@ -12,6 +13,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use thiserror::Error;
 
+pub use bench_cmd::{BenchArgs, bench_command};
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
 pub use replay_cmd::{ReplayArgs, ReplaySummary, replay_command, replay_headless};
@@ -34,6 +36,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Replay a recorded race, in the window or headless (`--headless --frames DIR`).
     Replay(ReplayArgs),
+    /// Chart speed against accuracy for every method and setting over a demo replay (CSV, SVG, PNG).
+    Bench(BenchArgs),
 }
 
 /// Why a command failed.
@@ -87,6 +91,7 @@ pub fn main() -> ExitCode {
         Some(Command::Render(args)) => render_command(&args),
         Some(Command::Play(args)) => play_command(args),
         Some(Command::Replay(args)) => replay_command(&args),
+        Some(Command::Bench(args)) => bench_command(&args),
         None => play_command(PlayArgs::default()),
     };
     match result {

@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 
 use super::CliError;
 use crate::asset::{LoadedScene, load};
+use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
     BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats, TextureMode,
 };
@@ -203,7 +204,10 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     if args.repeat == 0 || args.repeat > 100_000 {
         return Err(CliError::BadArgument(format!("--repeat {}: expected 1 to 100000", args.repeat)));
     }
-    let scene = load(&args.scene)?;
+    let mut scene = load(&args.scene)?;
+    if options.method == Method::ViewLists {
+        scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
+    }
     let aspect = args.width as f32 / args.height as f32;
     let (camera, camera_name) = pick_camera(&scene, args.camera.as_deref(), &args.scene, aspect)?;
     let mut frame = vec![0u32; args.width * args.height];

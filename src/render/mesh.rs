@@ -186,6 +186,7 @@ pub struct MeshBuilder {
     indices: Vec<u32>,
     polygons: Vec<Polygon>,
     materials: Vec<Material>,
+    keep_as_given: bool,
 }
 
 impl MeshBuilder {
@@ -223,6 +224,15 @@ impl MeshBuilder {
         self.polygons.push(Polygon { first, count: indices.len() as u32, material });
     }
 
+    /// Keeps every polygon as given, one for one, even where it is not planar to the builder's tolerance:
+    /// for polygons already checked (pieces cut from planar polygons, whose tiny size would make rounding
+    /// look like a bend).
+    #[must_use]
+    pub fn keep_polygons_as_given(mut self) -> Self {
+        self.keep_as_given = true;
+        self
+    }
+
     /// Validates indices and materials, splits non-planar polygons into triangles and computes bounds.
     pub fn build(mut self) -> Result<Mesh, MeshError> {
         if self.vertices.len() > u32::MAX as usize / 2 || self.indices.len() > u32::MAX as usize / 2 {
@@ -246,7 +256,10 @@ impl MeshBuilder {
             if let Some(&bad) = idx.iter().find(|&&i| i as usize >= self.vertices.len()) {
                 return Err(MeshError::IndexOutOfRange { polygon: n, index: bad, vertices: self.vertices.len() });
             }
-            if idx.len() > 3 && !is_planar(idx.iter().map(|&i| self.vertices[i as usize].position)) {
+            if idx.len() > 3
+                && !self.keep_as_given
+                && !is_planar(idx.iter().map(|&i| self.vertices[i as usize].position))
+            {
                 for k in 1..idx.len() - 1 {
                     let first = indices.len() as u32;
                     indices.extend_from_slice(&[idx[0], idx[k], idx[k + 1]]);

@@ -22,6 +22,7 @@ pub mod scanline;
 pub mod span;
 pub mod stats;
 pub mod texture;
+pub mod view_lists;
 
 use std::fmt;
 use std::str::FromStr;
@@ -34,6 +35,7 @@ pub use pipeline::{RenderError, Renderer};
 pub use span::TextureMode;
 pub use stats::Stats;
 pub use texture::{Filter, Sampler, Texture, Wrap};
+pub use view_lists::ViewLists;
 
 /// How visibility is resolved.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -47,11 +49,15 @@ pub enum Method {
     BucketFar,
     /// Ordering table chained near to far, each pixel shaded at most once.
     BucketNear,
+    /// Orders made in advance per view direction for rigid meshes (seed 004), objects placed with the
+    /// ordering table far to near; meshes without stored lists are ordered per polygon as `bucket-far`.
+    ViewLists,
 }
 
 impl Method {
     /// Every method, in the order the command line lists them.
-    pub const ALL: [Method; 4] = [Method::ZBuffer, Method::Sort, Method::BucketFar, Method::BucketNear];
+    pub const ALL: [Method; 5] =
+        [Method::ZBuffer, Method::Sort, Method::BucketFar, Method::BucketNear, Method::ViewLists];
 
     /// The command-line name.
     #[must_use]
@@ -61,6 +67,7 @@ impl Method {
             Method::Sort => "sort",
             Method::BucketFar => "bucket-far",
             Method::BucketNear => "bucket-near",
+            Method::ViewLists => "view-lists",
         }
     }
 }
@@ -74,10 +81,9 @@ impl fmt::Display for Method {
 impl FromStr for Method {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| format!("unknown method '{s}' (expected zbuffer, sort, bucket-far or bucket-near)"))
+        Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            format!("unknown method '{s}' (expected zbuffer, sort, bucket-far, bucket-near or view-lists)")
+        })
     }
 }
 
@@ -199,4 +205,6 @@ pub struct DrawList<'a> {
     pub instances: &'a [Instance],
     /// Sets of close/mid/long meshes that instances may refer to.
     pub lod_sets: &'a [LodSet],
+    /// Drawing orders made in advance for the meshes (used by [`Method::ViewLists`]; `None` elsewhere).
+    pub view_lists: Option<&'a ViewLists>,
 }

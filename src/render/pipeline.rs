@@ -23,6 +23,7 @@ use super::ordering_table::{Direction, OrderingTable};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
 use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
+use super::view_lists::model_direction;
 use super::{Camera, DepthKey, DrawList, Method, RenderOptions, Stats};
 
 /// Why a frame could not be drawn.
@@ -212,6 +213,8 @@ impl Renderer {
         let (wf, hf) = (width as f32, height as f32);
         // Projected diameter in pixels of a unit radius at unit depth: the projection's y scale times the height.
         let y_scale_px = camera.clip_from_view(width, height).y_axis.y * hf;
+        let world_from_view = camera.view.inverse();
+        let (eye, forward) = (world_from_view.w_axis.truncate(), -world_from_view.z_axis.truncate());
         for (index, inst) in list.instances.iter().enumerate() {
             stats.objects_in += 1;
             let mesh_index = self.resolve_mesh(index, inst, list, (camera, y_scale_px), options, stats);
@@ -219,6 +222,13 @@ impl Renderer {
                 stats.objects_culled += 1;
                 continue;
             };
+            // `view-lists`: the mesh with its split pieces, drawn in the stored order for this view.
+            let lists = mesh_index
+                .filter(|_| options.method == Method::ViewLists)
+                .and_then(|m| list.view_lists.and_then(|v| v.get(m)));
+            // The extended mesh begins with the original polygons, so it also serves per-polygon ordering.
+            let own_polygons = mesh.polygons().len();
+            let mesh = lists.map_or(mesh, |l| &l.mesh);
             let npoly = mesh.polygons().len() as u64;
             stats.polygons_in += npoly;
             let t_transform = Instant::now();
@@ -241,7 +251,24 @@ impl Renderer {
             }
             stats.ms_transform += ms(t_transform);
             let t_clip = Instant::now();
-            for poly in mesh.polygons() {
+            // A stored order is for an object seen from outside: from at least twice its radius away. A mesh
+            // the camera is in or near (a stretch of road, the terrain) is ordered per polygon instead. The
+            // object is placed by the nearest depth of its bounding sphere, so it is drawn after the ground
+            // polygons it stands on (measured: with its centre's depth, big road polygons near the camera
+            // painted over the lower half of the player's car).
+            let (stored, object_key) = match lists {
+                Some(l) if (center - eye).length() > 2.0 * radius => {
+                    let to_object = if camera.is_perspective() { Ok(eye) } else { Err(forward) };
+                    match model_direction(&inst.model, center, to_object) {
+                        Some(d) => (Some(l.nearest(d)), Some(-camera.view.transform_point3(center).z - radius)),
+                        None => (None, None),
+                    }
+                }
+                _ => (None, None),
+            };
+            let count = stored.map_or(own_polygons, <[u32]>::len);
+            for k in 0..count {
+                let Some(poly) = mesh.polygons().get(stored.map_or(k, |o| o[k] as usize)) else { continue };
                 let idx = mesh.polygon_indices(poly);
                 let material = mesh.materials().get(poly.material as usize).cloned().unwrap_or_default();
                 self.clip_in.clear();
@@ -316,6 +343,10 @@ impl Renderer {
                 if options.key == DepthKey::Avg {
                     key /= n as f32;
                 }
+                // A stored order keeps the object's polygons together, placed by the object's depth.
+                if let Some(k) = object_key {
+                    key = k;
+                }
                 let area = signed_area2(&self.screen[first..]);
                 if area == 0 {
                     self.screen.truncate(first);
@@ -369,7 +400,7 @@ impl Renderer {
     /// Fills `self.order` with polygon indices in drawing order.
     fn order(&mut self, options: &RenderOptions) {
         self.order.clear();
-        self.used_table = matches!(options.method, Method::BucketFar | Method::BucketNear);
+        self.used_table = matches!(options.method, Method::BucketFar | Method::BucketNear | Method::ViewLists);
         match options.method {
             Method::ZBuffer => self.order.extend(0..self.polys.len() as u32),
             Method::Sort => {
@@ -378,7 +409,7 @@ impl Renderer {
                 // Stable: polygons with equal keys keep submission order. Far (large key) first.
                 self.order.sort_by(|&a, &b| polys[b as usize].key.total_cmp(&polys[a as usize].key));
             }
-            Method::BucketFar | Method::BucketNear => {
+            Method::BucketFar | Method::BucketNear | Method::ViewLists => {
                 let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
                 for p in &self.polys {
                     if p.key.is_finite() {
@@ -387,7 +418,7 @@ impl Renderer {
                     }
                 }
                 let direction =
-                    if options.method == Method::BucketFar { Direction::FarToNear } else { Direction::NearToFar };
+                    if options.method == Method::BucketNear { Direction::NearToFar } else { Direction::FarToNear };
                 self.table.reset(options.buckets, options.mapping, near, far, direction);
                 for p in &self.polys {
                     self.table.register(p.key);
@@ -413,7 +444,7 @@ impl Renderer {
         let visibility = match options.method {
             Method::ZBuffer => Visibility::DepthTest,
             Method::BucketNear => Visibility::Coverage,
-            Method::Sort | Method::BucketFar => Visibility::Overwrite,
+            Method::Sort | Method::BucketFar | Method::ViewLists => Visibility::Overwrite,
         };
         let words = width.div_ceil(64);
         if visibility == Visibility::DepthTest {

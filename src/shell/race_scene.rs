@@ -9,7 +9,8 @@ use glam::{Mat4, Vec3};
 use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::{Track, World};
 use crate::input::ghost::Pose;
-use crate::render::{Camera, DrawList, Instance, RenderError, RenderOptions, Renderer, Stats};
+use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+use crate::render::{Camera, DrawList, Instance, Method, RenderError, RenderOptions, Renderer, Stats, ViewLists};
 
 /// Number of cars in a race.
 pub const FIELD: usize = 8;
@@ -36,6 +37,8 @@ pub struct RaceScene {
     car_sets: Vec<usize>,
     /// The circuit's centre line for the simulation.
     pub track: Arc<Track>,
+    /// Drawing orders made in advance for the cars and track-side objects, built on first use.
+    view_lists: std::sync::OnceLock<ViewLists>,
 }
 
 /// Camera placements, switched with C (as Virtua Racing's view buttons).
@@ -100,7 +103,7 @@ impl RaceScene {
         let track = Track::from_json(&text)
             .map_err(|e| AssetError::Scene { file: line.display().to_string(), reason: e.to_string() })?;
         scene.instances.truncate(statics);
-        Ok(Self { scene, statics, car_sets, track: Arc::new(track) })
+        Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
     }
 
     /// Draws `world` seen from `view` into `frame`.
@@ -125,6 +128,21 @@ impl RaceScene {
         (frame, width, height): (&mut [u32], usize, usize),
         ghost: Option<Pose>,
     ) -> Result<Stats, RenderError> {
+        self.prepare(options.method);
+        let instances = self.instances(world, ghost);
+        renderer.render(frame, width, height, &camera_for(world, view), &self.draw_list(&instances), options)
+    }
+
+    /// Builds what `method` needs before its first frame (the orders made in advance for `view-lists`).
+    pub fn prepare(&self, method: Method) {
+        if method == Method::ViewLists {
+            self.view_lists.get_or_init(|| ViewLists::build(&self.scene.meshes, DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS));
+        }
+    }
+
+    /// The instances of one frame of `world`: the circuit, every car, and the ghost car if any.
+    #[must_use]
+    pub fn instances(&self, world: &World, ghost: Option<Pose>) -> Vec<Instance> {
         let mut instances: Vec<Instance> = self.scene.instances[..self.statics].to_vec();
         for (i, car) in world.cars.iter().enumerate() {
             let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
@@ -134,12 +152,24 @@ impl RaceScene {
             let model = Mat4::from_translation(g.position) * Mat4::from_rotation_y(-g.yaw);
             instances.push(Instance::of_lod_set(self.car_sets[0], model).see_through());
         }
-        let list = DrawList {
+        instances
+    }
+
+    /// The draw list of `instances` over this scene's meshes, textures and LOD sets.
+    #[must_use]
+    pub fn draw_list<'a>(&'a self, instances: &'a [Instance]) -> DrawList<'a> {
+        DrawList {
             meshes: &self.scene.meshes,
             textures: &self.scene.textures,
-            instances: &instances,
+            instances,
             lod_sets: &self.scene.lod_sets,
-        };
-        renderer.render(frame, width, height, &camera_for(world, view), &list, options)
+            view_lists: self.view_lists.get(),
+        }
+    }
+
+    /// The loaded scene (meshes, textures, LOD sets, the circuit's instances).
+    #[must_use]
+    pub fn scene(&self) -> &LoadedScene {
+        &self.scene
     }
 }

@@ -115,6 +115,10 @@ impl Content for Viewer {
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
         let camera = self.camera();
         let t = std::time::Instant::now();
+        if self.options.method == crate::render::Method::ViewLists && self.scene.view_lists.is_none() {
+            use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+            self.scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
+        }
         let stats = self.renderer.render(frame, width, height, &camera, &self.scene.draw_list(), &self.options)?;
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * t.elapsed().as_secs_f64() * 1e3;
         Ok(format!(

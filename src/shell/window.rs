@@ -64,7 +64,9 @@ pub trait Content {
 /// The visibility method keys 1-4 select (z-buffer, sort, bucket-far, bucket-near), in every window.
 #[must_use]
 pub fn method_key(code: KeyCode) -> Option<crate::render::Method> {
-    let i = [KeyCode::Digit1, KeyCode::Digit2, KeyCode::Digit3, KeyCode::Digit4].iter().position(|&k| k == code)?;
+    let i = [KeyCode::Digit1, KeyCode::Digit2, KeyCode::Digit3, KeyCode::Digit4, KeyCode::Digit5]
+        .iter()
+        .position(|&k| k == code)?;
     crate::render::Method::ALL.get(i).copied()
 }
 

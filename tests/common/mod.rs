@@ -110,7 +110,14 @@ pub fn render(
     let instances: Vec<Instance> = (0..meshes.len()).map(|mesh| Instance::new(mesh, Mat4::IDENTITY)).collect();
     let mut frame = vec![0u32; w * h];
     let stats = Renderer::new()
-        .render(&mut frame, w, h, camera, &DrawList { meshes, textures, instances: &instances, lod_sets: &[] }, options)
+        .render(
+            &mut frame,
+            w,
+            h,
+            camera,
+            &DrawList { meshes, textures, instances: &instances, lod_sets: &[], view_lists: None },
+            options,
+        )
         .expect("render");
     (frame, stats)
 }

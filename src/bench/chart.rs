@@ -1,0 +1,160 @@
+//! The bench charts: time per frame (x, log scale) against an error (y), one point per configuration,
+//! coloured by sweep, with the Pareto front drawn as a line and labelled. Written as SVG and as PNG.
+//! [`Panel::Accuracy`] plots every configuration's FLIP against the reference; [`Panel::Visibility`] plots
+//! the visibility configurations' own error (pixels differing from the z-buffer at the same settings).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::Row;
+
+/// Chart size in pixels.
+pub const SIZE: (u32, u32) = (1200, 760);
+
+const GROUPS: [(&str, RGBColor); 4] = [
+    ("visibility", RGBColor(31, 119, 180)),
+    ("texture", RGBColor(255, 127, 14)),
+    ("lod", RGBColor(44, 160, 44)),
+    ("resolution", RGBColor(148, 103, 189)),
+];
+
+/// Which chart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Panel {
+    /// Every configuration: FLIP mean against the reference.
+    Accuracy,
+    /// The visibility sweep: share of pixels that differ from the z-buffer at the same settings.
+    Visibility,
+}
+
+impl Panel {
+    fn y(self, r: &Row) -> f64 {
+        match self {
+            Panel::Accuracy => r.flip_mean,
+            Panel::Visibility => r.vis_wrong_pct,
+        }
+    }
+
+    fn on_front(self, r: &Row) -> bool {
+        match self {
+            Panel::Accuracy => r.pareto,
+            Panel::Visibility => r.vis_pareto,
+        }
+    }
+
+    fn shows(self, r: &Row) -> bool {
+        self == Panel::Accuracy || r.config.group == "visibility"
+    }
+
+    fn y_desc(self) -> &'static str {
+        match self {
+            Panel::Accuracy => "FLIP mean against the reference",
+            Panel::Visibility => "% of pixels differing from the z-buffer",
+        }
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    rows: &[Row],
+    title: &str,
+    panel: Panel,
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let finite: Vec<&Row> =
+        rows.iter().filter(|r| panel.shows(r) && r.ms.is_finite() && r.ms > 0.0 && panel.y(r).is_finite()).collect();
+    if finite.is_empty() {
+        return Err("no measured configuration to chart".into());
+    }
+    let (mut x0, mut x1) = (f64::INFINITY, 0.0f64);
+    let mut y1 = 0.0f64;
+    for r in &finite {
+        x0 = x0.min(r.ms);
+        x1 = x1.max(r.ms);
+        y1 = y1.max(panel.y(r));
+    }
+    let (x0, x1) = (x0 / 1.3, x1 * 1.3);
+    let y1 = (y1 * 1.1).max(1e-3);
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(18)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("milliseconds per frame (median over frames, log scale)")
+        .y_desc(panel.y_desc())
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()
+        .map_err(e)?;
+    for (group, colour) in GROUPS {
+        let pts: Vec<(f64, f64)> =
+            finite.iter().filter(|r| r.config.group == group).map(|r| (r.ms, panel.y(r))).collect();
+        if pts.is_empty() {
+            continue;
+        }
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+            .map_err(e)?
+            .label(group)
+            .legend(move |(x, y)| Circle::new((x + 8, y), 5, colour.filled()));
+    }
+    let mut front: Vec<&&Row> = finite.iter().filter(|r| panel.on_front(r)).collect();
+    front.sort_by(|a, b| a.ms.total_cmp(&b.ms));
+    chart
+        .draw_series(LineSeries::new(front.iter().map(|r| (r.ms, panel.y(r))), BLACK.stroke_width(2)))
+        .map_err(e)?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
+    chart
+        .draw_series(front.iter().map(|r| {
+            EmptyElement::at((r.ms, panel.y(r)))
+                + Circle::new((0, 0), 8, BLACK.stroke_width(1))
+                + Text::new(r.config.label.clone(), (8, -16), ("sans-serif", 13))
+        }))
+        .map_err(e)?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 14))
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.9))
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)
+}
+
+/// The chart as an SVG document.
+pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, String> {
+    fonts()?;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, SIZE).into_drawing_area();
+        draw(&root, rows, title, panel)?;
+    }
+    Ok(out)
+}
+
+/// Registers the bundled font for chart text once (both backends measure text with it).
+fn fonts() -> Result<(), String> {
+    static FONT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *FONT.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT).is_ok()
+    });
+    if ok { Ok(()) } else { Err("the bundled chart font does not load".into()) }
+}
+
+/// The chart as `0x00RRGGBB` pixels of [`SIZE`].
+pub fn pixels(rows: &[Row], title: &str, panel: Panel) -> Result<Vec<u32>, String> {
+    fonts()?;
+    let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        draw(&root, rows, title, panel)?;
+    }
+    Ok(rgb.chunks_exact(3).map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])).collect())
+}

@@ -1,0 +1,364 @@
+//! The speed-against-accuracy sweep behind `scanline-racer bench`: frames of a demo replay (and fixed views
+//! on the circuit) drawn under every method and setting, each timed beside the z-buffer in the same run and
+//! measured against the DESIGN reference image.
+//!
+//! Timing: every configuration's frames are drawn `repeats` times, interleaved with the z-buffer drawing
+//! the same frame at the same size (so both see the same machine state); a frame's time is its best of the
+//! repeats, and a configuration's time is the median over frames. Errors are means over frames: FLIP mean,
+//! FLIP 99th percentile, wrong pixels and PSNR against the reference (4x4-supersampled z-buffer, exact
+//! perspective, close LOD), plus the *visibility error*: wrong pixels and FLIP against the z-buffer frame at
+//! the same texture, filter and LOD settings, which isolates what the visibility method alone costs.
+
+pub mod chart;
+pub mod frames;
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use crate::measure::{flip, psnr, reference_frame, wrong_pixels};
+use crate::render::{
+    Camera, DepthKey, DrawList, Filter, Level, LodMode, Method, RenderError, RenderOptions, Renderer, TextureMode,
+};
+pub use frames::{BenchFrame, collect_frames};
+
+/// One point of the chart: a named set of options at a frame size.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Which sweep it belongs to (`visibility`, `texture`, `lod`, `resolution`).
+    pub group: &'static str,
+    /// A short label for the chart.
+    pub label: String,
+    /// The renderer's options.
+    pub options: RenderOptions,
+    /// Frame width and height.
+    pub size: (usize, usize),
+    /// For `view-lists`: the icosahedron subdivision level of the stored directions.
+    pub view_level: Option<u32>,
+}
+
+/// What was measured for one configuration.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// The configuration.
+    pub config: Config,
+    /// Median over frames of the best-of-repeats time (ms).
+    pub ms: f64,
+    /// The same for the z-buffer at the same size, measured interleaved with it.
+    pub zbuffer_ms: f64,
+    /// Mean polygons drawn per frame.
+    pub polygons_drawn: f64,
+    /// Mean FLIP against the reference.
+    pub flip_mean: f64,
+    /// Mean over frames of the 99th-percentile FLIP.
+    pub flip_p99: f64,
+    /// Mean share of wrong pixels against the reference, in percent.
+    pub wrong_pct: f64,
+    /// Mean PSNR against the reference (dB; identical frames count as 99 dB).
+    pub psnr_db: f64,
+    /// Mean share of pixels differing from the z-buffer at the same settings, in percent.
+    pub vis_wrong_pct: f64,
+    /// Mean FLIP against the z-buffer at the same settings.
+    pub vis_flip_mean: f64,
+    /// On the Pareto front of time against FLIP mean among the main-size configurations (no other point is
+    /// both faster and more accurate).
+    pub pareto: bool,
+    /// On the Pareto front of time against visibility error among the visibility configurations.
+    pub vis_pareto: bool,
+}
+
+/// The configurations of the sweep at `main` size, plus the resolution sweep.
+#[must_use]
+pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(usize, usize)]) -> Vec<Config> {
+    let base = RenderOptions::default();
+    let mut v = vec![];
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
+    add("visibility", "zbuffer".into(), RenderOptions { method: Method::ZBuffer, ..base }, main);
+    for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max] {
+        add("visibility", format!("sort {}", key_name(key)), RenderOptions { method: Method::Sort, key, ..base }, main);
+    }
+    for method in [Method::BucketFar, Method::BucketNear] {
+        for &buckets in bucket_counts {
+            add("visibility", format!("{method} {buckets}"), RenderOptions { method, buckets, ..base }, main);
+        }
+        for key in [DepthKey::Min, DepthKey::Max] {
+            add(
+                "visibility",
+                format!("{method} {} {}", base.buckets, key_name(key)),
+                RenderOptions { method, key, ..base },
+                main,
+            );
+        }
+    }
+    for level in 0..=2u32 {
+        let dirs = crate::render::view_lists::directions(level).len();
+        v.push(Config {
+            group: "visibility",
+            label: format!("view-lists {dirs} dirs"),
+            options: RenderOptions { method: Method::ViewLists, ..base },
+            size: main,
+            view_level: Some(level),
+        });
+    }
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
+    for mode in [TextureMode::Affine, TextureMode::Subdivided, TextureMode::Perspective] {
+        for filter in [Filter::Nearest, Filter::Bilinear] {
+            add(
+                "texture",
+                format!("{} {}", mode_name(mode), filter_name(filter)),
+                RenderOptions { texture_mode: mode, filter, ..base },
+                main,
+            );
+        }
+    }
+    add("lod", "lod close".into(), RenderOptions { lod: LodMode::Force(Level::Close), ..base }, main);
+    for bias in [-1.0f32, 1.0] {
+        add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
+    }
+    add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
+    for &size in resolutions.iter().filter(|&&s| s != main) {
+        add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
+        add(
+            "resolution",
+            format!("zbuffer {}x{}", size.0, size.1),
+            RenderOptions { method: Method::ZBuffer, ..base },
+            size,
+        );
+    }
+    v
+}
+
+fn key_name(k: DepthKey) -> &'static str {
+    match k {
+        DepthKey::Avg => "avg",
+        DepthKey::Min => "min",
+        DepthKey::Max => "max",
+    }
+}
+
+fn mode_name(m: TextureMode) -> &'static str {
+    match m {
+        TextureMode::Perspective => "perspective",
+        TextureMode::Subdivided => "subdivided",
+        TextureMode::Affine => "affine",
+    }
+}
+
+fn filter_name(f: Filter) -> &'static str {
+    match f {
+        Filter::Nearest => "nearest",
+        Filter::Bilinear => "bilinear",
+    }
+}
+
+/// Draws `frame` with `options` at `size` on a renderer with no LOD history (frames are not consecutive).
+fn draw(
+    renderer: &mut Renderer,
+    list: &DrawList<'_>,
+    camera: &Camera,
+    options: &RenderOptions,
+    size: (usize, usize),
+    out: &mut Vec<u32>,
+) -> Result<(f64, u64), RenderError> {
+    out.resize(size.0 * size.1, 0);
+    renderer.reset_lod();
+    let t = Instant::now();
+    let stats = renderer.render(out, size.0, size.1, camera, list, options)?;
+    Ok((t.elapsed().as_secs_f64() * 1e3, stats.polygons_drawn))
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { 0.0 } else { v[v.len() / 2] }
+}
+
+/// Runs the sweep: every configuration over every frame. `threads` is the renderer's thread count for all
+/// of it; `progress(done, total)` is called after each configuration.
+pub fn run<'s>(
+    frames: &'s [BenchFrame],
+    list_for: impl Fn(&'s BenchFrame, &Config) -> DrawList<'s>,
+    configs: &[Config],
+    repeats: usize,
+    threads: usize,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<Vec<Row>, RenderError> {
+    let mut renderer = Renderer::new();
+    let mut references: BTreeMap<(usize, usize, usize), Vec<u32>> = BTreeMap::new();
+    let mut rows = Vec::with_capacity(configs.len());
+    let (mut img, mut zimg) = (Vec::new(), Vec::new());
+    for (ci, config) in configs.iter().enumerate() {
+        let options = RenderOptions { threads, ..config.options };
+        let zoptions = RenderOptions { method: Method::ZBuffer, ..options };
+        let timing_z = RenderOptions { method: Method::ZBuffer, threads, ..RenderOptions::default() };
+        let (w, h) = config.size;
+        let (mut times, mut ztimes) = (vec![f64::INFINITY; frames.len()], vec![f64::INFINITY; frames.len()]);
+        for _ in 0..repeats.max(1) {
+            for (fi, f) in frames.iter().enumerate() {
+                let list = list_for(f, config);
+                let (t, _) = draw(&mut renderer, &list, &f.camera, &options, config.size, &mut img)?;
+                times[fi] = times[fi].min(t);
+                let (tz, _) = draw(&mut renderer, &list, &f.camera, &timing_z, config.size, &mut zimg)?;
+                ztimes[fi] = ztimes[fi].min(tz);
+            }
+        }
+        let mut acc = [0.0f64; 8];
+        for (fi, f) in frames.iter().enumerate() {
+            let list = list_for(f, config);
+            let (_, n) = draw(&mut renderer, &list, &f.camera, &options, config.size, &mut img)?;
+            draw(&mut renderer, &list, &f.camera, &zoptions, config.size, &mut zimg)?;
+            let reference = match references.entry((fi, w, h)) {
+                std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+                std::collections::btree_map::Entry::Vacant(e) => {
+                    e.insert(reference_frame(&f.camera, &list, w, h, crate::render::SKY_BLUE)?)
+                }
+            };
+            let fl = flip(reference, &img, w, h);
+            let vis = flip(&zimg, &img, w, h);
+            acc[0] += n as f64;
+            acc[1] += fl.as_ref().map_or(0.0, |f| f64::from(f.mean));
+            acc[2] += fl.as_ref().map_or(0.0, |f| f64::from(f.p99));
+            acc[3] += wrong_pixels(reference, &img) * 100.0;
+            acc[4] += psnr(reference, &img).min(99.0);
+            acc[5] += wrong_pixels(&zimg, &img) * 100.0;
+            acc[6] += vis.as_ref().map_or(0.0, |f| f64::from(f.mean));
+        }
+        let n = frames.len().max(1) as f64;
+        rows.push(Row {
+            config: config.clone(),
+            ms: median(&mut times),
+            zbuffer_ms: median(&mut ztimes),
+            polygons_drawn: acc[0] / n,
+            flip_mean: acc[1] / n,
+            flip_p99: acc[2] / n,
+            wrong_pct: acc[3] / n,
+            psnr_db: acc[4] / n,
+            vis_wrong_pct: acc[5] / n,
+            vis_flip_mean: acc[6] / n,
+            pareto: false,
+            vis_pareto: false,
+        });
+        progress(ci + 1, configs.len(), &config.label);
+    }
+    let main = configs.first().map_or((0, 0), |c| c.size);
+    let front = pareto(&rows, |r| (r.config.size == main).then_some((r.ms, r.flip_mean)));
+    let vis_front = pareto(&rows, |r| (r.config.group == "visibility").then_some((r.ms, r.vis_wrong_pct)));
+    for ((r, a), b) in rows.iter_mut().zip(front).zip(vis_front) {
+        r.pareto = a;
+        r.vis_pareto = b;
+    }
+    Ok(rows)
+}
+
+/// Which rows no other row beats on both time and error; `point` gives a row's (time, error), or `None` to
+/// leave it out. Ties count as not beaten.
+pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<bool> {
+    let points: Vec<Option<(f64, f64)>> = rows.iter().map(point).collect();
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            p.is_some_and(|(t, e)| {
+                !points
+                    .iter()
+                    .enumerate()
+                    .any(|(j, q)| q.is_some_and(|(tj, ej)| j != i && tj <= t && ej <= e && (tj < t || ej < e)))
+            })
+        })
+        .collect()
+}
+
+/// The rows as CSV, with a header line.
+#[must_use]
+pub fn csv(rows: &[Row], threads: usize) -> String {
+    let mut s = String::from(
+        "group,label,method,buckets,key,texture,filter,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto\n",
+    );
+    for r in rows {
+        let o = &r.config.options;
+        let lod = match o.lod {
+            LodMode::Auto => "auto",
+            LodMode::Force(l) => l.name(),
+        };
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{}\n",
+            r.config.group,
+            r.config.label,
+            o.method,
+            o.buckets,
+            key_name(o.key),
+            mode_name(o.texture_mode),
+            filter_name(o.filter),
+            lod,
+            o.lod_bias,
+            r.config.size.0,
+            r.config.size.1,
+            threads,
+            r.ms,
+            r.zbuffer_ms,
+            r.ms / r.zbuffer_ms.max(1e-9),
+            r.polygons_drawn,
+            r.flip_mean,
+            r.flip_p99,
+            r.wrong_pct,
+            r.psnr_db,
+            r.vis_wrong_pct,
+            r.vis_flip_mean,
+            r.pareto,
+            r.vis_pareto
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(ms: f64, flip_mean: f64) -> Row {
+        Row {
+            config: Config {
+                group: "g",
+                label: String::new(),
+                options: RenderOptions::default(),
+                size: (1, 1),
+                view_level: None,
+            },
+            ms,
+            zbuffer_ms: 1.0,
+            polygons_drawn: 0.0,
+            flip_mean,
+            flip_p99: 0.0,
+            wrong_pct: 0.0,
+            psnr_db: 0.0,
+            vis_wrong_pct: 0.0,
+            vis_flip_mean: 0.0,
+            pareto: false,
+            vis_pareto: false,
+        }
+    }
+
+    #[test]
+    fn pareto_front_keeps_only_undominated_points() {
+        let rows = vec![row(1.0, 0.5), row(2.0, 0.1), row(2.5, 0.3), row(3.0, 0.1), row(0.5, 0.9), row(1.0, 0.5)];
+        let front = pareto(&rows, |r| Some((r.ms, r.flip_mean)));
+        assert_eq!(front, [true, true, false, false, true, true]);
+        // Left-out rows are neither on the front nor able to beat others.
+        let front = pareto(&rows, |r| (r.ms != 0.5).then_some((r.ms, r.flip_mean)));
+        assert_eq!(front, [true, true, false, false, false, true]);
+    }
+
+    #[test]
+    fn the_sweep_covers_every_method_key_texture_mode_lod_and_resolution() {
+        let c = configs((640, 480), &[8, 1024, 65536], &[(320, 240), (640, 480), (1920, 1080)]);
+        for m in Method::ALL {
+            assert!(c.iter().any(|c| c.options.method == m), "{m}");
+        }
+        assert!(c.iter().any(|c| c.options.buckets == 8) && c.iter().any(|c| c.options.buckets == 65536));
+        assert_eq!(c.iter().filter(|c| c.group == "texture").count(), 6);
+        assert_eq!(c.iter().filter(|c| c.group == "resolution").count(), 4);
+        assert!(c.iter().any(|c| c.options.lod == LodMode::Force(Level::Long)));
+    }
+}

@@ -1,0 +1,172 @@
+//! `scanline-racer bench`: the speed-against-accuracy sweep over a demo replay; writes a CSV and the chart.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::CliError;
+use crate::bench::chart::Panel;
+use crate::bench::{Row, chart, collect_frames, configs, csv, run};
+use crate::render::view_lists::DEFAULT_MAX_POLYGONS;
+use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
+use crate::shell::png::write_png;
+use crate::shell::race_scene::{RaceScene, find_assets};
+
+/// Arguments of `bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Folder for `bench.csv`, `bench.svg` and `bench.png`.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// The trace to replay (default: the shipped demo race).
+    #[arg(long)]
+    pub trace: Option<PathBuf>,
+    /// Chase-camera frames taken from the trace (half of them also add the far-chase, bumper and trackside
+    /// views).
+    #[arg(long, default_value_t = 8)]
+    pub frames: usize,
+    /// Times each frame is drawn per configuration; the best counts.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Renderer threads for every configuration (1 by default: per-core speed, the steadiest figure).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Frame width of the main sweep.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Frame height of the main sweep.
+    #[arg(long, default_value_t = 480)]
+    pub height: usize,
+    /// A small sweep for tests: 2 frames, 1 repeat, 160x120, three bucket counts, two resolutions.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Runs `bench`.
+pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
+    if args.width == 0 || args.height == 0 || args.width > 8192 || args.height > 8192 {
+        return Err(CliError::BadArgument(format!(
+            "--width {} --height {}: each must be 1 to 8192",
+            args.width, args.height
+        )));
+    }
+    let dir = find_assets().ok_or_else(|| {
+        CliError::BadArgument(
+            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+        )
+    })?;
+    let scene = RaceScene::load(&dir)?;
+    let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
+    let (frames, repeats, main, buckets, resolutions): (usize, usize, _, Vec<usize>, Vec<(usize, usize)>) =
+        if args.quick {
+            (2, 1, (160, 120), vec![8, DEFAULT_BUCKETS, 65536], vec![(160, 120), (320, 240)])
+        } else {
+            (
+                args.frames,
+                args.repeats,
+                (args.width, args.height),
+                vec![8, 32, 128, 512, 1024, 4096, 16384, 65536],
+                vec![(320, 240), (640, 480), (1280, 720), (1920, 1080)],
+            )
+        };
+    let frames = collect_frames(&scene, &trace, frames).map_err(|e| CliError::Replay(e.to_string()))?;
+    if frames.is_empty() {
+        return Err(CliError::Replay(format!("{}: no racing frames to measure", trace.display())));
+    }
+    let configs = configs(main, &buckets, &resolutions);
+    let mut err = std::io::stderr();
+    let terminal = std::io::IsTerminal::is_terminal(&err);
+    eprintln!(
+        "bench: {} configurations x {} frames x {repeats} repeats, {} thread(s), main size {}x{}",
+        configs.len(),
+        frames.len(),
+        args.threads,
+        main.0,
+        main.1
+    );
+    let levels: Vec<(u32, ViewLists)> = configs
+        .iter()
+        .filter_map(|c| c.view_level)
+        .map(|l| (l, ViewLists::build(&scene.scene().meshes, l, DEFAULT_MAX_POLYGONS)))
+        .collect();
+    let rows = run(
+        &frames,
+        |f, c| {
+            let lists = c.view_level.and_then(|l| levels.iter().find(|(k, _)| *k == l)).map(|(_, v)| v);
+            DrawList { view_lists: lists, ..scene.draw_list(&f.instances) }
+        },
+        &configs,
+        repeats,
+        args.threads,
+        |done, total, label| {
+            if terminal {
+                let filled = done * 30 / total.max(1);
+                let _ = write!(err, "\r[{}{}] {done}/{total} {label:<28}", "#".repeat(filled), " ".repeat(30 - filled));
+                let _ = err.flush();
+            }
+        },
+    )?;
+    if terminal {
+        eprintln!();
+    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
+    let write = |name: &str, bytes: &[u8]| {
+        let p = args.out.join(name);
+        std::fs::write(&p, bytes).map_err(|e| CliError::Write { path: p.display().to_string(), reason: e.to_string() })
+    };
+    write("bench.csv", csv(&rows, args.threads).as_bytes())?;
+    let title = format!(
+        "{} frames of {}, {} thread(s)",
+        frames.len(),
+        trace.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        args.threads
+    );
+    for (name, panel, what) in [
+        ("bench", Panel::Accuracy, "error against the reference"),
+        ("visibility", Panel::Visibility, "visibility error alone"),
+    ] {
+        let title = format!("{title}: {what}");
+        write(&format!("{name}.svg"), chart::svg(&rows, &title, panel).map_err(CliError::BadArgument)?.as_bytes())?;
+        let px = chart::pixels(&rows, &title, panel).map_err(CliError::BadArgument)?;
+        write_png(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
+    }
+    print_summary(&rows);
+    eprintln!("wrote {}/bench.csv, bench.svg, bench.png, visibility.svg and visibility.png", args.out.display());
+    Ok(())
+}
+
+/// Prints the Pareto front and the default configuration as a table.
+fn print_summary(rows: &[Row]) {
+    println!(
+        "{:<28} {:>10} {:>8} {:>8} {:>9} {:>9}  front",
+        "configuration", "size", "ms", "x zbuf", "FLIP", "vis err%"
+    );
+    let default = crate::render::RenderOptions::default();
+    for r in rows {
+        let is_default = r.config.group == "visibility" && r.config.options == default;
+        if r.pareto
+            || r.vis_pareto
+            || is_default
+            || r.config.options.method == Method::ZBuffer && r.config.group == "visibility"
+        {
+            println!(
+                "{:<28} {:>10} {:>8.2} {:>8.2} {:>9.5} {:>9.3}  {}{}",
+                r.config.label,
+                format!("{}x{}", r.config.size.0, r.config.size.1),
+                r.ms,
+                r.ms / r.zbuffer_ms.max(1e-9),
+                r.flip_mean,
+                r.vis_wrong_pct,
+                match (r.pareto, r.vis_pareto) {
+                    (true, true) => "both",
+                    (true, false) => "accuracy",
+                    (false, true) => "visibility",
+                    (false, false) => "",
+                },
+                if is_default { " (default)" } else { "" }
+            );
+        }
+    }
+}
