@@ -1,7 +1,7 @@
 //! Headless replays of the demo traces in `assets/replays/`, compared with stored expectations.
 //!
-//! - Exact determinism: every 600th tick (5 s) of every trace is rendered at 320x180 in `zbuffer` and in
-//!   the default method, and an FNV-1a hash of each frame is compared with `tests/golden/replays.hashes`.
+//! - Exact determinism: every 600th tick (5 s) of every trace is rendered at 320x180 in `zbuffer` (the
+//!   default) and in `bucket-near`, and an FNV-1a hash of each frame is compared with `tests/golden/replays.hashes`.
 //!   The same frames are rendered with 1, 2 and 3 renderer threads and must hash the same.
 //! - Perceptual goldens: a few frames per trace at 480x270 in the default method are compared with PNGs in
 //!   `tests/golden/replay-*.png` by FLIP (the `nv-flip` crate). Threshold: mean FLIP at most 0.005 and at
@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use common::*;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::measure::flip;
-use scanline_racer::render::{Filter, Method, RenderOptions, Renderer, TextureMode};
+use scanline_racer::render::{DepthKey, Filter, Method, RenderOptions, Renderer, TextureMode};
 use scanline_racer::shell::race_scene::{FIELD, RaceScene, View};
 
 /// Ticks between hashed frames.
@@ -129,7 +129,7 @@ fn replay_frames_hash_as_recorded_for_every_thread_count() {
     let scene = scene();
     let hashes_path = root().join("tests/golden/replays.hashes");
     let mut got = BTreeMap::new();
-    let methods = [Method::ZBuffer, Method::default()];
+    let methods = [Method::ZBuffer, Method::BucketNear];
     for (name, path) in traces() {
         let mut renderers: Vec<Renderer> = (0..3).map(|_| Renderer::new()).collect();
         replay(&scene, &path, |w| {
@@ -269,8 +269,8 @@ fn flip_threshold_separates_small_changes_from_broken_frames() {
             false,
         ),
         (
-            "z-buffer instead of painter's",
-            render(&w, RenderOptions { method: Method::ZBuffer, ..RenderOptions::default() }),
+            "painter's order instead of the z-buffer",
+            render(&w, RenderOptions { method: Method::BucketFar, key: DepthKey::Avg, ..RenderOptions::default() }),
             false,
         ),
     ];
@@ -325,4 +325,48 @@ fn the_ghost_is_the_fastest_lap_and_is_drawn_see_through() {
     // A ghost pose past the end of its lap is not drawn.
     assert_eq!(lap.pose(lap.ticks()), None);
     assert!(lap.pose(0).is_some());
+}
+
+/// The LOD choice over the demo race, frame by frame (every 5 s): polygons saved against drawing every
+/// car and tree at its close level, and the image error that costs (wrong pixels against the close-level
+/// frame). Bounds are the measured figures with a margin; the table prints with `--nocapture`.
+#[test]
+fn lod_choice_saves_polygons_at_a_bounded_image_cost_over_a_replay() {
+    use scanline_racer::measure::wrong_pixels;
+    use scanline_racer::render::{Level, LodMode};
+    let scene = scene();
+    let size = (480, 270);
+    let (mut r_auto, mut r_close) = (Renderer::new(), Renderer::new());
+    let (mut saved_sum, mut wrong_max, mut n) = (0.0f64, 0.0f64, 0);
+    replay(&scene, &root().join("assets/replays/demo-race.trace"), |w| {
+        if !w.tick.is_multiple_of(HASH_EVERY) {
+            return;
+        }
+        let mut auto = vec![0u32; size.0 * size.1];
+        let mut close = auto.clone();
+        let o = RenderOptions { method: Method::ZBuffer, ..RenderOptions::default() };
+        let sa = scene.render(&mut r_auto, w, View::ChaseNear, &o, (&mut auto, size.0, size.1)).unwrap();
+        let oc = RenderOptions { lod: LodMode::Force(Level::Close), ..o };
+        let sc = scene.render(&mut r_close, w, View::ChaseNear, &oc, (&mut close, size.0, size.1)).unwrap();
+        let saved = sa.polygons_saved_by_lod as f64 / sc.polygons_in.max(1) as f64;
+        let wrong = wrong_pixels(&close, &auto);
+        eprintln!(
+            "tick {:>6}: {} of {} polygons after LOD ({:.1}% saved), {:.3}% pixels differ from all-close",
+            w.tick,
+            sa.polygons_in,
+            sc.polygons_in,
+            saved * 100.0,
+            wrong * 100.0
+        );
+        saved_sum += saved;
+        wrong_max = wrong_max.max(wrong);
+        n += 1;
+    });
+    let saved_mean = saved_sum / f64::from(n);
+    eprintln!("mean saved {:.1}%, worst frame {:.3}% pixels differ", saved_mean * 100.0, wrong_max * 100.0);
+    assert!(n >= 15);
+    // Measured: 13-16% of the frame's polygons saved (all of them on cars and trees), at most 0.82% of
+    // pixels differing from the all-close frame.
+    assert!(saved_mean >= 0.12, "LOD saves {saved_mean}");
+    assert!(wrong_max <= 0.01, "worst frame {wrong_max}");
 }

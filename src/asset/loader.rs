@@ -432,12 +432,14 @@ impl Loader<'_> {
                 b.polygon(&idx, m);
             }
         }
-        b.build().map_err(|e| AssetError::Primitive {
+        let mut built = b.build().map_err(|e| AssetError::Primitive {
             file: self.file.clone(),
             mesh: mesh.index(),
             primitive: 0,
             reason: e.to_string(),
-        })
+        })?;
+        super::decals::mark_decals(&mut built);
+        Ok(built)
     }
 }
 

@@ -6,6 +6,7 @@
 //! file and what is wrong, never a panic or an unbounded allocation.
 
 pub mod accessor;
+pub mod decals;
 pub mod loader;
 pub mod quads;
 pub mod scene;

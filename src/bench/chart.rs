@@ -81,7 +81,7 @@ fn draw<DB: DrawingBackend>(
         .margin(18)
         .x_label_area_size(50)
         .y_label_area_size(70)
-        .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
+        .build_cartesian_2d((x0..x1).log_scale().with_key_points(ticks(x0, x1)), 0.0..y1)
         .map_err(e)?;
     chart
         .configure_mesh()
@@ -137,6 +137,24 @@ pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, String> {
         draw(&root, rows, title, panel)?;
     }
     Ok(out)
+}
+
+/// Tick values for a log axis from `lo` to `hi`: 1, 1.5, 2, 3, 5, 7 times powers of ten, thinned to at
+/// most about a dozen.
+fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mut v = vec![];
+    let mut p = 10f64.powf(lo.max(1e-9).log10().floor());
+    while p <= hi && v.len() < 200 {
+        for m in [1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0] {
+            let t = m * p;
+            if t >= lo && t <= hi {
+                v.push(t);
+            }
+        }
+        p *= 10.0;
+    }
+    let step = v.len().div_ceil(12).max(1);
+    v.into_iter().step_by(step).collect()
 }
 
 /// Registers the bundled font for chart text once (both backends measure text with it).

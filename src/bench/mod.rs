@@ -80,9 +80,14 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
     }
     for method in [Method::BucketFar, Method::BucketNear] {
         for &buckets in bucket_counts {
-            add("visibility", format!("{method} {buckets}"), RenderOptions { method, buckets, ..base }, main);
+            add(
+                "visibility",
+                format!("{method} {buckets} {}", key_name(base.key)),
+                RenderOptions { method, buckets, ..base },
+                main,
+            );
         }
-        for key in [DepthKey::Min, DepthKey::Max] {
+        for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max].into_iter().filter(|&k| k != base.key) {
             add(
                 "visibility",
                 format!("{method} {} {}", base.buckets, key_name(key)),

@@ -63,7 +63,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = DEFAULT_BUCKETS)]
     pub buckets: usize,
     /// Representative depth for sort and buckets: avg, min, max.
-    #[arg(long, default_value = "avg")]
+    #[arg(long, default_value = "max")]
     pub key: DepthKey,
     /// Depth-to-bucket mapping.
     #[arg(long, value_enum, default_value_t = MappingArg::Linear)]
