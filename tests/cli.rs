@@ -294,3 +294,33 @@ fn glb_with_embedded_images_renders_like_the_gltf() {
         assert_eq!(stderr(&r).trim_end().lines().count(), 1, "cut at {cut}: {}", stderr(&r));
     }
 }
+
+/// `bench --quick` writes the CSV and both charts; the z-buffer has no visibility error, every method and
+/// the view-lists levels are there, and a Pareto front is marked.
+#[test]
+fn bench_quick_writes_csv_and_charts() {
+    let out = tmp("bench");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = run(&["bench", "--quick", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(out.join("bench.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() >= 25, "{} rows", rows.len());
+    for m in ["zbuffer", "sort", "bucket-far", "bucket-near", "view-lists"] {
+        assert!(rows.iter().any(|r| r[col("method")] == m), "{m} missing");
+    }
+    let zb = rows.iter().find(|r| r[col("label")] == "zbuffer").unwrap();
+    assert_eq!(zb[col("vis_wrong_pct")].parse::<f64>().unwrap(), 0.0);
+    assert!(rows.iter().any(|r| r[col("pareto")] == "true"));
+    assert!(rows.iter().all(|r| r[col("ms_median")].parse::<f64>().unwrap() > 0.0));
+    for chart in ["bench", "visibility"] {
+        let (px, w, h) = read_png(&out.join(format!("{chart}.png"))).unwrap();
+        assert_eq!((w, h), (1200, 760));
+        assert!(px.iter().filter(|&&p| p != 0xffffff).count() > 5000, "{chart}.png has a plot");
+        let svg = std::fs::read_to_string(out.join(format!("{chart}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("Pareto front"));
+    }
+}

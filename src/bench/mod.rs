@@ -124,12 +124,13 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
         add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
     }
     add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
+    // The default at every size, beside the fastest method (`bucket-near`) at the same size.
     for &size in resolutions.iter().filter(|&&s| s != main) {
         add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
         add(
             "resolution",
-            format!("zbuffer {}x{}", size.0, size.1),
-            RenderOptions { method: Method::ZBuffer, ..base },
+            format!("bucket-near {}x{}", size.0, size.1),
+            RenderOptions { method: Method::BucketNear, ..base },
             size,
         );
     }

@@ -97,6 +97,8 @@ pub struct Race {
     pad_ui: Vec<egui::Event>,
     /// The trace path typed in the main menu.
     replay_input: String,
+    /// The main menu's recording toggle and the file it records to.
+    record_to: (bool, String),
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
     scale: (u32, Option<u32>),
     /// Key bindings (from the settings file).
@@ -161,6 +163,7 @@ impl Race {
             pads: crate::input::gamepad::Gamepads::new(),
             pad_ui: Vec::new(),
             replay_input: String::new(),
+            record_to: (false, "race.trace".into()),
             scale: (1, None),
             bindings: Bindings::default(),
             rebinding: None,
@@ -387,6 +390,21 @@ impl Race {
         }
     }
 
+    /// Leaves the main menu for the race, recording it first when the menu's toggle asks for it.
+    fn start_race(&mut self) {
+        if self.record_to.0 && self.recorder.is_none() && self.source.is_none() && self.world.tick == 0 {
+            let path = std::path::PathBuf::from(self.record_to.1.trim());
+            match TraceWriter::create(&path, &header_for(&self.world)) {
+                Ok(w) => {
+                    self.recorder = Some(w);
+                    self.notice = Some(format!("recording to {}", path.display()));
+                }
+                Err(e) => self.notice = Some(format!("not recording: {e}")),
+            }
+        }
+        self.screen = Screen::Race;
+    }
+
     /// A fresh start on the grid with the current number of laps.
     fn restart(&mut self) {
         self.world = World::with_laps(self.scene.track.clone(), FIELD, self.laps);
@@ -476,7 +494,7 @@ impl Content for Race {
                 Screen::Race => self.screen = Screen::Paused,
                 Screen::Paused => self.screen = Screen::Race,
             },
-            (KeyCode::Enter, _) if down && self.screen == Screen::Menu => self.screen = Screen::Race,
+            (KeyCode::Enter, _) if down && self.screen == Screen::Menu => self.start_race(),
             (_, Some(Action::SteerLeft)) => self.keys.left = down,
             (_, Some(Action::SteerRight)) => self.keys.right = down,
             (_, Some(Action::Throttle)) => self.keys.throttle = down,
@@ -565,8 +583,12 @@ impl Content for Race {
                             self.restart();
                         }
                         ui.horizontal(|ui| {
+                            ui.checkbox(&mut self.record_to.0, "record the race to");
+                            ui.add(egui::TextEdit::singleline(&mut self.record_to.1).desired_width(150.0));
+                        });
+                        ui.horizontal(|ui| {
                             if ui.button("Race").clicked() {
-                                self.screen = Screen::Race;
+                                self.start_race();
                             }
                             if ui.button("Settings").clicked() {
                                 self.settings_open = !self.settings_open;
