@@ -7,6 +7,7 @@
 
 pub mod accessor;
 pub mod decals;
+pub mod export;
 pub mod loader;
 pub mod quads;
 pub mod scene;

@@ -4,6 +4,7 @@
 //! `scanline-racer: error: ...` with exit status 1; bad usage exits with 2 (clap's convention).
 
 mod bench_cmd;
+mod export_cmd;
 mod play_cmd;
 mod render_cmd;
 mod replay_cmd;
@@ -14,6 +15,7 @@ use clap::{Parser, Subcommand};
 use thiserror::Error;
 
 pub use bench_cmd::{BenchArgs, bench_command};
+pub use export_cmd::{ExportArgs, export_command};
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
 pub use replay_cmd::{ReplayArgs, ReplaySummary, replay_command, replay_headless};
@@ -36,6 +38,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Replay a recorded race, in the window or headless (`--headless --frames DIR`).
     Replay(ReplayArgs),
+    /// Write what one frame of a replay draws (world-space triangles after LOD, textures, camera) as GLB.
+    ExportFrame(ExportArgs),
     /// Chart speed against accuracy for every method and setting over a demo replay (CSV, SVG, PNG).
     Bench(BenchArgs),
 }
@@ -92,6 +96,7 @@ pub fn main() -> ExitCode {
         Some(Command::Play(args)) => play_command(args),
         Some(Command::Replay(args)) => replay_command(&args),
         Some(Command::Bench(args)) => bench_command(&args),
+        Some(Command::ExportFrame(args)) => export_command(&args),
         None => play_command(PlayArgs::default()),
     };
     match result {

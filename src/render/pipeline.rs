@@ -187,6 +187,34 @@ impl Renderer {
         self.lod_state.clear();
     }
 
+    /// The mesh each instance of `list` would draw in a frame `height` pixels tall (after the LOD choice,
+    /// which updates this renderer's LOD history like a frame does), or `None` for an instance culled by the
+    /// view frustum or naming no mesh. For exporting exactly what a frame draws.
+    pub fn frame_meshes(
+        &mut self,
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Vec<Option<usize>> {
+        let mut stats = Stats::default();
+        let clip_from_world = camera.clip_from_view(width, height) * camera.view;
+        let frustum = Frustum::new(&clip_from_world, camera.has_far_plane());
+        let y_scale_px = camera.clip_from_view(width, height).y_axis.y * height as f32;
+        list.instances
+            .iter()
+            .enumerate()
+            .map(|(index, inst)| {
+                let m = self.resolve_mesh(index, inst, list, (camera, y_scale_px), options, &mut stats)?;
+                let mesh = list.meshes.get(m)?;
+                let (center, radius) = world_sphere(mesh.bounds(), &inst.model);
+                let culled = center.is_finite() && radius.is_finite() && frustum.excludes(center, radius);
+                (!culled).then_some(m)
+            })
+            .collect()
+    }
+
     /// Picks the mesh for an instance: its own, or the level of its LOD set for this frame.
     fn resolve_mesh(
         &mut self,

@@ -4,7 +4,7 @@
 //! row, nothing of polygons, cameras or meshes.
 
 use super::scanline::{ATTRS, Span, slot};
-use super::texture::{Filter, Sampler, Texture};
+use super::texture::{Filter, Sampler, Texture, floor_i32};
 
 /// How texture coordinates (and colours) are interpolated across a span.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -155,8 +155,38 @@ fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row:
         let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
         let u = (a0[slot::S] + kf * da[slot::S]) * q;
         let v = (a0[slot::T] + kf * da[slot::T]) * q;
-        let t = tex.texel((u * w).floor() as i32, (v * h).floor() as i32, sh.sampler);
+        let t = tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler);
         row.color[x] = t & 0x00ff_ffff;
+        mark(sh.visibility, row, x, depth);
+        counts.shaded += 1;
+        counts.written += 1;
+    }
+    counts
+}
+
+/// Fast path: perspective-correct nearest texel times the polygon's one colour, no mask. The colour is the
+/// polygon's own, not re-derived per pixel, exactly as the general path uses it.
+fn draw_texel_tinted(
+    span: &Span,
+    sh: &Shading<'_>,
+    tex: &super::texture::Texture,
+    color: [f32; 4],
+    row: &mut Row<'_>,
+) -> SpanCounts {
+    let mut counts = SpanCounts::default();
+    let (a0, da) = (&span.a0, &span.da);
+    let (w, h) = (tex.width() as f32, tex.height() as f32);
+    for (k, x) in (span.x0 as usize..span.x1 as usize).enumerate() {
+        let kf = k as f32;
+        let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
+        if !visible(sh.visibility, row, x, depth, &mut counts) {
+            continue;
+        }
+        let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
+        let u = (a0[slot::S] + kf * da[slot::S]) * q;
+        let v = (a0[slot::T] + kf * da[slot::T]) * q;
+        let t = super::texture::unpack(tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler));
+        row.color[x] = pack_rgb([t[0] * color[0], t[1] * color[1], t[2] * color[2], t[3] * color[3]]);
         mark(sh.visibility, row, x, depth);
         counts.shaded += 1;
         counts.written += 1;
@@ -173,6 +203,9 @@ pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts
             if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective =>
         {
             return draw_texel(span, sh, t, row);
+        }
+        (Some(t), Some(c), None) if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective => {
+            return draw_texel_tinted(span, sh, t, c, row);
         }
         _ => {}
     }
@@ -241,7 +274,9 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
                 Filter::Bilinear => t.sample_bilinear(s[0], s[1], sh.sampler),
             },
         };
-        let c = [texel[0] * s[2], texel[1] * s[3], texel[2] * s[4], texel[3] * s[5]];
+        // A polygon of one colour uses it as is (interpolating it would only add rounding).
+        let col = sh.constant_color.unwrap_or([s[2], s[3], s[4], s[5]]);
+        let c = [texel[0] * col[0], texel[1] * col[1], texel[2] * col[2], texel[3] * col[3]];
         if let Some(cutoff) = sh.alpha_cutoff {
             // NaN alpha fails the test too: nothing is drawn from a broken colour.
             if c[3].partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {

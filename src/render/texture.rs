@@ -123,7 +123,7 @@ impl Texture {
     }
 
     /// The packed texel at integer coordinates, wrapped by `sampler`.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn texel(&self, x: i32, y: i32, sampler: Sampler) -> u32 {
         let x = wrap(x, self.width, sampler.wrap_s);
@@ -137,8 +137,8 @@ impl Texture {
     #[must_use]
     pub fn sample_nearest(&self, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
         // `as i32` saturates and maps NaN to 0, so hostile coordinates still pick a real texel.
-        let x = (u * self.width as f32).floor() as i32;
-        let y = (v * self.height as f32).floor() as i32;
+        let x = floor_i32(u * self.width as f32);
+        let y = floor_i32(v * self.height as f32);
         unpack(self.texel(x, y, sampler))
     }
 
@@ -169,10 +169,24 @@ fn sanitize_frac(f: f32) -> f32 {
     if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }
 }
 
+/// `x.floor() as i32` without a call to libm's `floorf` (the x86-64 baseline has no rounding instruction,
+/// and the texel loops spent 10% of their time in that call): the same result for every input, NaN giving
+/// 0 and out-of-range values saturating as `as` does.
+#[inline(always)]
+#[must_use]
+pub fn floor_i32(x: f32) -> i32 {
+    let i = x as i32;
+    i.saturating_sub(i32::from(x < i as f32))
+}
+
 /// Folds an integer texel coordinate into `0..size` by the wrap mode.
-#[inline]
+#[inline(always)]
 #[must_use]
 pub fn wrap(i: i32, size: u32, mode: Wrap) -> u32 {
+    if mode == Wrap::Repeat && size.is_power_of_two() {
+        // Two's complement makes the mask a Euclidean remainder for negative coordinates too.
+        return (i as u32) & (size - 1);
+    }
     let n = size as i64;
     let i = i64::from(i);
     let r = match mode {
@@ -197,6 +211,27 @@ pub fn unpack(t: u32) -> [f32; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fast_floor_and_power_of_two_wrap_match_the_slow_forms() {
+        let mut xs = vec![0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 1e-40, -1e-40, 2.5e9, -2.5e9, f32::NAN, f32::INFINITY];
+        xs.extend([f32::NEG_INFINITY, 16_777_217.0, -16_777_217.0, 2_147_483_520.0, -2_147_483_648.0]);
+        let mut seed = 0x1234_5678u32;
+        for _ in 0..100_000 {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            xs.push(f32::from_bits(seed));
+            xs.push((seed as i32 as f32) / 977.0);
+        }
+        for &x in &xs {
+            assert_eq!(floor_i32(x), x.floor() as i32, "{x}");
+        }
+        for size in [1u32, 2, 8, 64, 256, 3, 100] {
+            for i in [-1_000_000i32, -257, -256, -1, 0, 1, 255, 256, 1_000_000, i32::MIN, i32::MAX] {
+                let slow = i64::from(i).rem_euclid(i64::from(size)) as u32;
+                assert_eq!(wrap(i, size, Wrap::Repeat), slow, "{i} mod {size}");
+            }
+        }
+    }
 
     #[test]
     fn wrap_modes() {

@@ -1,0 +1,78 @@
+//! `scanline-racer export-frame TRACE --tick N --out FRAME.glb`: what one frame of a replay draws, as glTF.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::CliError;
+use crate::asset::export::export_glb;
+use crate::input::replay::Replay;
+use crate::render::{RenderOptions, Renderer};
+use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for, find_assets};
+
+/// Arguments of `export-frame`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The trace to replay.
+    pub trace: PathBuf,
+    /// The tick whose frame is exported.
+    #[arg(long)]
+    pub tick: u64,
+    /// The GLB file to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Frame width (sets the camera's aspect and the LOD choice).
+    #[arg(long, default_value_t = 1280)]
+    pub width: usize,
+    /// Frame height.
+    #[arg(long, default_value_t = 720)]
+    pub height: usize,
+}
+
+/// Runs `export-frame`; prints what was written.
+pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
+    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
+        return Err(CliError::BadArgument(format!(
+            "--width {} --height {}: each must be 1 to 16384",
+            args.width, args.height
+        )));
+    }
+    let dir = find_assets().ok_or_else(|| {
+        CliError::BadArgument(
+            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+        )
+    })?;
+    let scene = RaceScene::load(&dir)?;
+    let mut replay =
+        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
+    while replay.world.tick < args.tick {
+        if !replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+            return Err(CliError::Replay(format!(
+                "{}: the trace ends at tick {}, before tick {}",
+                args.trace.display(),
+                replay.world.tick,
+                args.tick
+            )));
+        }
+    }
+    let camera = camera_for(&replay.world, View::ChaseNear);
+    let instances = scene.instances(&replay.world, None);
+    let list = scene.draw_list(&instances);
+    let chosen = Renderer::new().frame_meshes(args.width, args.height, &camera, &list, &RenderOptions::default());
+    let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))
+        .map_err(|e| CliError::BadArgument(e.to_string()))?;
+    std::fs::write(&args.out, &bytes)
+        .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
+    eprintln!(
+        "wrote {} (tick {}, {}x{}: {} instances, {} triangles, {} materials, {} bytes)",
+        args.out.display(),
+        args.tick,
+        args.width,
+        args.height,
+        summary.instances,
+        summary.triangles,
+        summary.primitives,
+        bytes.len()
+    );
+    Ok(())
+}
