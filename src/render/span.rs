@@ -165,7 +165,9 @@ fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row:
 }
 
 /// Fast path: perspective-correct nearest texel times the polygon's one colour, no mask. The colour is the
-/// polygon's own, not re-derived per pixel, exactly as the general path uses it.
+/// polygon's own, in 16-bit fixed point (`Fx16`: 65536 is 1.0), and the product is rounded to the nearest
+/// 1/255 in integers; that equals the general path's float rounding except within 1/500 of a level's
+/// boundary, where it may be one level off.
 fn draw_texel_tinted(
     span: &Span,
     sh: &Shading<'_>,
@@ -176,6 +178,9 @@ fn draw_texel_tinted(
     let mut counts = SpanCounts::default();
     let (a0, da) = (&span.a0, &span.da);
     let (w, h) = (tex.width() as f32, tex.height() as f32);
+    // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
+    let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
+    let (cr, cg, cb) = (fx16(color[0]), fx16(color[1]), fx16(color[2]));
     for (k, x) in (span.x0 as usize..span.x1 as usize).enumerate() {
         let kf = k as f32;
         let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
@@ -185,8 +190,9 @@ fn draw_texel_tinted(
         let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
         let u = (a0[slot::S] + kf * da[slot::S]) * q;
         let v = (a0[slot::T] + kf * da[slot::T]) * q;
-        let t = super::texture::unpack(tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler));
-        row.color[x] = pack_rgb([t[0] * color[0], t[1] * color[1], t[2] * color[2], t[3] * color[3]]);
+        let t = tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler);
+        let ch = |shift: u32, c: u32| ((((t >> shift) & 0xff) * c + 32768) >> 16) << shift;
+        row.color[x] = ch(16, cr) | ch(8, cg) | ch(0, cb);
         mark(sh.visibility, row, x, depth);
         counts.shaded += 1;
         counts.written += 1;
