@@ -11,7 +11,7 @@ use crate::bench::{Row, chart, collect_frames, configs, csv, run};
 use crate::render::view_lists::DEFAULT_MAX_POLYGONS;
 use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
 use crate::shell::png::write_png;
-use crate::shell::race_scene::{RaceScene, find_assets};
+use crate::shell::race_scene::RaceScene;
 
 /// Arguments of `bench`.
 #[derive(Debug, Args)]
@@ -51,11 +51,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
             args.width, args.height
         )));
     }
-    let dir = find_assets().ok_or_else(|| {
-        CliError::BadArgument(
-            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-        )
-    })?;
+    let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
     let (frames, repeats, main, buckets, resolutions): (usize, usize, _, Vec<usize>, Vec<(usize, usize)>) =

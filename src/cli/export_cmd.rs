@@ -8,7 +8,7 @@ use super::CliError;
 use crate::asset::export::export_glb;
 use crate::input::replay::Replay;
 use crate::render::{RenderOptions, Renderer};
-use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for, find_assets};
+use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for};
 
 /// Arguments of `export-frame`.
 #[derive(Debug, Args)]
@@ -37,11 +37,7 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
             args.width, args.height
         )));
     }
-    let dir = find_assets().ok_or_else(|| {
-        CliError::BadArgument(
-            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-        )
-    })?;
+    let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let mut replay =
         Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;

@@ -87,6 +87,16 @@ pub enum CliError {
     Png(#[from] crate::shell::png::PngError),
 }
 
+/// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that
+/// says where it was looked for.
+fn assets_dir() -> Result<std::path::PathBuf, CliError> {
+    crate::shell::race_scene::find_assets().ok_or_else(|| {
+        CliError::BadArgument(
+            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
+        )
+    })
+}
+
 /// Parses the process arguments, runs the command and returns the exit status.
 #[must_use]
 pub fn main() -> ExitCode {

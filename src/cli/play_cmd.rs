@@ -10,7 +10,7 @@ use crate::input::ghost::best_lap_of_trace;
 use crate::input::trace::TraceWriter;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::{Race, header_for};
-use crate::shell::race_scene::{FIELD, RaceScene, find_assets};
+use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
@@ -130,11 +130,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     match scene {
         Some(scene) => run(window, &mut Viewer::new(scene, options, aspect))?,
         None => {
-            let dir = find_assets().ok_or_else(|| {
-                CliError::BadArgument(
-                    "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-                )
-            })?;
+            let dir = super::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
             let ghost = match &args.ghost {
                 Some(p) => Some(

@@ -10,7 +10,7 @@ use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
-use crate::shell::race_scene::{FIELD, RaceScene, View, find_assets};
+use crate::shell::race_scene::{FIELD, RaceScene, View};
 use crate::shell::window::{WindowConfig, run};
 
 /// Arguments of `replay`.
@@ -63,11 +63,7 @@ pub struct ReplaySummary {
 
 /// Replays a trace without a window, checking checksums and writing frames; `progress` gets each tick.
 pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Result<ReplaySummary, CliError> {
-    let dir = find_assets().ok_or_else(|| {
-        CliError::BadArgument(
-            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-        )
-    })?;
+    let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let mut replay =
         Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
@@ -121,11 +117,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
-    let dir = find_assets().ok_or_else(|| {
-        CliError::BadArgument(
-            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-        )
-    })?;
+    let dir = super::assets_dir()?;
     let options =
         RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
     let mut race =

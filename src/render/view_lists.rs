@@ -377,6 +377,17 @@ fn split(p: &Prim, plane: Option<(Vec3, f32)>, eps: f32) -> Option<(Prim, Prim)>
     })
 }
 
+/// The last favourite on the stack still waiting to be placed (favourites cut up meanwhile are skipped).
+fn next_favourite(stack: &mut Vec<usize>, on_stack: &mut [bool], alive: &[bool], placed: &[bool]) -> Option<usize> {
+    while let Some(s) = stack.pop() {
+        on_stack[s] = false;
+        if alive[s] && !placed[s] {
+            return Some(s);
+        }
+    }
+    None
+}
+
 /// One direction's list (indices into the extended mesh); new pieces are appended to `pieces`. Returns the
 /// list, the splits made and the cycles left unbroken.
 fn order_for(
@@ -427,16 +438,8 @@ fn order_for(
                 placed[f] = true;
                 remaining -= 1;
                 list.push(f);
-                fav = loop {
-                    match stack.pop() {
-                        Some(s) if alive[s] && !placed[s] => {
-                            on_stack[s] = false;
-                            break Some(s);
-                        }
-                        Some(s) => on_stack[s] = false,
-                        None => break farthest(&proj, &alive, &placed),
-                    }
-                };
+                fav = next_favourite(&mut stack, &mut on_stack, &alive, &placed)
+                    .or_else(|| farthest(&proj, &alive, &placed));
             }
             Some(c) if !on_stack[c] => {
                 stack.push(f);
@@ -482,16 +485,8 @@ fn order_for(
                         placed[f] = true;
                         remaining -= 1;
                         list.push(f);
-                        fav = loop {
-                            match stack.pop() {
-                                Some(s) if alive[s] && !placed[s] => {
-                                    on_stack[s] = false;
-                                    break Some(s);
-                                }
-                                Some(s) => on_stack[s] = false,
-                                None => break farthest(&proj, &alive, &placed),
-                            }
-                        };
+                        fav = next_favourite(&mut stack, &mut on_stack, &alive, &placed)
+                            .or_else(|| farthest(&proj, &alive, &placed));
                     }
                 }
             }
