@@ -141,8 +141,16 @@ fn draw_flat(span: &Span, sh: &Shading<'_>, color: [f32; 4], row: &mut Row<'_>) 
     counts
 }
 
-/// Fast path: perspective-correct nearest texel, white vertex colour, no mask: the texel is the pixel.
-fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row: &mut Row<'_>) -> SpanCounts {
+/// The perspective-correct nearest-texel loop shared by the texel fast paths; `shade` turns the texel
+/// into the pixel (inlined per caller, so each path keeps its own tight loop).
+#[inline(always)]
+fn texel_loop(
+    span: &Span,
+    sh: &Shading<'_>,
+    tex: &super::texture::Texture,
+    row: &mut Row<'_>,
+    shade: impl Fn(u32) -> u32,
+) -> SpanCounts {
     let mut counts = SpanCounts::default();
     let (a0, da) = (&span.a0, &span.da);
     let (w, h) = (tex.width() as f32, tex.height() as f32);
@@ -155,13 +163,17 @@ fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row:
         let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
         let u = (a0[slot::S] + kf * da[slot::S]) * q;
         let v = (a0[slot::T] + kf * da[slot::T]) * q;
-        let t = tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler);
-        row.color[x] = t & 0x00ff_ffff;
+        row.color[x] = shade(tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler));
         mark(sh.visibility, row, x, depth);
         counts.shaded += 1;
         counts.written += 1;
     }
     counts
+}
+
+/// Fast path: perspective-correct nearest texel, white vertex colour, no mask: the texel is the pixel.
+fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row: &mut Row<'_>) -> SpanCounts {
+    texel_loop(span, sh, tex, row, |t| t & 0x00ff_ffff)
 }
 
 /// Fast path: perspective-correct nearest texel times the polygon's one colour, no mask. The colour is the
@@ -175,29 +187,13 @@ fn draw_texel_tinted(
     color: [f32; 4],
     row: &mut Row<'_>,
 ) -> SpanCounts {
-    let mut counts = SpanCounts::default();
-    let (a0, da) = (&span.a0, &span.da);
-    let (w, h) = (tex.width() as f32, tex.height() as f32);
     // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
     let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
     let (cr, cg, cb) = (fx16(color[0]), fx16(color[1]), fx16(color[2]));
-    for (k, x) in (span.x0 as usize..span.x1 as usize).enumerate() {
-        let kf = k as f32;
-        let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
-        if !visible(sh.visibility, row, x, depth, &mut counts) {
-            continue;
-        }
-        let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
-        let u = (a0[slot::S] + kf * da[slot::S]) * q;
-        let v = (a0[slot::T] + kf * da[slot::T]) * q;
-        let t = tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler);
+    texel_loop(span, sh, tex, row, |t| {
         let ch = |shift: u32, c: u32| ((((t >> shift) & 0xff) * c + 32768) >> 16) << shift;
-        row.color[x] = ch(16, cr) | ch(8, cg) | ch(0, cb);
-        mark(sh.visibility, row, x, depth);
-        counts.shaded += 1;
-        counts.written += 1;
-    }
-    counts
+        ch(16, cr) | ch(8, cg) | ch(0, cb)
+    })
 }
 
 /// Draws one span into a row and returns the pixel counts.
