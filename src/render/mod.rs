@@ -20,6 +20,9 @@ pub mod overlay;
 pub mod pipeline;
 pub mod scanline;
 pub mod span;
+#[cfg(target_arch = "x86_64")]
+mod span_avx2;
+pub mod span_lanes;
 pub mod stats;
 pub mod texture;
 pub mod view_lists;

@@ -4,7 +4,8 @@
 //! row, nothing of polygons, cameras or meshes.
 
 use super::scanline::{ATTRS, Span, slot};
-use super::texture::{Filter, Sampler, Texture, floor_i32};
+use super::span_lanes::{self, Source};
+use super::texture::{Filter, Sampler, Texture};
 
 /// How texture coordinates (and colours) are interpolated across a span.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -93,125 +94,25 @@ fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective: bool) -> 
     [at(slot::S) * w, at(slot::T) * w, at(r) * w, at(r + 1) * w, at(r + 2) * w, at(r + 3) * w]
 }
 
-/// True when a visibility test lets pixel `x` through (and counts a rejection when not).
-#[inline]
-fn visible(vis: Visibility, row: &Row<'_>, x: usize, depth: f32, counts: &mut SpanCounts) -> bool {
-    let pass = match vis {
-        Visibility::Overwrite => true,
-        // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
-        Visibility::DepthTest => depth.partial_cmp(&row.depth[x]) == Some(std::cmp::Ordering::Greater),
-        Visibility::Coverage => row.coverage[x >> 6] & (1u64 << (x & 63)) == 0,
-    };
-    if !pass {
-        counts.rejected += 1;
-    }
-    pass
-}
-
-#[inline]
-fn mark(vis: Visibility, row: &mut Row<'_>, x: usize, depth: f32) {
-    match vis {
-        Visibility::Overwrite => {}
-        Visibility::DepthTest => row.depth[x] = depth,
-        Visibility::Coverage => row.coverage[x >> 6] |= 1u64 << (x & 63),
-    }
-}
-
-/// Fast path: one colour, no texture, no mask.
-fn draw_flat(span: &Span, sh: &Shading<'_>, color: [f32; 4], row: &mut Row<'_>) -> SpanCounts {
-    let mut counts = SpanCounts::default();
-    let packed = pack_rgb(color);
-    let (x0, x1) = (span.x0 as usize, span.x1 as usize);
-    if sh.visibility == Visibility::Overwrite {
-        row.color[x0..x1].fill(packed);
-        let n = (x1 - x0) as u64;
-        counts.shaded = n;
-        counts.written = n;
-        return counts;
-    }
-    for (k, x) in (x0..x1).enumerate() {
-        let depth = span.a0[slot::DEPTH] + k as f32 * span.da[slot::DEPTH];
-        if visible(sh.visibility, row, x, depth, &mut counts) {
-            row.color[x] = packed;
-            mark(sh.visibility, row, x, depth);
-            counts.shaded += 1;
-            counts.written += 1;
-        }
-    }
-    counts
-}
-
-/// The perspective-correct nearest-texel loop shared by the texel fast paths; `shade` turns the texel
-/// into the pixel (inlined per caller, so each path keeps its own tight loop).
-#[inline(always)]
-fn texel_loop(
-    span: &Span,
-    sh: &Shading<'_>,
-    tex: &super::texture::Texture,
-    row: &mut Row<'_>,
-    shade: impl Fn(u32) -> u32,
-) -> SpanCounts {
-    let mut counts = SpanCounts::default();
-    let (a0, da) = (&span.a0, &span.da);
-    let (w, h) = (tex.width() as f32, tex.height() as f32);
-    for (k, x) in (span.x0 as usize..span.x1 as usize).enumerate() {
-        let kf = k as f32;
-        let depth = a0[slot::DEPTH] + kf * da[slot::DEPTH];
-        if !visible(sh.visibility, row, x, depth, &mut counts) {
-            continue;
-        }
-        let q = 1.0 / (a0[slot::Q] + kf * da[slot::Q]);
-        let u = (a0[slot::S] + kf * da[slot::S]) * q;
-        let v = (a0[slot::T] + kf * da[slot::T]) * q;
-        row.color[x] = shade(tex.texel(floor_i32(u * w), floor_i32(v * h), sh.sampler));
-        mark(sh.visibility, row, x, depth);
-        counts.shaded += 1;
-        counts.written += 1;
-    }
-    counts
-}
-
-/// Fast path: perspective-correct nearest texel, white vertex colour, no mask: the texel is the pixel.
-fn draw_texel(span: &Span, sh: &Shading<'_>, tex: &super::texture::Texture, row: &mut Row<'_>) -> SpanCounts {
-    texel_loop(span, sh, tex, row, |t| t & 0x00ff_ffff)
-}
-
-/// Fast path: perspective-correct nearest texel times the polygon's one colour, no mask. The colour is the
-/// polygon's own, in 16-bit fixed point (`Fx16`: 65536 is 1.0), and the product is rounded to the nearest
-/// 1/255 in integers; that equals the general path's float rounding except within 1/500 of a level's
-/// boundary, where it may be one level off.
-fn draw_texel_tinted(
-    span: &Span,
-    sh: &Shading<'_>,
-    tex: &super::texture::Texture,
-    color: [f32; 4],
-    row: &mut Row<'_>,
-) -> SpanCounts {
-    // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
-    let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
-    let (cr, cg, cb) = (fx16(color[0]), fx16(color[1]), fx16(color[2]));
-    texel_loop(span, sh, tex, row, |t| {
-        let ch = |shift: u32, c: u32| ((((t >> shift) & 0xff) * c + 32768) >> 16) << shift;
-        ch(16, cr) | ch(8, cg) | ch(0, cb)
-    })
-}
-
 /// Draws one span into a row and returns the pixel counts.
 pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
-    match (sh.texture, sh.constant_color, sh.alpha_cutoff) {
-        _ if sh.screen_door => {}
-        (None, Some(c), None) => return draw_flat(span, sh, c, row),
-        (Some(t), Some([1.0, 1.0, 1.0, 1.0]), None)
-            if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective =>
-        {
-            return draw_texel(span, sh, t, row);
+    let nearest_perspective = sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective;
+    let source = match (sh.texture, sh.constant_color, sh.alpha_cutoff) {
+        _ if sh.screen_door => None,
+        (None, Some(c), None) => Some(Source::Flat(pack_rgb(c))),
+        (Some(t), Some([1.0, 1.0, 1.0, _]), _) if nearest_perspective => Some(Source::Texel(t, sh.sampler)),
+        (Some(t), Some(c), _) if nearest_perspective => {
+            // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
+            let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
+            Some(Source::Tinted(t, sh.sampler, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
         }
-        (Some(t), Some(c), None) if sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective => {
-            return draw_texel_tinted(span, sh, t, c, row);
-        }
-        _ => {}
+        _ => None,
+    };
+    let alpha = sh.alpha_cutoff.zip(sh.constant_color).map(|(cutoff, c)| (c[3], cutoff));
+    match source {
+        Some(source) => span_lanes::draw(span, source, alpha, sh.visibility, row),
+        None => draw_general(span, sh, row),
     }
-    draw_general(span, sh, row)
 }
 
 /// The general span: any texture mode, filter, vertex colours, alpha mask and screen door.

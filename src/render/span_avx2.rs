@@ -1,0 +1,207 @@
+//! The span fast paths' full chunks with AVX2: eight pixels per instruction, written out by hand because
+//! the compiler keeps the saturating float-to-integer conversions scalar.
+//!
+//! Each step repeats the portable loop in [`super::span_lanes`] operation for operation (the same IEEE
+//! operations in the same order, no fused multiply-add; `floor_i32`'s saturation and NaN rule are rebuilt
+//! with compares and blends), so the two produce bit-identical frames; a unit test compares them on
+//! random and hostile spans.
+
+use std::arch::x86_64::{
+    __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi32, _mm256_add_ps,
+    _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps, _mm256_castps_si256, _mm256_cmp_ps,
+    _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32,
+    _mm256_min_epi32, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32,
+    _mm256_set1_ps, _mm256_setr_epi32, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
+};
+
+use super::span::{Row, SpanCounts};
+use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, LANES, Setup, TINTED, cover_bits, coverage_byte};
+use super::texture::{Sampler, Texture, Wrap};
+
+/// Loads eight values from the start of a slice (`None` when it is shorter).
+#[inline(always)]
+fn load<T: bytemuck::Pod, V: bytemuck::Pod>(s: &[T]) -> Option<V> {
+    let a: &[T; LANES] = s.get(..LANES)?.try_into().ok()?;
+    Some(bytemuck::cast::<[T; LANES], V>(*a))
+}
+
+/// Stores eight values at the start of a slice (nothing when it is shorter).
+#[inline(always)]
+fn store<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
+    if let Some(d) = s.get_mut(..LANES) {
+        d.copy_from_slice(&bytemuck::cast::<V, [T; LANES]>(v));
+    }
+}
+
+// The helpers are macros rather than functions: a `#[target_feature]` function cannot be `inline(always)`,
+// and the compiler left them as calls, passing every vector through memory.
+
+/// `floor_i32` on eight lanes: truncation corrected downwards, NaN to 0, saturating at both ends.
+macro_rules! floor_i32x8 {
+    ($f:expr) => {{
+        let f: __m256 = $f;
+        let i = _mm256_cvttps_epi32(f);
+        // -1 where truncation went up (negative non-integers), added to step down.
+        let down = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(f, _mm256_cvtepi32_ps(i)));
+        let i = _mm256_add_epi32(i, down);
+        // The conversion gives i32::MIN for NaN and out of range; `as i32` gives 0, MAX and MIN.
+        let too_big = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(f, _mm256_set1_ps(2_147_483_648.0)));
+        let too_small = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(f, _mm256_set1_ps(-2_147_483_648.0)));
+        let nan = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_UNORD_Q>(f, f));
+        let i = _mm256_blendv_epi8(i, _mm256_set1_epi32(i32::MAX), too_big);
+        let i = _mm256_blendv_epi8(i, _mm256_set1_epi32(i32::MIN), too_small);
+        _mm256_andnot_si256(nan, i)
+    }};
+}
+
+/// Texel coordinates folded into `0..size` on eight lanes, or `None` for wrap modes drawn per lane.
+macro_rules! wrap_x8 {
+    ($i:expr, $size:expr, $mode:expr) => {{
+        let (i, size): (__m256i, u32) = ($i, $size);
+        match $mode {
+            Wrap::Repeat if size.is_power_of_two() => Some(_mm256_and_si256(i, _mm256_set1_epi32((size - 1) as i32))),
+            Wrap::ClampToEdge => {
+                let hi = _mm256_set1_epi32(size.saturating_sub(1).min(i32::MAX as u32) as i32);
+                Some(_mm256_min_epi32(_mm256_max_epi32(i, _mm256_setzero_si256()), hi))
+            }
+            _ => None,
+        }
+    }};
+}
+
+/// The nearest texels of eight pixels at pixel offsets `k`.
+macro_rules! texels_x8 {
+    ($s:expr, $k:expr, $tex:expr, $sampler:expr) => {{
+        let (s, k, tex, sampler): (&Setup, __m256, &Texture, Sampler) = ($s, $k, $tex, $sampler);
+        let q = _mm256_add_ps(_mm256_set1_ps(s.q0), _mm256_mul_ps(k, _mm256_set1_ps(s.dq)));
+        let q = _mm256_div_ps(_mm256_set1_ps(1.0), q);
+        let u = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.s0), _mm256_mul_ps(k, _mm256_set1_ps(s.ds))), q);
+        let v = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.t0), _mm256_mul_ps(k, _mm256_set1_ps(s.dt))), q);
+        let xi = floor_i32x8!(_mm256_mul_ps(u, _mm256_set1_ps(s.w)));
+        let yi = floor_i32x8!(_mm256_mul_ps(v, _mm256_set1_ps(s.h)));
+        let texels = tex.texels();
+        let wrapped = wrap_x8!(xi, tex.width(), sampler.wrap_s).zip(wrap_x8!(yi, tex.height(), sampler.wrap_t));
+        let out: [u32; LANES] = match wrapped {
+            Some((wx, wy)) => {
+                // Both are in `0..size` now and `width * height` texels exist, so the index is in range
+                // (the lookup is still checked: a check that never fails costs little beside the load).
+                let row_start = _mm256_mullo_epi32(wy, _mm256_set1_epi32(tex.width() as i32));
+                let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row_start, wx));
+                std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0))
+            }
+            None => {
+                let (xs, ys): ([i32; LANES], [i32; LANES]) = (bytemuck::cast(xi), bytemuck::cast(yi));
+                std::array::from_fn(|l| tex.texel(xs[l], ys[l], sampler))
+            }
+        };
+        bytemuck::cast::<[u32; LANES], __m256i>(out)
+    }};
+}
+
+/// Multiplies the channels of packed texels by `Fx16` colours and rounds, as the portable tinted path does.
+macro_rules! tint_x8 {
+    ($t:expr, $tint:expr) => {{
+        let (t, [cr, cg, cb]): (__m256i, [u32; 3]) = ($t, $tint);
+        let byte = _mm256_set1_epi32(0xff);
+        let half = _mm256_set1_epi32(32768);
+        let r = _mm256_and_si256(_mm256_srli_epi32::<16>(t), byte);
+        let g = _mm256_and_si256(_mm256_srli_epi32::<8>(t), byte);
+        let b = _mm256_and_si256(t, byte);
+        let r = _mm256_srli_epi32::<16>(_mm256_add_epi32(_mm256_mullo_epi32(r, _mm256_set1_epi32(cr as i32)), half));
+        let g = _mm256_srli_epi32::<16>(_mm256_add_epi32(_mm256_mullo_epi32(g, _mm256_set1_epi32(cg as i32)), half));
+        let b = _mm256_srli_epi32::<16>(_mm256_add_epi32(_mm256_mullo_epi32(b, _mm256_set1_epi32(cb as i32)), half));
+        _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32::<16>(r), _mm256_slli_epi32::<8>(g)), b)
+    }};
+}
+
+/// Draws span pixels `x0..x1` eight at a time and returns where it stopped (`x1` unless the row is shorter
+/// than a chunk). The last chunk is moved back to end inside the row where it would pass the row's end, and
+/// lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable loop's
+/// visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for `alphaMode` MASK.
+#[target_feature(enable = "avx2")]
+pub(super) fn chunks<const VIS: u8, const SRC: u8>(
+    (x0, x1): (usize, usize),
+    s: &Setup,
+    tex: Option<(&Texture, Sampler)>,
+    (flat, tint, alpha): (u32, [u32; 3], Option<(f32, f32)>),
+    row: &mut Row<'_>,
+    counts: &mut SpanCounts,
+) -> usize {
+    let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    let width = row.color.len();
+    let mut x = x0;
+    while x < x1 {
+        let c = if x + LANES <= width {
+            x
+        } else if width >= LANES {
+            width - LANES
+        } else {
+            break;
+        };
+        let lane = _mm256_add_epi32(_mm256_set1_epi32(c as i32), iota);
+        // Lanes in `x..x1`: `lane > x - 1` and `x1 > lane` (pixel indices are below 2^20).
+        let valid = _mm256_and_si256(
+            _mm256_cmpgt_epi32(lane, _mm256_set1_epi32(x as i32 - 1)),
+            _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 as i32), lane),
+        );
+        let Some(old_color) = row.color.get(c..).and_then(load::<u32, __m256i>) else { break };
+        let k = _mm256_cvtepi32_ps(_mm256_sub_epi32(lane, _mm256_set1_epi32(x0 as i32)));
+        let depth = _mm256_add_ps(_mm256_set1_ps(s.d0), _mm256_mul_ps(k, _mm256_set1_ps(s.dd)));
+        let mut old_depth = depth;
+        let visible = match VIS {
+            DEPTH_TEST => {
+                let Some(old) = row.depth.get(c..).and_then(load::<f32, __m256>) else { break };
+                old_depth = old;
+                // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
+                _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GT_OQ>(depth, old))
+            }
+            COVERAGE => {
+                let bits = _mm256_set1_epi32(i32::from(coverage_byte(row.coverage, c)));
+                _mm256_cmpeq_epi32(_mm256_and_si256(bits, lane_bits), _mm256_setzero_si256())
+            }
+            _ => valid,
+        };
+        let pass = _mm256_and_si256(visible, valid);
+        let lanes = |m: __m256i| u64::from((_mm256_movemask_ps(bytemuck::cast(m)) as u32).count_ones());
+        let n = lanes(pass);
+        counts.rejected += lanes(valid) - n;
+        counts.shaded += n;
+        x = c + LANES;
+        if n == 0 {
+            continue;
+        }
+        let texels = match (SRC, tex) {
+            (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
+            (_, Some((t, sampler))) => texels_x8!(s, k, t, sampler),
+        };
+        // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
+        let write = match alpha {
+            Some((a, cutoff)) if SRC != FLAT => {
+                let ta = _mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(texels));
+                let ta = _mm256_mul_ps(_mm256_mul_ps(ta, _mm256_set1_ps(1.0 / 255.0)), _mm256_set1_ps(a));
+                _mm256_and_si256(pass, _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(ta, _mm256_set1_ps(cutoff))))
+            }
+            _ => pass,
+        };
+        counts.written += lanes(write);
+        let color = match SRC {
+            FLAT => texels,
+            TINTED => tint_x8!(texels, tint),
+            _ => _mm256_and_si256(texels, _mm256_set1_epi32(0x00ff_ffff)),
+        };
+        if let Some(out) = row.color.get_mut(c..) {
+            store(out, _mm256_blendv_epi8(old_color, color, write));
+        }
+        match VIS {
+            DEPTH_TEST => {
+                if let Some(d) = row.depth.get_mut(c..) {
+                    store(d, _mm256_blendv_ps(old_depth, depth, bytemuck::cast(write)));
+                }
+            }
+            COVERAGE => cover_bits(row.coverage, c, _mm256_movemask_ps(bytemuck::cast(write)) as u8),
+            _ => {}
+        }
+    }
+    x.min(x1)
+}

@@ -1,0 +1,348 @@
+//! The span fast paths eight pixels at a time: flat colour, texel, and tinted texel, under every
+//! visibility rule.
+//!
+//! A span is walked in chunks of [`LANES`] pixels, and each step of a chunk (the attributes at the pixel
+//! centres, the visibility test, the perspective divide, the texel address, the colour, the writes) is a
+//! loop over the lanes with no branch inside, which the compiler turns into SIMD instructions. The last
+//! pixels of a span that do not fill a chunk go through the same per-pixel arithmetic one at a time.
+//!
+//! Every lane computes exactly what the one-pixel-at-a-time loop computed before (the same IEEE operations
+//! in the same order, no fused multiply-add), so frames are bit-identical to it: the chunking only changes
+//! how many pixels are in flight. Writes are selects (the old value where the visibility test failed), so
+//! a rejected pixel keeps its colour and depth bit for bit.
+
+use super::scanline::{Span, slot};
+use super::span::{Row, SpanCounts, Visibility};
+use super::texture::{Sampler, Texture, floor_i32};
+
+/// Pixels per chunk: eight `f32` fill one AVX register or two SSE registers.
+pub const LANES: usize = 8;
+
+/// Where a fast-path pixel's colour comes from.
+#[derive(Clone, Copy)]
+pub(super) enum Source<'a> {
+    /// One packed colour for the whole span.
+    Flat(u32),
+    /// The nearest texel, perspective-correct, used as is.
+    Texel(&'a Texture, Sampler),
+    /// The nearest texel times the polygon's one colour, in `Fx16` (65536 is 1.0) per channel; the product
+    /// is rounded to the nearest 1/255 in integers, which equals the general path's float rounding except
+    /// within 1/500 of a level's boundary, where it may be one level off.
+    Tinted(&'a Texture, Sampler, [u32; 3]),
+}
+
+/// Draws a span with a fast-path source under a visibility rule.
+pub(super) fn draw(
+    span: &Span,
+    source: Source<'_>,
+    alpha: Option<(f32, f32)>,
+    vis: Visibility,
+    row: &mut Row<'_>,
+) -> SpanCounts {
+    // One monomorphised loop per (visibility, source) pair, so nothing is decided per pixel.
+    macro_rules! by_vis {
+        ($src:expr, $tex:expr, $colors:expr) => {
+            match vis {
+                Visibility::Overwrite => walk::<OVERWRITE, $src>(span, $tex, $colors, row),
+                Visibility::DepthTest => walk::<DEPTH_TEST, $src>(span, $tex, $colors, row),
+                Visibility::Coverage => walk::<COVERAGE, $src>(span, $tex, $colors, row),
+            }
+        };
+    }
+    match source {
+        Source::Flat(c) => by_vis!(FLAT, None, (c, [0; 3], None)),
+        Source::Texel(t, s) => by_vis!(TEXEL, Some((t, s)), (0, [0; 3], alpha)),
+        Source::Tinted(t, s, tint) => by_vis!(TINTED, Some((t, s)), (0, tint, alpha)),
+    }
+}
+
+pub(super) const OVERWRITE: u8 = 0;
+pub(super) const DEPTH_TEST: u8 = 1;
+pub(super) const COVERAGE: u8 = 2;
+pub(super) const FLAT: u8 = 0;
+pub(super) const TEXEL: u8 = 1;
+pub(super) const TINTED: u8 = 2;
+
+/// Attribute values of one span, hoisted out of the loops.
+#[derive(Clone, Copy)]
+pub(super) struct Setup {
+    pub(super) d0: f32,
+    pub(super) dd: f32,
+    pub(super) q0: f32,
+    pub(super) dq: f32,
+    pub(super) s0: f32,
+    pub(super) ds: f32,
+    pub(super) t0: f32,
+    pub(super) dt: f32,
+    pub(super) w: f32,
+    pub(super) h: f32,
+}
+
+impl Setup {
+    /// The depth at pixel offset `k` from the span's start.
+    #[inline(always)]
+    fn depth(&self, k: f32) -> f32 {
+        self.d0 + k * self.dd
+    }
+
+    /// The texel coordinates at pixel offset `k` (perspective-correct), floored.
+    #[inline(always)]
+    fn texel_xy(&self, k: f32) -> (i32, i32) {
+        let q = 1.0 / (self.q0 + k * self.dq);
+        let u = (self.s0 + k * self.ds) * q;
+        let v = (self.t0 + k * self.dt) * q;
+        (floor_i32(u * self.w), floor_i32(v * self.h))
+    }
+}
+
+/// The pixel colour of a texel for source `SRC`.
+#[inline(always)]
+fn shade<const SRC: u8>(t: u32, (flat, [cr, cg, cb]): (u32, [u32; 3])) -> u32 {
+    match SRC {
+        FLAT => flat,
+        TINTED => {
+            let ch = |shift: u32, c: u32| ((((t >> shift) & 0xff) * c + 32768) >> 16) << shift;
+            ch(16, cr) | ch(8, cg) | ch(0, cb)
+        }
+        _ => t & 0x00ff_ffff,
+    }
+}
+
+/// Whether the AVX2 chunk loop may run (detected once; the detection caches its answer).
+#[inline]
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Draws the span: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
+/// per-pixel loop is the reference the chunk loop must match bit for bit.
+#[inline(always)]
+fn walk<const VIS: u8, const SRC: u8>(
+    span: &Span,
+    tex: Option<(&Texture, Sampler)>,
+    colors: (u32, [u32; 3], Option<(f32, f32)>),
+    row: &mut Row<'_>,
+) -> SpanCounts {
+    let (a0, da) = (&span.a0, &span.da);
+    let (w, h) = tex.map_or((0.0, 0.0), |(t, _)| (t.width() as f32, t.height() as f32));
+    let setup = Setup {
+        d0: a0[slot::DEPTH],
+        dd: da[slot::DEPTH],
+        q0: a0[slot::Q],
+        dq: da[slot::Q],
+        s0: a0[slot::S],
+        ds: da[slot::S],
+        t0: a0[slot::T],
+        dt: da[slot::T],
+        w,
+        h,
+    };
+    let (x0, x1) = (span.x0 as usize, span.x1 as usize);
+    let mut counts = SpanCounts::default();
+    let mut x = x0;
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() && !portable_forced() {
+        // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
+        #[allow(unsafe_code)]
+        {
+            x = unsafe { super::span_avx2::chunks::<VIS, SRC>((x0, x1), &setup, tex, colors, row, &mut counts) };
+        }
+    }
+    let (flat, tint, alpha) = colors;
+    for x in x..x1 {
+        let k = (x - x0) as f32;
+        let depth = setup.depth(k);
+        let pass = match VIS {
+            // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
+            DEPTH_TEST => row.depth.get(x).is_some_and(|&old| depth > old),
+            COVERAGE => row.coverage.get(x >> 6).is_some_and(|&w| w & (1u64 << (x & 63)) == 0),
+            _ => true,
+        };
+        if !pass {
+            counts.rejected += 1;
+            continue;
+        }
+        counts.shaded += 1;
+        let texel = match tex {
+            Some((t, s)) if SRC != FLAT => {
+                let (tx, ty) = setup.texel_xy(k);
+                t.texel(tx, ty, s)
+            }
+            _ => flat,
+        };
+        // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
+        if let Some((a, cutoff)) = alpha.filter(|_| SRC != FLAT) {
+            let ta = (texel >> 24) as f32 * (1.0 / 255.0) * a;
+            if ta.partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
+                continue;
+            }
+        }
+        if let Some(c) = row.color.get_mut(x) {
+            *c = shade::<SRC>(texel, (flat, tint));
+        }
+        match VIS {
+            DEPTH_TEST => {
+                if let Some(d) = row.depth.get_mut(x) {
+                    *d = depth;
+                }
+            }
+            COVERAGE => {
+                if let Some(w) = row.coverage.get_mut(x >> 6) {
+                    *w |= 1u64 << (x & 63);
+                }
+            }
+            _ => {}
+        }
+        counts.written += 1;
+    }
+    counts
+}
+
+/// The 'already drawn' bits of pixels `x..x + 8`, bit `i` for pixel `x + i` (missing words read as drawn).
+#[inline(always)]
+pub(super) fn coverage_byte(coverage: &[u64], x: usize) -> u8 {
+    let (word, shift) = (x >> 6, (x & 63) as u32);
+    let lo = coverage.get(word).copied().unwrap_or(u64::MAX) >> shift;
+    let hi = if shift > 56 { coverage.get(word + 1).copied().unwrap_or(u64::MAX) << (64 - shift) } else { 0 };
+    (lo | hi) as u8
+}
+
+/// Marks pixel `x + i` as drawn for every bit `i` set in `bits`.
+#[inline(always)]
+pub(super) fn cover_bits(coverage: &mut [u64], x: usize, bits: u8) {
+    let (word, shift) = (x >> 6, (x & 63) as u32);
+    if let Some(w) = coverage.get_mut(word) {
+        *w |= u64::from(bits) << shift;
+    }
+    if shift > 56
+        && let Some(w) = coverage.get_mut(word + 1)
+    {
+        *w |= u64::from(bits) >> (64 - shift);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::scanline::ATTRS;
+    use crate::render::texture::Wrap;
+
+    /// A small deterministic generator, so failures reproduce.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u32 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 33) as u32
+        }
+        fn below(&mut self, n: u32) -> u32 {
+            self.next() % n
+        }
+        fn float(&mut self, hostile: bool) -> f32 {
+            if hostile && self.below(6) == 0 {
+                [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9, 0.0][self.below(6) as usize]
+            } else {
+                (self.next() as f32 / u32::MAX as f32 - 0.3) * 4.0
+            }
+        }
+    }
+
+    /// Draws a span with the given path and returns the row's buffers and the counts.
+    fn run(
+        span: &Span,
+        source: Source<'_>,
+        alpha: Option<(f32, f32)>,
+        vis: Visibility,
+        start: (&[u32], &[f32], &[u64]),
+        portable: bool,
+    ) -> (Vec<u32>, Vec<u32>, Vec<u64>, SpanCounts) {
+        let (mut color, mut depth, mut coverage) = (start.0.to_vec(), start.1.to_vec(), start.2.to_vec());
+        PORTABLE_ONLY.with(|p| p.set(portable));
+        let counts =
+            draw(span, source, alpha, vis, &mut Row { color: &mut color, depth: &mut depth, coverage: &mut coverage });
+        PORTABLE_ONLY.with(|p| p.set(false));
+        (color, depth.iter().map(|d| d.to_bits()).collect(), coverage, counts)
+    }
+
+    #[test]
+    fn chunk_loop_matches_the_per_pixel_loop_bit_for_bit() {
+        if !has_avx2() {
+            eprintln!("no AVX2 on this CPU: only the per-pixel loop runs, nothing to compare");
+            return;
+        }
+        let mut rng = Lcg(7);
+        let wraps = [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat];
+        for case in 0..3000 {
+            let hostile = case % 4 == 3;
+            let (tw, th) = ([1u32, 4, 16, 64, 5, 100][rng.below(6) as usize], [1u32, 8, 32, 3][rng.below(4) as usize]);
+            let texels: Vec<u32> = (0..tw * th).map(|_| rng.next()).collect();
+            let Ok(tex) = Texture::new(tw, th, texels) else { panic!("texture") };
+            let sampler = Sampler { wrap_s: wraps[rng.below(3) as usize], wrap_t: wraps[rng.below(3) as usize] };
+            let width = [3usize, 8, 13, 64, 70, 130][rng.below(6) as usize];
+            let x0 = rng.below(width as u32) as i32;
+            let x1 = x0 + 1 + rng.below((width as i32 - x0) as u32) as i32;
+            let mut a0 = [0.0; ATTRS];
+            let mut da = [0.0; ATTRS];
+            for i in 0..ATTRS {
+                a0[i] = rng.float(hostile);
+                da[i] = rng.float(hostile) * 0.05;
+            }
+            a0[slot::Q] = a0[slot::Q].abs() + 0.1;
+            let span = Span { y: 0, x0, x1, a0, da };
+            let color: Vec<u32> = (0..width).map(|_| rng.next()).collect();
+            let depth: Vec<f32> = (0..width).map(|_| rng.float(hostile)).collect();
+            let coverage: Vec<u64> =
+                (0..width.div_ceil(64)).map(|_| u64::from(rng.next()) << 32 | u64::from(rng.next())).collect();
+            let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
+            let alpha = (rng.below(2) == 0).then(|| (rng.float(hostile), rng.float(false) * 0.3));
+            let sources = [Source::Flat(rng.next()), Source::Texel(&tex, sampler), Source::Tinted(&tex, sampler, tint)];
+            for source in sources {
+                for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
+                    let start = (&color[..], &depth[..], &coverage[..]);
+                    let fast = run(&span, source, alpha, vis, start, false);
+                    let slow = run(&span, source, alpha, vis, start, true);
+                    assert_eq!(fast, slow, "case {case}, {vis:?}, span {x0}..{x1} of {width}, {tw}x{th} {sampler:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn coverage_bytes_straddle_words() {
+        let mut cov = vec![0u64; 3];
+        cover_bits(&mut cov, 60, 0xff);
+        assert_eq!(cov, [0xf << 60, 0xf, 0]);
+        assert_eq!(coverage_byte(&cov, 60), 0xff);
+        assert_eq!(coverage_byte(&cov, 62), 0x3f);
+        assert_eq!(coverage_byte(&cov, 56), 0xf0);
+        assert_eq!(coverage_byte(&cov, 64), 0x0f);
+        // Past the end reads as drawn, so nothing is written there.
+        assert_eq!(coverage_byte(&cov, 190), 0xfc);
+    }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Set by tests to force the portable loop on CPUs with AVX2, to compare the two.
+    static PORTABLE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// True when a test asked for the portable loop only.
+#[inline(always)]
+fn portable_forced() -> bool {
+    #[cfg(test)]
+    {
+        PORTABLE_ONLY.with(std::cell::Cell::get)
+    }
+    #[cfg(not(test))]
+    {
+        false
+    }
+}
