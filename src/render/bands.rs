@@ -1,6 +1,7 @@
-//! The fill stage across threads: the frame is cut into horizontal bands, and every band walks the same
-//! ordered polygon list drawing only its own rows. Because edge positions are exact integers and attributes
-//! are evaluated per row from the polygon's vertices, a row's pixels do not depend on which band drew it.
+//! The fill stage across threads: the frame is cut into horizontal bands, the ordered polygons are binned
+//! once by the bands they touch, and every band clears its own buffers and draws its bin, in order, on its
+//! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
+//! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::DrawList;
 use super::RenderOptions;
@@ -53,8 +54,8 @@ pub(super) fn split_bands<'a>(
 /// Read-only state shared by the fill workers.
 pub(super) struct FillContext<'a> {
     pub(super) polys: &'a [DrawPolygon],
+    pub(super) background: Option<u32>,
     pub(super) screen: &'a [ScreenVertex],
-    pub(super) order: &'a [u32],
     pub(super) list: &'a DrawList<'a>,
     pub(super) options: &'a RenderOptions,
     pub(super) visibility: Visibility,
@@ -62,12 +63,49 @@ pub(super) struct FillContext<'a> {
     pub(super) words: usize,
 }
 
+/// Puts each polygon of `order` (in order) into the bin of every band of `rows_per_band` rows it touches.
+pub(super) fn bin(
+    polys: &[DrawPolygon],
+    screen: &[ScreenVertex],
+    order: &[u32],
+    (height, rows_per_band): (usize, usize),
+    bins: &mut Vec<Vec<u32>>,
+) {
+    let rows_per_band = rows_per_band.max(1);
+    let count = height.div_ceil(rows_per_band);
+    bins.resize_with(count, Vec::new);
+    bins.truncate(count);
+    bins.iter_mut().for_each(Vec::clear);
+    for &pi in order {
+        let Some(p) = polys.get(pi as usize) else { continue };
+        let Some(verts) = screen.get(p.first as usize..(p.first + p.count) as usize) else { continue };
+        let (Some(top), Some(bottom)) = (verts.iter().map(|v| v.y).min(), verts.iter().map(|v| v.y).max()) else {
+            continue;
+        };
+        // Rows whose centres are in [top, bottom): the same rule the scanline walk uses.
+        let first = top.first_centre_at_or_after().max(0) as usize;
+        let end = (bottom.first_centre_at_or_after().max(0) as usize).min(height);
+        if first >= end {
+            continue;
+        }
+        for b in bins.iter_mut().take((end - 1) / rows_per_band + 1).skip(first / rows_per_band) {
+            b.push(pi);
+        }
+    }
+}
+
 impl FillContext<'_> {
-    pub(super) fn fill_band(&self, band: Band<'_>) -> SpanCounts {
+    /// Clears a band's buffers and draws its bin; returns the pixel counts.
+    pub(super) fn fill_band(&self, band: Band<'_>, bin: &[u32]) -> SpanCounts {
         let Band { y0, rows, color, depth, coverage } = band;
+        if let Some(bg) = self.background {
+            color.fill(bg);
+        }
+        depth.fill(f32::NEG_INFINITY);
+        coverage.fill(0);
         let mut total = SpanCounts::default();
         let (w, words) = (self.width, self.words);
-        for &pi in self.order {
+        for &pi in bin {
             let p = &self.polys[pi as usize];
             let verts = &self.screen[p.first as usize..(p.first + p.count) as usize];
             let shading = Shading {

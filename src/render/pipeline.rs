@@ -12,7 +12,9 @@ use std::time::Instant;
 use glam::{Mat4, Vec4};
 use thiserror::Error;
 
-use super::bands::{FillContext, split_bands};
+use rayon::iter::{IntoParallelIterator, ParallelIterator};
+
+use super::bands::{FillContext, bin, split_bands};
 use super::clip::{CLIP_ATTRS, ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
 use super::cull::{Frustum, world_sphere};
 use super::fixed::Fx28_4;
@@ -50,8 +52,8 @@ pub enum RenderError {
         /// Requested height.
         height: usize,
     },
-    /// A worker thread of the fill stage panicked.
-    #[error("a fill worker thread failed")]
+    /// The fill stage's worker threads could not be started.
+    #[error("could not start the fill worker threads")]
     WorkerFailed,
 }
 
@@ -114,6 +116,8 @@ pub struct Renderer {
     tris: Vec<[usize; 3]>,
     polys: Vec<DrawPolygon>,
     order: Vec<u32>,
+    bins: Vec<Vec<u32>>,
+    pool: Option<(usize, rayon::ThreadPool)>,
     depth: Vec<f32>,
     coverage: Vec<u64>,
     table: OrderingTable,
@@ -159,19 +163,46 @@ impl Renderer {
         if needed == 0 {
             return Ok(stats);
         }
-        let t = Instant::now();
-        self.geometry(width, height, camera, list, options, &mut stats);
-        let t_order = Instant::now();
-        self.order(options);
-        stats.ms_order = ms(t_order);
-        let t_fill = Instant::now();
-        let counts = self.fill(&mut frame[..needed], width, height, list, options)?;
-        stats.ms_fill = ms(t_fill);
+        let threads = match options.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n,
+        }
+        .clamp(1, height);
+        // The whole frame runs on the pool, not just the fill: the geometry then runs on a worker too, so it
+        // does not compete for a core with workers still spinning after the previous frame's fill.
+        let pool = match self.pool.take() {
+            Some((n, pool)) if n == threads => Some((n, pool)),
+            _ if threads == 1 => None,
+            _ => {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .thread_name(|i| format!("fill-{i}"))
+                    .build()
+                    .map_err(|_| RenderError::WorkerFailed)?;
+                Some((threads, pool))
+            }
+        };
+        let mut frame_steps = |this: &mut Self| {
+            let t = Instant::now();
+            this.geometry(width, height, camera, list, options, &mut stats);
+            let t_order = Instant::now();
+            this.order(options);
+            stats.ms_order = ms(t_order);
+            let t_fill = Instant::now();
+            let counts = this.fill(&mut frame[..needed], (width, height, threads), list, options);
+            stats.ms_fill = ms(t_fill);
+            debug_assert!(stats.ms_transform + stats.ms_clip <= ms(t) + 1.0);
+            counts
+        };
+        let counts = match &pool {
+            Some((_, p)) => p.install(|| frame_steps(self)),
+            None => frame_steps(self),
+        };
+        self.pool = pool;
         stats.pixels_shaded = counts.shaded;
         stats.pixels_written = counts.written;
         stats.pixels_rejected = counts.rejected;
         stats.pieces_filled = self.polys.len() as u64;
-        debug_assert!(stats.ms_transform + stats.ms_clip <= ms(t) + 1.0);
         Ok(stats)
     }
 
@@ -494,47 +525,40 @@ impl Renderer {
         }
     }
 
-    /// Clears the buffers the method needs and fills every polygon in order, in bands across threads.
+    /// Clears the buffers the method needs and fills every polygon in order, in bands, across the current
+    /// thread pool when `threads` is more than 1 (the caller runs this inside the pool).
     fn fill(
         &mut self,
         frame: &mut [u32],
-        width: usize,
-        height: usize,
+        (width, height, threads): (usize, usize, usize),
         list: &DrawList<'_>,
         options: &RenderOptions,
-    ) -> Result<SpanCounts, RenderError> {
-        if let Some(bg) = options.background {
-            frame.fill(bg);
-        }
+    ) -> SpanCounts {
         let visibility = match options.method {
             Method::ZBuffer => Visibility::DepthTest,
             Method::BucketNear => Visibility::Coverage,
             Method::Sort | Method::BucketFar | Method::ViewLists => Visibility::Overwrite,
         };
         let words = width.div_ceil(64);
-        if visibility == Visibility::DepthTest {
-            self.depth.clear();
+        // Sized here, cleared by each band just before it draws (while the rows are in cache, and in parallel).
+        let depth: &mut [f32] = if visibility == Visibility::DepthTest {
             self.depth.resize(width * height, f32::NEG_INFINITY);
-        }
-        if visibility == Visibility::Coverage {
-            self.coverage.clear();
+            &mut self.depth[..width * height]
+        } else {
+            &mut []
+        };
+        let coverage: &mut [u64] = if visibility == Visibility::Coverage {
             self.coverage.resize(words * height, 0);
-        }
-        let threads = match options.threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-            n => n,
-        }
-        .clamp(1, height);
-        // Several bands per thread, handed out as threads become free: the sky and the ground cost very
-        // different amounts, so one band per thread left a thread idle (2 threads ran 1.28x one on the demo
-        // race at 1280x720). Each band walks the polygon list once, so bands are kept at 8 rows or more.
-        let rows_per_band = if threads == 1 { height } else { height.div_ceil(threads * 8).max(8) };
-        let depth: &mut [f32] = if visibility == Visibility::DepthTest { &mut self.depth } else { &mut [] };
-        let coverage: &mut [u64] = if visibility == Visibility::Coverage { &mut self.coverage } else { &mut [] };
+            &mut self.coverage[..words * height]
+        } else {
+            &mut []
+        };
+        let rows_per_band = BAND_ROWS.min(height);
+        bin(&self.polys, &self.screen, &self.order, (height, rows_per_band), &mut self.bins);
         let ctx = FillContext {
             polys: &self.polys,
+            background: options.background,
             screen: &self.screen,
-            order: &self.order,
             list,
             options,
             visibility,
@@ -542,44 +566,24 @@ impl Renderer {
             words,
         };
         let bands = split_bands(frame, depth, coverage, width, words, rows_per_band);
-        if bands.len() == 1 {
-            let mut total = SpanCounts::default();
-            for band in bands {
-                total = ctx.fill_band(band);
-            }
-            return Ok(total);
+        let add = |a: SpanCounts, b: SpanCounts| SpanCounts {
+            shaded: a.shaded + b.shaded,
+            written: a.written + b.written,
+            rejected: a.rejected + b.rejected,
+        };
+        let jobs = bands.into_iter().zip(&self.bins);
+        if threads == 1 {
+            return jobs.map(|(band, b)| ctx.fill_band(band, b)).fold(SpanCounts::default(), add);
         }
-        let queue = std::sync::Mutex::new(bands.into_iter());
-        std::thread::scope(|s| {
-            let handles: Vec<_> = (0..threads)
-                .map(|_| {
-                    s.spawn(|| {
-                        let mut total = SpanCounts::default();
-                        loop {
-                            let next = match queue.lock() {
-                                Ok(mut q) => q.next(),
-                                Err(_) => return None,
-                            };
-                            let Some(band) = next else { return Some(total) };
-                            let c = ctx.fill_band(band);
-                            total.shaded += c.shaded;
-                            total.written += c.written;
-                            total.rejected += c.rejected;
-                        }
-                    })
-                })
-                .collect();
-            let mut total = SpanCounts::default();
-            for h in handles {
-                let c = h.join().ok().flatten().ok_or(RenderError::WorkerFailed)?;
-                total.shaded += c.shaded;
-                total.written += c.written;
-                total.rejected += c.rejected;
-            }
-            Ok(total)
-        })
+        // Bands are handed out by work stealing, as the sky and the ground cost very different amounts.
+        let jobs: Vec<_> = jobs.collect();
+        jobs.into_par_iter().map(|(band, b)| ctx.fill_band(band, b)).reduce(SpanCounts::default, add)
     }
 }
+
+/// Rows per band: small enough that a band's colour and depth rows stay in the core's cache while it is
+/// drawn and that bands balance across threads, large enough that few polygons are set up twice.
+const BAND_ROWS: usize = 32;
 
 /// The clip attributes layout is shared with [`super::clip`]; keep them in step.
 const _: () = assert!(CLIP_ATTRS == 7);
