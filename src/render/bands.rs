@@ -6,8 +6,8 @@
 use super::DrawList;
 use super::RenderOptions;
 use super::pipeline::DrawPolygon;
-use super::scanline::{ScreenVertex, fill_spans};
-use super::span::{Row, Shading, SpanCounts, Visibility, draw_span};
+use super::scanline::{ScreenVertex, Span, fill_spans, fill_spans_first};
+use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
 
 /// The rows of one band and their buffers.
 pub(super) struct Band<'a> {
@@ -119,18 +119,24 @@ impl FillContext<'_> {
                 screen_door: p.screen_door,
             };
             let band_rows = (y0 as i32, (y0 + rows) as i32);
-            fill_spans(verts, band_rows, w as i32, |span| {
+            let prepared = shading.prepare();
+            let draw = |span: &Span| {
                 let r = span.y as usize - y0;
                 let mut row = Row {
                     color: &mut color[r * w..(r + 1) * w],
                     depth: if depth.is_empty() { &mut [] } else { &mut depth[r * w..(r + 1) * w] },
                     coverage: if coverage.is_empty() { &mut [] } else { &mut coverage[r * words..(r + 1) * words] },
                 };
-                let c = draw_span(span, &shading, &mut row);
+                let c = draw_prepared(span, &shading, &prepared, &mut row);
                 total.shaded += c.shaded;
                 total.written += c.written;
                 total.rejected += c.rejected;
-            });
+            };
+            if prepared.needs_colour() {
+                fill_spans(verts, band_rows, w as i32, draw);
+            } else {
+                fill_spans_first::<4>(verts, band_rows, w as i32, draw);
+            }
         }
         total
     }

@@ -118,7 +118,7 @@ pub fn clip_polygon(
         let n = scratch.len();
         for i in 0..n {
             let a = scratch[i];
-            let b = scratch[(i + 1) % n];
+            let b = scratch[if i + 1 == n { 0 } else { i + 1 }];
             let da = volume.distances(a.pos)[plane];
             let db = volume.distances(b.pos)[plane];
             if da >= 0.0 {

@@ -26,8 +26,12 @@ impl Fx28_4 {
     #[must_use]
     pub fn from_f32(v: f32) -> Option<Self> {
         if v.is_finite() && v.abs() <= Self::MAX_PIXELS {
-            // Round half away from zero; the exact tie rule does not matter, only that it is fixed.
-            Some(Self((v * Self::ONE as f32).round() as i32))
+            // Round half away from zero (as `f32::round`, without its libm call: the x86-64 baseline has no
+            // rounding instruction). `s` is below 2^30, so truncation fits; the remainder is exact.
+            let s = v * Self::ONE as f32;
+            let t = s as i32;
+            let frac = s - t as f32;
+            Some(Self(t + i32::from(frac >= 0.5) - i32::from(frac <= -0.5)))
         } else {
             None
         }
@@ -61,6 +65,22 @@ pub fn ceil_div(n: i64, d: i64) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn snapping_rounds_as_f32_round() {
+        let mut vs = vec![0.03125f32, -0.03125, 0.09375, -0.09375, 1e-30, -0.0, 4_194_303.97, 67_108_864.0];
+        let mut seed = 0x9e37_79b9u32;
+        for _ in 0..200_000 {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            vs.push((seed as i32) as f32 / 31.0);
+            vs.push(f32::from_bits(seed) % Fx28_4::MAX_PIXELS);
+        }
+        for v in vs {
+            if let Some(f) = Fx28_4::from_f32(v) {
+                assert_eq!(f.0, (v * 16.0).round() as i32, "{v}");
+            }
+        }
+    }
 
     #[test]
     fn snapping_and_centres() {

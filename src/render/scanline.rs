@@ -64,31 +64,23 @@ pub struct Span {
 /// runs clockwise on screen (y down), which is glTF's back face.
 #[must_use]
 pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
-    let n = v.len();
-    let mut a = 0i64;
-    for i in 0..n {
-        let p = &v[i];
-        let q = &v[(i + 1) % n];
-        a += i64::from(p.x.0) * i64::from(q.y.0) - i64::from(q.x.0) * i64::from(p.y.0);
-    }
-    a
+    // Each vertex with the next, the last with the first (no `% n`: a division per vertex showed in profiles).
+    let next = v.iter().skip(1).chain(v.first());
+    v.iter().zip(next).map(|(p, q)| i64::from(p.x.0) * i64::from(q.y.0) - i64::from(q.x.0) * i64::from(p.y.0)).sum()
 }
 
 /// True when every horizontal line cuts the polygon outline at most twice (y goes down once and up once).
 #[must_use]
 pub fn is_y_monotone(v: &[ScreenVertex]) -> bool {
-    let n = v.len();
-    let mut changes = 0;
-    let mut last = 0i32;
-    // Start from the last non-zero direction so the count is cyclic.
-    for i in 0..n {
-        let d = (v[(i + 1) % n].y.0 - v[i].y.0).signum();
-        if d != 0 {
-            last = d;
-        }
+    if v.len() <= 3 {
+        return true; // a triangle (or less) always is
     }
-    for i in 0..n {
-        let d = (v[(i + 1) % n].y.0 - v[i].y.0).signum();
+    let next = || v.iter().skip(1).chain(v.first());
+    let dirs = || v.iter().zip(next()).map(|(p, q)| (q.y.0 - p.y.0).signum());
+    let mut changes = 0;
+    // Start from the last non-zero direction so the count is cyclic.
+    let mut last = dirs().filter(|&d| d != 0).last().unwrap_or(0);
+    for d in dirs() {
         if d != 0 {
             if d != last {
                 changes += 1;
@@ -120,7 +112,9 @@ struct Edge {
 }
 
 impl Edge {
-    fn new(a: &ScreenVertex, b: &ScreenVertex, end: usize, row: i32) -> Self {
+    /// The edge from `a` down to `b`, positioned at `row`, with the first `N` attributes set up.
+    #[inline]
+    fn new<const N: usize>(a: &ScreenVertex, b: &ScreenVertex, end: usize, row: i32) -> Self {
         let (x0, y0) = (i64::from(a.x.0), i64::from(a.y.0));
         let (x1, y1) = (i64::from(b.x.0), i64::from(b.y.0));
         let dy = y1 - y0;
@@ -135,8 +129,8 @@ impl Edge {
         let s = one * dx;
         let fy = dy as f32 / one as f32;
         let mut dady = [0.0; ATTRS];
-        for (i, v) in dady.iter_mut().enumerate() {
-            *v = (b.attrs[i] - a.attrs[i]) / fy;
+        for (d, (bv, av)) in dady.iter_mut().zip(b.attrs.iter().zip(&a.attrs)).take(N) {
+            *d = (bv - av) / fy;
         }
         Self {
             bottom: b.y.0,
@@ -170,28 +164,28 @@ impl Edge {
     }
 
     #[inline]
-    fn sample(&self, row: i32) -> (f32, [f32; ATTRS]) {
+    fn sample<const N: usize>(&self, row: i32) -> (f32, [f32; ATTRS]) {
         let t = row as f32 + 0.5 - self.y0;
         let mut a = [0.0; ATTRS];
-        for (i, v) in a.iter_mut().enumerate() {
-            *v = self.a0[i] + t * self.dady[i];
+        for (v, (a0, d)) in a.iter_mut().zip(self.a0.iter().zip(&self.dady)).take(N) {
+            *v = a0 + t * d;
         }
         (self.x0 + t * self.dxdy, a)
     }
 }
 
 /// Finds the edge of a chain (walking from vertex `from` in steps of `dir`) that covers `row`.
-fn edge_for_row(v: &[ScreenVertex], from: usize, dir: usize, row: i32) -> Option<Edge> {
+fn edge_for_row<const N: usize>(v: &[ScreenVertex], from: usize, dir: usize, row: i32) -> Option<Edge> {
     let n = v.len();
     let yc = row * Fx28_4::ONE + Fx28_4::HALF;
     let mut i = from;
     for _ in 0..n {
-        let j = (i + dir) % n;
+        let j = if i + dir >= n { i + dir - n } else { i + dir };
         if v[j].y.0 < v[i].y.0 {
             return None; // the chain turned upwards: not y-monotone
         }
         if v[j].y.0 > yc {
-            return Some(Edge::new(&v[i], &v[j], j, row));
+            return Some(Edge::new::<N>(&v[i], &v[j], j, row));
         }
         i = j;
     }
@@ -201,7 +195,13 @@ fn edge_for_row(v: &[ScreenVertex], from: usize, dir: usize, row: i32) -> Option
 /// Emits the spans of a y-monotone polygon on rows `rows.0..rows.1`, clipped to `0..width`.
 ///
 /// Zero-area polygons emit nothing. The vertex order may be either winding.
-pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: impl FnMut(&Span)) {
+pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, emit: impl FnMut(&Span)) {
+    fill_spans_first::<ATTRS>(v, rows, width, emit);
+}
+
+/// [`fill_spans`] interpolating only the first `N` attributes (the others are 0 in the spans): a polygon of
+/// one colour needs only depth and texture coordinates, half the work per row for small polygons.
+pub fn fill_spans_first<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: impl FnMut(&Span)) {
     let n = v.len();
     if n < 3 {
         return;
@@ -227,20 +227,20 @@ pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: im
     // With y down, a positive area means the forward chain from the top runs down the right side.
     let (ldir, rdir) = if area > 0 { (n - 1, 1) } else { (1, n - 1) };
     let (Some(mut left), Some(mut right)) =
-        (edge_for_row(v, top, ldir, row_start), edge_for_row(v, top, rdir, row_start))
+        (edge_for_row::<N>(v, top, ldir, row_start), edge_for_row::<N>(v, top, rdir, row_start))
     else {
         return;
     };
     for row in row_start..row_end {
         let yc = row * Fx28_4::ONE + Fx28_4::HALF;
         if yc >= left.bottom {
-            match edge_for_row(v, left.end, ldir, row) {
+            match edge_for_row::<N>(v, left.end, ldir, row) {
                 Some(e) => left = e,
                 None => return,
             }
         }
         if yc >= right.bottom {
-            match edge_for_row(v, right.end, rdir, row) {
+            match edge_for_row::<N>(v, right.end, rdir, row) {
                 Some(e) => right = e,
                 None => return,
             }
@@ -248,14 +248,14 @@ pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: im
         let xs = left.pixel().max(0);
         let xe = right.pixel().min(i64::from(width));
         if xs < xe {
-            let (xl, al) = left.sample(row);
-            let (xr, ar) = right.sample(row);
+            let (xl, al) = left.sample::<N>(row);
+            let (xr, ar) = right.sample::<N>(row);
             let dx = xr - xl;
             let inv = if dx > 1.0 / 64.0 { 1.0 / dx } else { 0.0 };
             let off = xs as f32 + 0.5 - xl;
             let mut a0 = [0.0; ATTRS];
             let mut da = [0.0; ATTRS];
-            for i in 0..ATTRS {
+            for i in 0..N.min(ATTRS) {
                 da[i] = (ar[i] - al[i]) * inv;
                 a0[i] = al[i] + off * da[i];
             }

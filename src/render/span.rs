@@ -94,23 +94,52 @@ fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective: bool) -> 
     [at(slot::S) * w, at(slot::T) * w, at(r) * w, at(r + 1) * w, at(r + 2) * w, at(r + 3) * w]
 }
 
+/// How a polygon's spans are drawn, chosen once per polygon from its [`Shading`].
+#[derive(Clone, Copy)]
+pub struct Prepared<'a> {
+    /// The fast path's colour source and alpha mask (the polygon's alpha and the cutoff), if one applies.
+    fast: Option<(Source<'a>, Option<(f32, f32)>)>,
+}
+
+impl Prepared<'_> {
+    /// True when spans need only the first four attributes (depth, `1/w`, `u/w`, `v/w`): the fast paths
+    /// take the polygon's one colour instead of interpolating it.
+    #[must_use]
+    pub fn needs_colour(&self) -> bool {
+        self.fast.is_none()
+    }
+}
+
+impl<'a> Shading<'a> {
+    /// Chooses the fast path (if any) for spans with this shading.
+    #[must_use]
+    pub fn prepare(&self) -> Prepared<'a> {
+        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
+        let source = match (self.texture, self.constant_color, self.alpha_cutoff) {
+            _ if self.screen_door => None,
+            (None, Some(c), None) => Some(Source::Flat(pack_rgb(c))),
+            (Some(t), Some([1.0, 1.0, 1.0, _]), _) if nearest_perspective => Some(Source::Texel(t, self.sampler)),
+            (Some(t), Some(c), _) if nearest_perspective => {
+                // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
+                let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
+                Some(Source::Tinted(t, self.sampler, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
+            }
+            _ => None,
+        };
+        let alpha = self.alpha_cutoff.zip(self.constant_color).map(|(cutoff, c)| (c[3], cutoff));
+        Prepared { fast: source.map(|s| (s, alpha)) }
+    }
+}
+
 /// Draws one span into a row and returns the pixel counts.
 pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts {
-    let nearest_perspective = sh.filter == Filter::Nearest && sh.mode == TextureMode::Perspective;
-    let source = match (sh.texture, sh.constant_color, sh.alpha_cutoff) {
-        _ if sh.screen_door => None,
-        (None, Some(c), None) => Some(Source::Flat(pack_rgb(c))),
-        (Some(t), Some([1.0, 1.0, 1.0, _]), _) if nearest_perspective => Some(Source::Texel(t, sh.sampler)),
-        (Some(t), Some(c), _) if nearest_perspective => {
-            // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
-            let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
-            Some(Source::Tinted(t, sh.sampler, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
-        }
-        _ => None,
-    };
-    let alpha = sh.alpha_cutoff.zip(sh.constant_color).map(|(cutoff, c)| (c[3], cutoff));
-    match source {
-        Some(source) => span_lanes::draw(span, source, alpha, sh.visibility, row),
+    draw_prepared(span, sh, &sh.prepare(), row)
+}
+
+/// Draws one span with the path chosen by [`Shading::prepare`] (`prepared` must come from `sh`).
+pub fn draw_prepared(span: &Span, sh: &Shading<'_>, prepared: &Prepared<'_>, row: &mut Row<'_>) -> SpanCounts {
+    match prepared.fast {
+        Some((source, alpha)) => span_lanes::draw(span, source, alpha, sh.visibility, row),
         None => draw_general(span, sh, row),
     }
 }
