@@ -18,6 +18,7 @@ pub mod monotone;
 pub mod ordering_table;
 pub mod overlay;
 pub mod pipeline;
+mod project;
 pub mod scanline;
 pub mod span;
 #[cfg(target_arch = "x86_64")]

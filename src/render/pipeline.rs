@@ -12,22 +12,20 @@ use std::time::Instant;
 use glam::{Mat4, Vec4};
 use thiserror::Error;
 
-use rayon::iter::{IntoParallelIterator, ParallelIterator};
+use rayon::iter::{IndexedParallelIterator, IntoParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
 
 use super::bands::{FillContext, bin, split_bands};
-use super::clip::{CLIP_ATTRS, ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
+use super::clip::{CLIP_ATTRS, ClipVolume};
 use super::cull::{Frustum, world_sphere};
-use super::fixed::Fx28_4;
 use super::lod::{Level, LodMode, LodState, choose};
-use super::mesh::AlphaMode;
 use super::mesh::DEPTH_BIAS_STEP;
-use super::monotone::triangulate;
 use super::ordering_table::{Direction, OrderingTable};
-use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
+use super::project::{Batch, ObjectSetup};
+use super::scanline::{ScreenVertex, slot};
 use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
 use super::view_lists::model_direction;
-use super::{Camera, DepthKey, DrawList, Method, RenderOptions, Stats};
+use super::{Camera, DrawList, Method, RenderOptions, Stats};
 
 /// Why a frame could not be drawn.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -75,7 +73,7 @@ pub(super) struct DrawPolygon {
 /// does: the slope term covers the depth error of snapping vertices to 1/16 pixel, which at a grazing angle
 /// exceeds any constant offset; the constant covers surfaces seen face on. A constant added to `1/w` keeps
 /// it affine in screen space, so interpolation stays exact.
-fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
+pub(super) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
     let d = |v: &ScreenVertex| (v.x.to_f32(), v.y.to_f32(), v.attrs[slot::DEPTH]);
     let mut slope = 0.0f32;
     let mut nearest = 0.0f32;
@@ -108,13 +106,8 @@ fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
 pub struct Renderer {
     clip_pos: Vec<Vec4>,
     view_depth: Vec<f32>,
-    clip_in: Vec<ClipVertex>,
-    clip_out: Vec<ClipVertex>,
-    clip_scratch: Vec<ClipVertex>,
-    screen: Vec<ScreenVertex>,
-    piece: Vec<ScreenVertex>,
-    tris: Vec<[usize; 3]>,
-    polys: Vec<DrawPolygon>,
+    main: Batch,
+    batches: Vec<Batch>,
     order: Vec<u32>,
     bins: Vec<Vec<u32>>,
     pool: Option<(usize, rayon::ThreadPool)>,
@@ -184,7 +177,7 @@ impl Renderer {
         };
         let mut frame_steps = |this: &mut Self| {
             let t = Instant::now();
-            this.geometry(width, height, camera, list, options, &mut stats);
+            this.geometry((width, height, threads), camera, list, options, &mut stats);
             let t_order = Instant::now();
             this.order(options);
             stats.ms_order = ms(t_order);
@@ -202,7 +195,7 @@ impl Renderer {
         stats.pixels_shaded = counts.shaded;
         stats.pixels_written = counts.written;
         stats.pixels_rejected = counts.rejected;
-        stats.pieces_filled = self.polys.len() as u64;
+        stats.pieces_filled = self.main.polys.len() as u64;
         Ok(stats)
     }
 
@@ -287,18 +280,16 @@ impl Renderer {
         Some(chosen)
     }
 
-    /// Cull, transform, clip, project, snap, back-face cull; fills `self.polys` and `self.screen`.
+    /// Cull, transform, clip, project, snap, back-face cull; fills `self.main.polys` and `self.main.screen`.
     fn geometry(
         &mut self,
-        width: usize,
-        height: usize,
+        (width, height, threads): (usize, usize, usize),
         camera: &Camera,
         list: &DrawList<'_>,
         options: &RenderOptions,
         stats: &mut Stats,
     ) {
-        self.polys.clear();
-        self.screen.clear();
+        self.main.clear();
         let clip_from_world = camera.clip_from_view(width, height) * camera.view;
         let frustum = Frustum::new(&clip_from_world, camera.has_far_plane());
         let volume = ClipVolume::new(width, height, camera.has_far_plane());
@@ -360,137 +351,38 @@ impl Renderer {
                 _ => (None, None),
             };
             let count = stored.map_or(own_polygons, <[u32]>::len);
-            for k in 0..count {
-                let Some(poly) = mesh.polygons().get(stored.map_or(k, |o| o[k] as usize)) else { continue };
-                let idx = mesh.polygon_indices(poly);
-                let material = mesh.materials().get(poly.material as usize).cloned().unwrap_or_default();
-                self.clip_in.clear();
-                let mut finite = true;
-                for &i in idx {
-                    let i = i as usize;
-                    let v = &mesh.vertices()[i];
-                    let pos = self.clip_pos[i];
-                    let c = v.color * material.base_color;
-                    finite &= pos.is_finite() && self.view_depth[i].is_finite();
-                    self.clip_in
-                        .push(ClipVertex { pos, attrs: [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, self.view_depth[i]] });
+            let object = ObjectSetup {
+                mesh,
+                stored,
+                clip_pos: &self.clip_pos,
+                view_depth: &self.view_depth,
+                volume: &volume,
+                key: options.key,
+                perspective: camera.is_perspective(),
+                perspective_attrs,
+                size: (wf, hf),
+                object_key,
+                textures: list.textures.len(),
+                see_through: inst.see_through,
+            };
+            if threads > 1 && count >= PARALLEL_POLYGONS {
+                // Pieces of the polygon list set up in parallel, then appended in order: the result is the
+                // same as one pass, for any thread count.
+                let pieces = threads * 4;
+                self.batches.resize_with(pieces, Batch::default);
+                self.batches.par_iter_mut().enumerate().for_each(|(i, b)| {
+                    b.clear();
+                    object.run(count * i / pieces..count * (i + 1) / pieces, b);
+                });
+                for b in &mut self.batches {
+                    self.main.append(b);
                 }
-                if !finite {
-                    stats.polygons_invalid += 1;
-                    continue;
-                }
-                match clip_polygon(&self.clip_in, &volume, &mut self.clip_out, &mut self.clip_scratch) {
-                    ClipResult::Outside => {
-                        stats.polygons_outside += 1;
-                        continue;
-                    }
-                    ClipResult::Clipped => stats.polygons_clipped += 1,
-                    ClipResult::Inside => {}
-                }
-                // Project and snap.
-                let first = self.screen.len();
-                let mut ok = true;
-                let mut key = match options.key {
-                    DepthKey::Avg => 0.0,
-                    DepthKey::Min => f32::INFINITY,
-                    DepthKey::Max => f32::NEG_INFINITY,
-                };
-                for cv in &self.clip_out {
-                    let p = cv.pos;
-                    let q = 1.0 / p.w;
-                    let sx = (p.x * q + 1.0) * 0.5 * wf;
-                    let sy = (1.0 - p.y * q) * 0.5 * hf;
-                    let (Some(x), Some(y)) = (Fx28_4::from_f32(sx), Fx28_4::from_f32(sy)) else {
-                        ok = false;
-                        break;
-                    };
-                    if !(p.w > 0.0 && q.is_finite()) {
-                        ok = false;
-                        break;
-                    }
-                    let depth = if camera.is_perspective() { q } else { 0.5 * (1.0 - p.z * q) };
-                    let a = &cv.attrs;
-                    let m = if perspective_attrs { q } else { 1.0 };
-                    let mut attrs = [0.0; ATTRS];
-                    attrs[slot::DEPTH] = depth;
-                    attrs[slot::Q] = m;
-                    attrs[slot::S] = a[0] * m;
-                    attrs[slot::T] = a[1] * m;
-                    for c in 0..4 {
-                        attrs[slot::RGBA + c] = a[2 + c] * m;
-                    }
-                    self.screen.push(ScreenVertex { x, y, attrs });
-                    let d = a[VIEW_DEPTH];
-                    key = match options.key {
-                        DepthKey::Avg => key + d,
-                        DepthKey::Min => key.min(d),
-                        DepthKey::Max => key.max(d),
-                    };
-                }
-                let n = self.screen.len() - first;
-                if !ok {
-                    self.screen.truncate(first);
-                    stats.polygons_invalid += 1;
-                    continue;
-                }
-                if options.key == DepthKey::Avg {
-                    key /= n as f32;
-                }
-                if material.depth_bias > 0 {
-                    slope_scaled_bias(&mut self.screen[first..], material.depth_bias);
-                }
-                // A stored order keeps the object's polygons together, placed by the object's depth.
-                if let Some(k) = object_key {
-                    key = k;
-                }
-                let area = signed_area2(&self.screen[first..]);
-                if area == 0 {
-                    self.screen.truncate(first);
-                    stats.polygons_degenerate += 1;
-                    continue;
-                }
-                if area > 0 && !material.double_sided {
-                    self.screen.truncate(first);
-                    stats.polygons_backface += 1;
-                    continue;
-                }
-                stats.polygons_drawn += 1;
-                let texture = material.texture.filter(|&t| t < list.textures.len()).map(|t| t as u32);
-                let alpha_cutoff = match material.alpha_mode {
-                    AlphaMode::Opaque => None,
-                    AlphaMode::Mask { cutoff } => Some(cutoff),
-                };
-                let first_color = self.clip_out.first().map(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]]);
-                let constant_color = first_color
-                    .filter(|c| self.clip_out.iter().all(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]] == *c));
-                let base = DrawPolygon {
-                    first: first as u32,
-                    count: n as u32,
-                    key,
-                    texture,
-                    sampler: material.sampler,
-                    alpha_cutoff,
-                    constant_color,
-                    screen_door: inst.see_through,
-                };
-                if is_y_monotone(&self.screen[first..]) {
-                    self.polys.push(base);
-                } else {
-                    stats.polygons_split += 1;
-                    self.tris.clear();
-                    self.piece.clear();
-                    self.piece.extend_from_slice(&self.screen[first..]);
-                    triangulate(&self.piece, area.signum(), &mut self.tris);
-                    self.screen.truncate(first);
-                    for t in &self.tris {
-                        let f = self.screen.len() as u32;
-                        self.screen.extend(t.iter().map(|&i| self.piece[i]));
-                        self.polys.push(DrawPolygon { first: f, count: 3, ..base });
-                    }
-                }
+            } else {
+                object.run(0..count, &mut self.main);
             }
             stats.ms_clip += ms(t_clip);
         }
+        self.main.counts.add_to(stats);
     }
 
     /// Fills `self.order` with polygon indices in drawing order.
@@ -498,16 +390,16 @@ impl Renderer {
         self.order.clear();
         self.used_table = matches!(options.method, Method::BucketFar | Method::BucketNear | Method::ViewLists);
         match options.method {
-            Method::ZBuffer => self.order.extend(0..self.polys.len() as u32),
+            Method::ZBuffer => self.order.extend(0..self.main.polys.len() as u32),
             Method::Sort => {
-                self.order.extend(0..self.polys.len() as u32);
-                let polys = &self.polys;
+                self.order.extend(0..self.main.polys.len() as u32);
+                let polys = &self.main.polys;
                 // Stable: polygons with equal keys keep submission order. Far (large key) first.
                 self.order.sort_by(|&a, &b| polys[b as usize].key.total_cmp(&polys[a as usize].key));
             }
             Method::BucketFar | Method::BucketNear | Method::ViewLists => {
                 let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
-                for p in &self.polys {
+                for p in &self.main.polys {
                     if p.key.is_finite() {
                         near = near.min(p.key);
                         far = far.max(p.key);
@@ -516,7 +408,7 @@ impl Renderer {
                 let direction =
                     if options.method == Method::BucketNear { Direction::NearToFar } else { Direction::FarToNear };
                 self.table.reset(options.buckets, options.mapping, near, far, direction);
-                for p in &self.polys {
+                for p in &self.main.polys {
                     self.table.register(p.key);
                 }
                 self.table.chain();
@@ -554,11 +446,11 @@ impl Renderer {
             &mut []
         };
         let rows_per_band = BAND_ROWS.min(height);
-        bin(&self.polys, &self.screen, &self.order, (height, rows_per_band), &mut self.bins);
+        bin(&self.main.polys, &self.main.screen, &self.order, (height, rows_per_band), &mut self.bins);
         let ctx = FillContext {
-            polys: &self.polys,
+            polys: &self.main.polys,
             background: options.background,
-            screen: &self.screen,
+            screen: &self.main.screen,
             list,
             options,
             visibility,
@@ -580,6 +472,10 @@ impl Renderer {
         jobs.into_par_iter().map(|(band, b)| ctx.fill_band(band, b)).reduce(SpanCounts::default, add)
     }
 }
+
+/// Objects with at least this many polygons are set up in pieces on several threads (below it, handing out
+/// the pieces costs more than it saves).
+const PARALLEL_POLYGONS: usize = 1024;
 
 /// Rows per band: small enough that a band's colour and depth rows stay in the core's cache while it is
 /// drawn and that bands balance across threads, large enough that few polygons are set up twice.
