@@ -111,8 +111,6 @@ pub struct Renderer {
     order: Vec<u32>,
     bins: Vec<Vec<u32>>,
     pool: Option<(usize, rayon::ThreadPool)>,
-    depth: Vec<f32>,
-    coverage: Vec<u64>,
     table: OrderingTable,
     used_table: bool,
     lod_state: LodState,
@@ -432,19 +430,6 @@ impl Renderer {
             Method::Sort | Method::BucketFar | Method::ViewLists => Visibility::Overwrite,
         };
         let words = width.div_ceil(64);
-        // Sized here, cleared by each band just before it draws (while the rows are in cache, and in parallel).
-        let depth: &mut [f32] = if visibility == Visibility::DepthTest {
-            self.depth.resize(width * height, f32::NEG_INFINITY);
-            &mut self.depth[..width * height]
-        } else {
-            &mut []
-        };
-        let coverage: &mut [u64] = if visibility == Visibility::Coverage {
-            self.coverage.resize(words * height, 0);
-            &mut self.coverage[..words * height]
-        } else {
-            &mut []
-        };
         let rows_per_band = BAND_ROWS.min(height);
         bin(&self.main.polys, &self.main.screen, &self.order, (height, rows_per_band), &mut self.bins);
         let ctx = FillContext {
@@ -457,7 +442,7 @@ impl Renderer {
             width,
             words,
         };
-        let bands = split_bands(frame, depth, coverage, width, words, rows_per_band);
+        let bands = split_bands(frame, width, rows_per_band);
         let add = |a: SpanCounts, b: SpanCounts| SpanCounts {
             shaded: a.shaded + b.shaded,
             written: a.written + b.written,
