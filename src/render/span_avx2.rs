@@ -54,6 +54,16 @@ macro_rules! floor_i32x8 {
     }};
 }
 
+/// `floor_i32` on eight lanes whose values are known finite and within `±2^30`: the truncation corrected
+/// downwards, without the saturation and NaN fix-ups (which would change nothing).
+macro_rules! floor_in_range_x8 {
+    ($f:expr) => {{
+        let f: __m256 = $f;
+        let i = _mm256_cvttps_epi32(f);
+        _mm256_add_epi32(i, _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(f, _mm256_cvtepi32_ps(i))))
+    }};
+}
+
 /// Texel coordinates folded into `0..size` on eight lanes, or `None` for wrap modes drawn per lane.
 macro_rules! wrap_x8 {
     ($i:expr, $size:expr, $mode:expr) => {{
@@ -71,14 +81,18 @@ macro_rules! wrap_x8 {
 
 /// The nearest texels of eight pixels at pixel offsets `k`.
 macro_rules! texels_x8 {
-    ($s:expr, $k:expr, $tex:expr, $sampler:expr) => {{
+    ($s:expr, $k:expr, $tex:expr, $sampler:expr, $in_range:expr) => {{
         let (s, k, tex, sampler): (&Setup, __m256, &Texture, Sampler) = ($s, $k, $tex, $sampler);
         let q = _mm256_add_ps(_mm256_set1_ps(s.q0), _mm256_mul_ps(k, _mm256_set1_ps(s.dq)));
         let q = _mm256_div_ps(_mm256_set1_ps(1.0), q);
         let u = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.s0), _mm256_mul_ps(k, _mm256_set1_ps(s.ds))), q);
         let v = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.t0), _mm256_mul_ps(k, _mm256_set1_ps(s.dt))), q);
-        let xi = floor_i32x8!(_mm256_mul_ps(u, _mm256_set1_ps(s.w)));
-        let yi = floor_i32x8!(_mm256_mul_ps(v, _mm256_set1_ps(s.h)));
+        let (fx, fy) = (_mm256_mul_ps(u, _mm256_set1_ps(s.w)), _mm256_mul_ps(v, _mm256_set1_ps(s.h)));
+        let (xi, yi) = if $in_range {
+            (floor_in_range_x8!(fx), floor_in_range_x8!(fy))
+        } else {
+            (floor_i32x8!(fx), floor_i32x8!(fy))
+        };
         let texels = tex.texels();
         let wrapped = wrap_x8!(xi, tex.width(), sampler.wrap_s).zip(wrap_x8!(yi, tex.height(), sampler.wrap_t));
         let out: [u32; LANES] = match wrapped {
@@ -130,6 +144,7 @@ pub(super) fn chunks<const VIS: u8, const SRC: u8>(
     let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let width = row.color.len();
+    let in_range = texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
     let mut x = x0;
     while x < x1 {
         let c = if x + LANES <= width {
@@ -173,7 +188,7 @@ pub(super) fn chunks<const VIS: u8, const SRC: u8>(
         }
         let texels = match (SRC, tex) {
             (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
-            (_, Some((t, sampler))) => texels_x8!(s, k, t, sampler),
+            (_, Some((t, sampler))) => texels_x8!(s, k, t, sampler, in_range),
         };
         // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
         let write = match alpha {
@@ -204,4 +219,18 @@ pub(super) fn chunks<const VIS: u8, const SRC: u8>(
         }
     }
     x.min(x1)
+}
+
+/// True when the texel coordinates of every pixel of a span `0..=last` (in offsets from its start) are
+/// finite and within `±2^30`. Perspective-correct coordinates are ratios of linear functions, monotone
+/// wherever the denominator `1/w` keeps its sign, so checking both ends (with `1/w` clearly positive at
+/// both) bounds the pixels between them; the margin to `2^31` covers their rounding.
+fn texel_coordinates_in_range(s: &Setup, last: usize) -> bool {
+    let at = |k: f32| {
+        let q = s.q0 + k * s.dq;
+        let r = 1.0 / q;
+        let (x, y) = ((s.s0 + k * s.ds) * r * s.w, (s.t0 + k * s.dt) * r * s.h);
+        q > 1e-30 && q.is_finite() && x.abs() < 1_073_741_824.0 && y.abs() < 1_073_741_824.0
+    };
+    at(0.0) && at(last as f32)
 }
