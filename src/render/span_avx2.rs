@@ -144,7 +144,7 @@ pub(super) fn chunks<const VIS: u8, const SRC: u8>(
     let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let width = row.color.len();
-    let in_range = texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
+    let in_range = SRC != FLAT && texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
     let mut x = x0;
     while x < x1 {
         let c = if x + LANES <= width {
