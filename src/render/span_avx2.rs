@@ -147,6 +147,17 @@ pub(super) fn chunks<const VIS: u8, const SRC: u8>(
     let in_range = SRC != FLAT && texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
     let mut x = x0;
     while x < x1 {
+        // `bucket-near`: skip the rest of a coverage word at once when all of it is drawn (on deep scenes
+        // most of a late polygon's pixels are).
+        if VIS == COVERAGE {
+            let (word, bit) = (x >> 6, x & 63);
+            if row.coverage.get(word).is_some_and(|&w| w >> bit == u64::MAX >> bit) {
+                let next = ((word + 1) << 6).min(x1);
+                counts.rejected += (next - x) as u64;
+                x = next;
+                continue;
+            }
+        }
         let c = if x + LANES <= width {
             x
         } else if width >= LANES {

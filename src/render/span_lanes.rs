@@ -50,6 +50,17 @@ pub(super) fn draw(
         };
     }
     match source {
+        // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
+        Source::Flat(c) if vis == Visibility::Overwrite => {
+            let n = span.x1.saturating_sub(span.x0).max(0) as u64;
+            match row.color.get_mut(span.x0.max(0) as usize..span.x1.max(0) as usize) {
+                Some(run) => {
+                    run.fill(c);
+                    SpanCounts { shaded: n, written: n, rejected: 0 }
+                }
+                None => SpanCounts::default(),
+            }
+        }
         Source::Flat(c) => by_vis!(FLAT, None, (c, [0; 3], None)),
         Source::Texel(t, s) => by_vis!(TEXEL, Some((t, s)), (0, [0; 3], alpha)),
         Source::Tinted(t, s, tint) => by_vis!(TINTED, Some((t, s)), (0, tint, alpha)),
@@ -298,8 +309,14 @@ mod tests {
             let span = Span { y: 0, x0, x1, a0, da };
             let color: Vec<u32> = (0..width).map(|_| rng.next()).collect();
             let depth: Vec<f32> = (0..width).map(|_| rng.float(hostile)).collect();
-            let coverage: Vec<u64> =
-                (0..width.div_ceil(64)).map(|_| u64::from(rng.next()) << 32 | u64::from(rng.next())).collect();
+            // Random words, and often whole words drawn (which the chunk loop skips at once).
+            let coverage: Vec<u64> = (0..width.div_ceil(64))
+                .map(|_| match rng.below(3) {
+                    0 => u64::MAX,
+                    1 => u64::MAX << rng.below(64),
+                    _ => u64::from(rng.next()) << 32 | u64::from(rng.next()),
+                })
+                .collect();
             let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
             let alpha = (rng.below(2) == 0).then(|| (rng.float(hostile), rng.float(false) * 0.3));
             let sources = [Source::Flat(rng.next()), Source::Texel(&tex, sampler), Source::Tinted(&tex, sampler, tint)];
