@@ -30,6 +30,19 @@ pub(super) struct Counts {
 }
 
 impl Counts {
+    /// The polygon counts of a frame's statistics.
+    fn from_stats(s: &Stats) -> Self {
+        Self {
+            invalid: s.polygons_invalid,
+            outside: s.polygons_outside,
+            clipped: s.polygons_clipped,
+            degenerate: s.polygons_degenerate,
+            backface: s.polygons_backface,
+            drawn: s.polygons_drawn,
+            split: s.polygons_split,
+        }
+    }
+
     /// Adds these counts to a frame's statistics.
     pub(super) fn add_to(&self, stats: &mut Stats) {
         stats.polygons_invalid += self.invalid;
@@ -68,15 +81,10 @@ impl Batch {
         let base = self.screen.len() as u32;
         self.screen.append(&mut other.screen);
         self.polys.extend(other.polys.drain(..).map(|p| DrawPolygon { first: p.first + base, ..p }));
-        let (a, b) = (&mut self.counts, &other.counts);
-        a.invalid += b.invalid;
-        a.outside += b.outside;
-        a.clipped += b.clipped;
-        a.degenerate += b.degenerate;
-        a.backface += b.backface;
-        a.drawn += b.drawn;
-        a.split += b.split;
-        other.counts = Counts::default();
+        let mut stats = Stats::default();
+        self.counts.add_to(&mut stats);
+        std::mem::take(&mut other.counts).add_to(&mut stats);
+        self.counts = Counts::from_stats(&stats);
     }
 }
 
