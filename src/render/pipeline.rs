@@ -1,10 +1,12 @@
 //! The frame pipeline: ties the stages together, owns the per-frame scratch buffers, and splits the fill
 //! into horizontal bands drawn in parallel.
 //!
-//! Geometry (cull, transform, clip, snap, order) runs once per frame on the calling thread. The fill then
-//! runs in bands of rows, one per worker: every band walks the same ordered polygon list and draws only its
-//! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
-//! polygon's vertices, a row's pixels do not depend on which band drew it: frames are bit-identical for
+//! With more than one thread the whole frame runs on a rayon pool kept between frames. Geometry (cull,
+//! transform, clip, snap, order) runs once per frame, a big object's polygons set up in pieces across the
+//! pool and appended in order (`project.rs`). The fill then runs in bands of 32 rows handed out by work
+//! stealing: the ordered polygons are binned once by band, and each band draws only its bin on its own rows
+//! ([`super::bands`]). Because edge positions are exact integers and attributes are evaluated per row from
+//! the polygon's vertices, a row's pixels do not depend on which band drew it: frames are bit-identical for
 //! every thread count.
 
 use std::time::Instant;
