@@ -69,15 +69,34 @@ pub enum ClipResult {
     Outside,
 }
 
-fn outcode_view(p: Vec4, far: bool) -> u8 {
-    let mut c = 0;
-    c |= u8::from(p.z < -p.w);
-    c |= u8::from(far && p.z > p.w) << 1;
-    c |= u8::from(p.x < -p.w) << 2;
-    c |= u8::from(p.x > p.w) << 3;
-    c |= u8::from(p.y < -p.w) << 4;
-    c |= u8::from(p.y > p.w) << 5;
-    c
+/// Where one vertex lies against the clip volume, as two sets of bits (one per plane: near, far, then the
+/// sides): a polygon is rejected when its vertices share a bit of `outside`, and must be cut when any of
+/// them has a bit of `cut`. Set-up computes these once per vertex, not once per polygon corner.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VertexCodes {
+    /// Outside the view volume proper (sides at the frame edge), per plane.
+    pub outside: u8,
+    /// Behind a clip plane (sides at the guard band), per plane.
+    pub cut: u8,
+}
+
+impl ClipVolume {
+    /// The clip codes of a vertex at clip-space position `p`.
+    #[must_use]
+    pub fn codes(&self, p: Vec4) -> VertexCodes {
+        let mut outside = 0;
+        outside |= u8::from(p.z < -p.w);
+        outside |= u8::from(self.far && p.z > p.w) << 1;
+        outside |= u8::from(p.x < -p.w) << 2;
+        outside |= u8::from(p.x > p.w) << 3;
+        outside |= u8::from(p.y < -p.w) << 4;
+        outside |= u8::from(p.y > p.w) << 5;
+        let mut cut = 0;
+        for (i, d) in self.distances(p).iter().enumerate() {
+            cut |= u8::from(*d < 0.0) << i;
+        }
+        VertexCodes { outside, cut }
+    }
 }
 
 /// Clips a polygon into `out` (cleared first), using `scratch` as working space.
@@ -90,20 +109,14 @@ pub fn clip_polygon(
     scratch: &mut Vec<ClipVertex>,
 ) -> ClipResult {
     out.clear();
-    let mut all = u8::MAX;
+    let (mut all, mut need) = (u8::MAX, 0u8);
     for v in input {
-        all &= outcode_view(v.pos, volume.far);
+        let c = volume.codes(v.pos);
+        all &= c.outside;
+        need |= c.cut;
     }
     if all != 0 {
         return ClipResult::Outside;
-    }
-    let mut need = 0u8;
-    for v in input {
-        for (i, d) in volume.distances(v.pos).iter().enumerate() {
-            if *d < 0.0 {
-                need |= 1 << i;
-            }
-        }
     }
     out.extend_from_slice(input);
     if need == 0 {

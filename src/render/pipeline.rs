@@ -11,10 +11,11 @@
 
 use std::time::Instant;
 
-use glam::{Mat4, Vec4};
+use glam::Mat4;
 use thiserror::Error;
 
 use rayon::iter::{IndexedParallelIterator, IntoParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
+use rayon::slice::{ParallelSlice, ParallelSliceMut};
 
 use super::bands::{FillContext, bin, split_bands};
 use super::clip::{CLIP_ATTRS, ClipVolume};
@@ -22,12 +23,12 @@ use super::cull::{Frustum, world_sphere};
 use super::lod::{Level, LodMode, LodState, choose};
 use super::mesh::DEPTH_BIAS_STEP;
 use super::ordering_table::{Direction, OrderingTable};
-use super::project::{Batch, ObjectSetup};
+use super::project::{Batch, ObjectSetup, SetupVertex};
 use super::scanline::{ScreenVertex, slot};
 use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
 use super::view_lists::model_direction;
-use super::{Camera, DrawList, Method, RenderOptions, Stats};
+use super::{Camera, DrawList, Method, RenderOptions, Stats, Vertex};
 
 /// Why a frame could not be drawn.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -58,7 +59,7 @@ pub enum RenderError {
 }
 
 /// A polygon (or a piece of one) ready for the fill stage.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct DrawPolygon {
     pub(super) first: u32,
     pub(super) count: u32,
@@ -106,8 +107,7 @@ pub(super) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
 #[derive(Debug, Default)]
 pub struct Renderer {
-    clip_pos: Vec<Vec4>,
-    view_depth: Vec<f32>,
+    setup_vertices: Vec<SetupVertex>,
     main: Batch,
     batches: Vec<Batch>,
     order: Vec<u32>,
@@ -326,12 +326,27 @@ impl Renderer {
             let clip_from_model: Mat4 = clip_from_world * inst.model;
             let view_from_model: Mat4 = camera.view * inst.model;
             let depth_row = view_from_model.row(2);
-            self.clip_pos.clear();
-            self.view_depth.clear();
-            for v in mesh.vertices() {
+            self.setup_vertices.clear();
+            let perspective = camera.is_perspective();
+            let vertex = |v: &Vertex| {
                 let p = v.position.extend(1.0);
-                self.clip_pos.push(clip_from_model * p);
-                self.view_depth.push(-depth_row.dot(p));
+                SetupVertex::new(clip_from_model * p, -depth_row.dot(p), &volume, (wf, hf), perspective)
+            };
+            if threads > 1 && mesh.vertices().len() >= PARALLEL_VERTICES {
+                // Written in place, a slice per worker (collecting from a parallel iterator would build
+                // per-thread lists and copy them once more).
+                let n = mesh.vertices().len();
+                self.setup_vertices.resize(n, SetupVertex::default());
+                let chunk = n.div_ceil(threads * 4);
+                self.setup_vertices.par_chunks_mut(chunk).zip(mesh.vertices().par_chunks(chunk)).for_each(
+                    |(out, vs)| {
+                        for (o, v) in out.iter_mut().zip(vs) {
+                            *o = vertex(v);
+                        }
+                    },
+                );
+            } else {
+                self.setup_vertices.extend(mesh.vertices().iter().map(vertex));
             }
             stats.ms_transform += ms(t_transform);
             let t_clip = Instant::now();
@@ -354,8 +369,7 @@ impl Renderer {
             let object = ObjectSetup {
                 mesh,
                 stored,
-                clip_pos: &self.clip_pos,
-                view_depth: &self.view_depth,
+                vertices: &self.setup_vertices,
                 volume: &volume,
                 key: options.key,
                 perspective: camera.is_perspective(),
@@ -463,6 +477,9 @@ impl Renderer {
 /// Objects with at least this many polygons are set up in pieces on several threads (below it, handing out
 /// the pieces costs more than it saves).
 const PARALLEL_POLYGONS: usize = 1024;
+
+/// Objects with at least this many vertices are transformed on several threads.
+const PARALLEL_VERTICES: usize = 4096;
 
 /// Rows per band: small enough that a band's colour and depth rows stay in the core's cache while it is
 /// drawn and that bands balance across threads, large enough that few polygons are set up twice.

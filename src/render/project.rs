@@ -9,9 +9,9 @@ use std::ops::Range;
 use glam::Vec4;
 
 use super::DepthKey;
-use super::clip::{ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, clip_polygon};
+use super::clip::{ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, VertexCodes, clip_polygon};
 use super::fixed::Fx28_4;
-use super::mesh::{AlphaMode, Mesh};
+use super::mesh::{AlphaMode, Material, Mesh};
 use super::monotone::triangulate;
 use super::pipeline::{DrawPolygon, slope_scaled_bias};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
@@ -88,16 +88,94 @@ impl Batch {
     }
 }
 
+/// One vertex of an object after the transform: its clip codes and, when it needs no clipping, its snapped
+/// screen position, so a polygon wholly inside the guard band is set up by gathering its corners (computed
+/// once per vertex, however many polygons share it) without going through the clipper.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct SetupVertex {
+    /// Clip-space position.
+    pos: Vec4,
+    /// View depth (distance along the view direction), for ordering keys.
+    view_depth: f32,
+    codes: VertexCodes,
+    finite: bool,
+    /// `(x, y, depth, 1/w)` when the vertex is finite, inside every clip plane and projects onto the grid.
+    screen: Option<(Fx28_4, Fx28_4, f32, f32)>,
+}
+
+impl SetupVertex {
+    /// Tests and projects a vertex at clip position `pos` with view depth `view_depth`.
+    #[inline]
+    pub(super) fn new(pos: Vec4, view_depth: f32, volume: &ClipVolume, size: (f32, f32), perspective: bool) -> Self {
+        let finite = pos.is_finite() && view_depth.is_finite();
+        let codes = volume.codes(pos);
+        let screen = if finite && codes.cut == 0 { project(pos, size, perspective) } else { None };
+        Self { pos, view_depth, codes, finite, screen }
+    }
+}
+
+/// Projects a clip-space position to the snapped screen position, its depth and `1/w`; `None` when it
+/// does not land on the fixed-point grid or is not in front of the camera.
+#[inline]
+fn project(p: Vec4, size: (f32, f32), perspective: bool) -> Option<(Fx28_4, Fx28_4, f32, f32)> {
+    let q = 1.0 / p.w;
+    let sx = (p.x * q + 1.0) * 0.5 * size.0;
+    let sy = (1.0 - p.y * q) * 0.5 * size.1;
+    let (x, y) = (Fx28_4::from_f32(sx)?, Fx28_4::from_f32(sy)?);
+    if !(p.w > 0.0 && q.is_finite()) {
+        return None;
+    }
+    let depth = if perspective { q } else { 0.5 * (1.0 - p.z * q) };
+    Some((x, y, depth, q))
+}
+
+/// The screen vertex of a projected point with texture coordinate `uv` and colour `c` (before the divide).
+#[inline]
+fn screen_vertex(
+    (x, y, depth, q): (Fx28_4, Fx28_4, f32, f32),
+    uv: [f32; 2],
+    c: [f32; 4],
+    divide: bool,
+) -> ScreenVertex {
+    let m = if divide { q } else { 1.0 };
+    let mut attrs = [0.0; ATTRS];
+    attrs[slot::DEPTH] = depth;
+    attrs[slot::Q] = m;
+    attrs[slot::S] = uv[0] * m;
+    attrs[slot::T] = uv[1] * m;
+    for (a, c) in attrs[slot::RGBA..].iter_mut().zip(c) {
+        *a = c * m;
+    }
+    ScreenVertex { x, y, attrs }
+}
+
+/// The ordering key's starting value for a rule.
+fn key_start(key: DepthKey) -> f32 {
+    match key {
+        DepthKey::Avg => 0.0,
+        DepthKey::Min => f32::INFINITY,
+        DepthKey::Max => f32::NEG_INFINITY,
+    }
+}
+
+/// Folds one corner's view depth into an ordering key.
+#[inline]
+fn key_add(rule: DepthKey, key: f32, d: f32) -> f32 {
+    match rule {
+        DepthKey::Avg => key + d,
+        DepthKey::Min => key.min(d),
+        DepthKey::Max => key.max(d),
+    }
+}
+
 /// One object's transformed vertices and what set-up needs to know about the frame.
 pub(super) struct ObjectSetup<'a> {
     /// The mesh drawn (with its split pieces, for `view-lists`).
     pub(super) mesh: &'a Mesh,
     /// The stored drawing order of its polygons, if one applies.
     pub(super) stored: Option<&'a [u32]>,
-    /// Clip-space positions of the mesh's vertices.
-    pub(super) clip_pos: &'a [Vec4],
-    /// View depths of the mesh's vertices.
-    pub(super) view_depth: &'a [f32],
+    /// The mesh's vertices transformed, tested and projected.
+    pub(super) vertices: &'a [SetupVertex],
     /// The clip volume.
     pub(super) volume: &'a ClipVolume,
     /// The ordering key rule.
@@ -116,136 +194,256 @@ pub(super) struct ObjectSetup<'a> {
     pub(super) see_through: bool,
 }
 
+/// What gathering a polygon's corners gave: its ordering key and whether all corners share one colour.
+struct Gathered {
+    key: f32,
+    constant_color: Option<[f32; 4]>,
+}
+
 impl ObjectSetup<'_> {
     /// Sets up polygons `range` (positions in the stored order, or polygon indices) into `out`.
     pub(super) fn run(&self, range: Range<usize>, out: &mut Batch) {
+        let fallback = Material::default();
         for k in range {
             let Some(poly) = self.mesh.polygons().get(self.stored.map_or(k, |o| o[k] as usize)) else { continue };
             let idx = self.mesh.polygon_indices(poly);
-            let material = self.mesh.materials().get(poly.material as usize).cloned().unwrap_or_default();
-            out.clip_in.clear();
-            let mut finite = true;
+            let material = self.mesh.materials().get(poly.material as usize).unwrap_or(&fallback);
+            let (mut finite, mut outside, mut cut, mut projected) = (true, u8::MAX, 0u8, true);
             for &i in idx {
-                let i = i as usize;
-                let v = &self.mesh.vertices()[i];
-                let pos = self.clip_pos[i];
-                let c = v.color * material.base_color;
-                finite &= pos.is_finite() && self.view_depth[i].is_finite();
-                out.clip_in.push(ClipVertex { pos, attrs: [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, self.view_depth[i]] });
+                let v = &self.vertices[i as usize];
+                finite &= v.finite;
+                outside &= v.codes.outside;
+                cut |= v.codes.cut;
+                projected &= v.screen.is_some();
             }
             if !finite {
                 out.counts.invalid += 1;
                 continue;
             }
-            match clip_polygon(&out.clip_in, self.volume, &mut out.clip_out, &mut out.clip_scratch) {
-                ClipResult::Outside => {
-                    out.counts.outside += 1;
+            if outside != 0 {
+                out.counts.outside += 1;
+                continue;
+            }
+            let first = out.screen.len();
+            let gathered = if cut == 0 {
+                // Inside the guard band: the corners as projected once per vertex.
+                if !projected {
+                    out.counts.invalid += 1;
                     continue;
                 }
-                ClipResult::Clipped => out.counts.clipped += 1,
-                ClipResult::Inside => {}
-            }
-            // Project and snap.
-            let first = out.screen.len();
-            let mut ok = true;
-            let mut key = match self.key {
-                DepthKey::Avg => 0.0,
-                DepthKey::Min => f32::INFINITY,
-                DepthKey::Max => f32::NEG_INFINITY,
-            };
-            for cv in &out.clip_out {
-                let p = cv.pos;
-                let q = 1.0 / p.w;
-                let sx = (p.x * q + 1.0) * 0.5 * self.size.0;
-                let sy = (1.0 - p.y * q) * 0.5 * self.size.1;
-                let (Some(x), Some(y)) = (Fx28_4::from_f32(sx), Fx28_4::from_f32(sy)) else {
-                    ok = false;
-                    break;
-                };
-                if !(p.w > 0.0 && q.is_finite()) {
-                    ok = false;
-                    break;
-                }
-                let depth = if self.perspective { q } else { 0.5 * (1.0 - p.z * q) };
-                let a = &cv.attrs;
-                let m = if self.perspective_attrs { q } else { 1.0 };
-                let mut attrs = [0.0; ATTRS];
-                attrs[slot::DEPTH] = depth;
-                attrs[slot::Q] = m;
-                attrs[slot::S] = a[0] * m;
-                attrs[slot::T] = a[1] * m;
-                for c in 0..4 {
-                    attrs[slot::RGBA + c] = a[2 + c] * m;
-                }
-                out.screen.push(ScreenVertex { x, y, attrs });
-                let d = a[VIEW_DEPTH];
-                key = match self.key {
-                    DepthKey::Avg => key + d,
-                    DepthKey::Min => key.min(d),
-                    DepthKey::Max => key.max(d),
-                };
-            }
-            let n = out.screen.len() - first;
-            if !ok {
-                out.screen.truncate(first);
-                out.counts.invalid += 1;
-                continue;
-            }
-            if self.key == DepthKey::Avg {
-                key /= n as f32;
-            }
-            if material.depth_bias > 0 {
-                slope_scaled_bias(&mut out.screen[first..], material.depth_bias);
-            }
-            // A stored order keeps the object's polygons together, placed by the object's depth.
-            if let Some(k) = self.object_key {
-                key = k;
-            }
-            let area = signed_area2(&out.screen[first..]);
-            if area == 0 {
-                out.screen.truncate(first);
-                out.counts.degenerate += 1;
-                continue;
-            }
-            if area > 0 && !material.double_sided {
-                out.screen.truncate(first);
-                out.counts.backface += 1;
-                continue;
-            }
-            out.counts.drawn += 1;
-            let texture = material.texture.filter(|&t| t < self.textures).map(|t| t as u32);
-            let alpha_cutoff = match material.alpha_mode {
-                AlphaMode::Opaque => None,
-                AlphaMode::Mask { cutoff } => Some(cutoff),
-            };
-            let first_color = out.clip_out.first().map(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]]);
-            let constant_color = first_color
-                .filter(|c| out.clip_out.iter().all(|v| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]] == *c));
-            let base = DrawPolygon {
-                first: first as u32,
-                count: n as u32,
-                key,
-                texture,
-                sampler: material.sampler,
-                alpha_cutoff,
-                constant_color,
-                screen_door: self.see_through,
-            };
-            if is_y_monotone(&out.screen[first..]) {
-                out.polys.push(base);
+                self.gather_inside(idx, material, out)
             } else {
-                out.counts.split += 1;
-                out.tris.clear();
-                out.piece.clear();
-                out.piece.extend_from_slice(&out.screen[first..]);
-                triangulate(&out.piece, area.signum(), &mut out.tris);
+                self.gather_clipped(idx, material, out)
+            };
+            let Some(g) = gathered else {
                 out.screen.truncate(first);
-                for t in &out.tris {
-                    let f = out.screen.len() as u32;
-                    out.screen.extend(t.iter().map(|&i| out.piece[i]));
-                    out.polys.push(DrawPolygon { first: f, count: 3, ..base });
-                }
+                continue;
+            };
+            self.finish(first, g, material, out);
+        }
+    }
+
+    /// Pushes the projected corners of a polygon that needs no clipping.
+    fn gather_inside(&self, idx: &[u32], material: &Material, out: &mut Batch) -> Option<Gathered> {
+        let mut key = key_start(self.key);
+        let mut colors = [0.0f32; 4];
+        let mut constant = true;
+        for (n, &i) in idx.iter().enumerate() {
+            let i = i as usize;
+            let (v, s) = (&self.mesh.vertices()[i], &self.vertices[i]);
+            key = key_add(self.key, key, s.view_depth);
+            let c = (v.color * material.base_color).to_array();
+            if n == 0 {
+                colors = c;
+            } else {
+                constant &= c == colors;
             }
+            out.screen.push(screen_vertex(s.screen?, v.uv.to_array(), c, self.perspective_attrs));
+        }
+        Some(Gathered { key, constant_color: constant.then_some(colors) })
+    }
+
+    /// Clips a polygon crossing a clip plane and pushes the projected corners of what is left; `None` (and
+    /// counted) when nothing is left or a corner does not project.
+    fn gather_clipped(&self, idx: &[u32], material: &Material, out: &mut Batch) -> Option<Gathered> {
+        out.clip_in.clear();
+        for &i in idx {
+            let i = i as usize;
+            let (v, s) = (&self.mesh.vertices()[i], &self.vertices[i]);
+            let c = v.color * material.base_color;
+            let attrs = [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, s.view_depth];
+            out.clip_in.push(ClipVertex { pos: s.pos, attrs });
+        }
+        match clip_polygon(&out.clip_in, self.volume, &mut out.clip_out, &mut out.clip_scratch) {
+            ClipResult::Outside => {
+                out.counts.outside += 1;
+                return None;
+            }
+            ClipResult::Clipped => out.counts.clipped += 1,
+            ClipResult::Inside => {}
+        }
+        let mut key = key_start(self.key);
+        for cv in &out.clip_out {
+            let Some(p) = project(cv.pos, self.size, self.perspective) else {
+                out.counts.invalid += 1;
+                return None;
+            };
+            let a = &cv.attrs;
+            out.screen.push(screen_vertex(p, [a[0], a[1]], [a[2], a[3], a[4], a[5]], self.perspective_attrs));
+            key = key_add(self.key, key, a[VIEW_DEPTH]);
+        }
+        let color = |v: &ClipVertex| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]];
+        let first_color = out.clip_out.first().map(color);
+        let constant_color = first_color.filter(|c| out.clip_out.iter().all(|v| color(v) == *c));
+        Some(Gathered { key, constant_color })
+    }
+
+    /// Culls, keys and (when not y-monotone) splits the polygon whose corners are `out.screen[first..]`.
+    fn finish(&self, first: usize, g: Gathered, material: &Material, out: &mut Batch) {
+        let n = out.screen.len() - first;
+        let mut key = g.key;
+        if self.key == DepthKey::Avg {
+            key /= n as f32;
+        }
+        if material.depth_bias > 0 {
+            slope_scaled_bias(&mut out.screen[first..], material.depth_bias);
+        }
+        // A stored order keeps the object's polygons together, placed by the object's depth.
+        if let Some(k) = self.object_key {
+            key = k;
+        }
+        let area = signed_area2(&out.screen[first..]);
+        if area == 0 {
+            out.screen.truncate(first);
+            out.counts.degenerate += 1;
+            return;
+        }
+        if area > 0 && !material.double_sided {
+            out.screen.truncate(first);
+            out.counts.backface += 1;
+            return;
+        }
+        out.counts.drawn += 1;
+        let texture = material.texture.filter(|&t| t < self.textures).map(|t| t as u32);
+        let alpha_cutoff = match material.alpha_mode {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+        };
+        let base = DrawPolygon {
+            first: first as u32,
+            count: n as u32,
+            key,
+            texture,
+            sampler: material.sampler,
+            alpha_cutoff,
+            constant_color: g.constant_color,
+            screen_door: self.see_through,
+        };
+        if is_y_monotone(&out.screen[first..]) {
+            out.polys.push(base);
+        } else {
+            out.counts.split += 1;
+            out.tris.clear();
+            out.piece.clear();
+            out.piece.extend_from_slice(&out.screen[first..]);
+            triangulate(&out.piece, area.signum(), &mut out.tris);
+            out.screen.truncate(first);
+            for t in &out.tris {
+                let f = out.screen.len() as u32;
+                out.screen.extend(t.iter().map(|&i| out.piece[i]));
+                out.polys.push(DrawPolygon { first: f, count: 3, ..base });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3, Vec4};
+
+    use super::*;
+    use crate::render::{Camera, MeshBuilder, Vertex};
+
+    /// A small deterministic generator, so failures reproduce.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn unit(&mut self) -> f32 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    #[test]
+    fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {
+        let mut rng = Lcg(3);
+        let mut b = MeshBuilder::new();
+        let tinted = b.material(Material { base_color: Vec4::new(0.9, 0.5, 0.25, 1.0), ..Material::default() });
+        let biased = b.material(Material { double_sided: true, depth_bias: 2, ..Material::default() });
+        for i in 0..3000 {
+            let corners = if i % 3 == 0 { 4 } else { 3 };
+            let centre = Vec3::new(rng.unit() * 40.0 - 20.0, rng.unit() * 30.0 - 15.0, -1.0 - rng.unit() * 60.0);
+            let idx: Vec<u32> = (0..corners)
+                .map(|k| {
+                    let a = k as f32 / corners as f32 * std::f32::consts::TAU;
+                    let r = 0.2 + rng.unit() * 3.0;
+                    let position = centre + Vec3::new(a.cos() * r, a.sin() * r, rng.unit() - 0.5);
+                    // One colour per polygon for some, per corner for others.
+                    let c = if i % 2 == 0 { Vec4::splat(0.5) } else { Vec4::new(rng.unit(), rng.unit(), 0.3, 1.0) };
+                    b.vertex(Vertex { position, uv: Vec2::new(rng.unit(), rng.unit()), color: c })
+                })
+                .collect();
+            b.polygon(&idx, if i % 5 == 0 { biased } else { tinted });
+        }
+        let mesh = b.build().unwrap();
+        let (w, h) = (320.0, 240.0);
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.5, Some(100.0));
+        let clip_from_view = camera.clip_from_view(320, 240) * camera.view;
+        let volume = ClipVolume::new(320, 240, true);
+        let vertices: Vec<_> = mesh
+            .vertices()
+            .iter()
+            .map(|v| {
+                let p = v.position.extend(1.0);
+                SetupVertex::new(clip_from_view * p, -p.z, &volume, (w, h), true)
+            })
+            .collect();
+        for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max] {
+            let setup = ObjectSetup {
+                mesh: &mesh,
+                stored: None,
+                vertices: &vertices,
+                volume: &volume,
+                key,
+                perspective: true,
+                perspective_attrs: true,
+                size: (w, h),
+                object_key: None,
+                textures: 0,
+                see_through: false,
+            };
+            let (mut fast, mut slow) = (Batch::default(), Batch::default());
+            let mut compared = 0;
+            for (k, poly) in mesh.polygons().iter().enumerate() {
+                let idx = mesh.polygon_indices(poly);
+                if idx.iter().any(|&i| vertices[i as usize].screen.is_none()) {
+                    continue; // crosses a plane: both go through the clipper
+                }
+                fast.clear();
+                slow.clear();
+                setup.run(k..k + 1, &mut fast);
+                let material = &mesh.materials()[poly.material as usize];
+                let Some(g) = setup.gather_clipped(idx, material, &mut slow) else {
+                    // Wholly off one side of the frame: rejected by both.
+                    assert!(fast.polys.is_empty() && fast.counts.outside == 1, "polygon {k}");
+                    continue;
+                };
+                setup.finish(0, g, material, &mut slow);
+                assert_eq!(fast.screen, slow.screen, "polygon {k}");
+                assert_eq!(fast.polys, slow.polys, "polygon {k}");
+                compared += usize::from(!fast.polys.is_empty());
+            }
+            assert!(compared > 1000, "only {compared} polygons drawn and compared");
         }
     }
 }

@@ -159,7 +159,7 @@ fn walk<const VIS: u8, const SRC: u8>(
     let mut counts = SpanCounts::default();
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
-    if has_avx2() && !portable_forced() {
+    if x1 - x0 >= LANES && has_avx2() && !portable_forced() {
         // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
         #[allow(unsafe_code)]
         {
