@@ -4,7 +4,8 @@
 //! machine.
 //!
 //! - `race/*`: tick 3000 of `assets/replays/demo-race.trace` at 1280x720, 1 and 2 threads.
-//! - `small/*`: 20,000 triangles of about 4.5 pixels each at 640x480: polygons per second, 1 and 2 threads.
+//! - `small/*`: 20,000 triangles of about 4.5 pixels each at 640x480: polygons per second, 1 and 2 threads
+//!   (`examples/small_scene.rs` times the same scene as a best of rounds, steadier for comparing builds).
 //! - `huge/*`: 8 screen-filling quads at 1280x720: pixels per second.
 //! - `deep/*`: 64 overlapping half-screen quads at 640x480 (depth complexity 32): overdraw.
 
