@@ -159,6 +159,8 @@ fn walk<const VIS: u8, const SRC: u8>(
     let mut counts = SpanCounts::default();
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
+    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up
+    // (measured: 4% of the small-polygon scene, whose spans are 1-3 pixels).
     if x1 - x0 >= LANES && has_avx2() && !portable_forced() {
         // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
         #[allow(unsafe_code)]
