@@ -7,7 +7,9 @@ use super::DrawList;
 use super::RenderOptions;
 use super::pipeline::DrawPolygon;
 use super::scanline::{ScreenVertex, Span, fill_spans, fill_spans_first};
+use super::small_triangle::SmallTriangle;
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
+use super::span_lanes::{Fill, Paint, dispatch, walk};
 
 /// The rows of one band and their colour.
 pub(super) struct Band<'a> {
@@ -96,26 +98,33 @@ impl FillContext<'_> {
     }
 
     fn fill_band_with(&self, band: Band<'_>, bin: &[u32], scratch: &mut Scratch) -> SpanCounts {
-        let Band { y0, rows, color } = band;
+        let Band { y0, rows: height, color } = band;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
             color.fill(bg);
         }
         let depth: &mut [f32] = if self.visibility == Visibility::DepthTest {
             scratch.depth.clear();
-            scratch.depth.resize(rows * w, f32::NEG_INFINITY);
+            scratch.depth.resize(height * w, f32::NEG_INFINITY);
             &mut scratch.depth
         } else {
             &mut []
         };
         let coverage: &mut [u64] = if self.visibility == Visibility::Coverage {
             scratch.coverage.clear();
-            scratch.coverage.resize(rows * words, 0);
+            scratch.coverage.resize(height * words, 0);
             &mut scratch.coverage
         } else {
             &mut []
         };
+        let mut rows = BandRows { y0, width: w, words, color, depth, coverage };
         let mut total = SpanCounts::default();
+        let mut add = |c: SpanCounts| {
+            total.shaded += c.shaded;
+            total.written += c.written;
+            total.rejected += c.rejected;
+        };
+        let band_rows = (y0 as i32, (y0 + height) as i32);
         for &pi in bin {
             let p = &self.polys[pi as usize];
             let verts = &self.screen[p.first as usize..(p.first + p.count) as usize];
@@ -129,26 +138,63 @@ impl FillContext<'_> {
                 visibility: self.visibility,
                 screen_door: p.screen_door,
             };
-            let band_rows = (y0 as i32, (y0 + rows) as i32);
             let prepared = shading.prepare();
-            let draw = |span: &Span| {
-                let r = span.y as usize - y0;
-                let mut row = Row {
-                    color: &mut color[r * w..(r + 1) * w],
-                    depth: if depth.is_empty() { &mut [] } else { &mut depth[r * w..(r + 1) * w] },
-                    coverage: if coverage.is_empty() { &mut [] } else { &mut coverage[r * words..(r + 1) * words] },
-                };
-                let c = draw_prepared(span, &shading, &prepared, &mut row);
-                total.shaded += c.shaded;
-                total.written += c.written;
-                total.rejected += c.rejected;
-            };
+            if let Some((source, alpha)) = prepared.fast()
+                && let Some(tri) = SmallTriangle::new(verts, band_rows, w as i32)
+            {
+                add(dispatch(source, alpha, self.visibility, SmallJob { tri: &tri, rows: &mut rows }));
+                continue;
+            }
+            let draw = |span: &Span| add(draw_prepared(span, &shading, &prepared, &mut rows.row(span.y)));
             if prepared.needs_colour() {
                 fill_spans(verts, band_rows, w as i32, draw);
             } else {
                 fill_spans_first::<4>(verts, band_rows, w as i32, draw);
             }
         }
+        total
+    }
+}
+
+/// The colour, depth and coverage rows of the band being drawn.
+struct BandRows<'a> {
+    y0: usize,
+    width: usize,
+    words: usize,
+    color: &'a mut [u32],
+    depth: &'a mut [f32],
+    coverage: &'a mut [u64],
+}
+
+impl BandRows<'_> {
+    /// The buffers of frame row `y` (which must be in the band).
+    #[inline]
+    fn row(&mut self, y: i32) -> Row<'_> {
+        let (r, w, words) = (y as usize - self.y0, self.width, self.words);
+        Row {
+            color: &mut self.color[r * w..(r + 1) * w],
+            depth: if self.depth.is_empty() { &mut [] } else { &mut self.depth[r * w..(r + 1) * w] },
+            coverage: if self.coverage.is_empty() { &mut [] } else { &mut self.coverage[r * words..(r + 1) * words] },
+        }
+    }
+}
+
+/// A small triangle's rows drawn by one monomorphised pixel loop.
+struct SmallJob<'t, 'r, 'b> {
+    tri: &'t SmallTriangle,
+    rows: &'r mut BandRows<'b>,
+}
+
+impl Fill for SmallJob<'_, '_, '_> {
+    #[inline(always)]
+    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        let mut total = SpanCounts::default();
+        self.tri.for_each_run(|y, run| {
+            let c = walk::<VIS, SRC>(run, paint, &mut self.rows.row(y));
+            total.shaded += c.shaded;
+            total.written += c.written;
+            total.rejected += c.rejected;
+        });
         total
     }
 }

@@ -108,6 +108,11 @@ impl Prepared<'_> {
     pub fn needs_colour(&self) -> bool {
         self.fast.is_none()
     }
+
+    /// The fast path's colour source and alpha mask, if one applies.
+    pub(super) fn fast(&self) -> Option<(Source<'_>, Option<(f32, f32)>)> {
+        self.fast
+    }
 }
 
 impl<'a> Shading<'a> {

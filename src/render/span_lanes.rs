@@ -39,32 +39,79 @@ pub(super) fn draw(
     vis: Visibility,
     row: &mut Row<'_>,
 ) -> SpanCounts {
-    // One monomorphised loop per (visibility, source) pair, so nothing is decided per pixel.
+    // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
+    if let (Source::Flat(c), Visibility::Overwrite) = (source, vis) {
+        let n = span.x1.saturating_sub(span.x0).max(0) as u64;
+        return match row.color.get_mut(span.x0.max(0) as usize..span.x1.max(0) as usize) {
+            Some(run) => {
+                run.fill(c);
+                SpanCounts { shaded: n, written: n, rejected: 0 }
+            }
+            None => SpanCounts::default(),
+        };
+    }
+    struct OneSpan<'s, 'r, 'b>(&'s Span, &'r mut Row<'b>);
+    impl Fill for OneSpan<'_, '_, '_> {
+        #[inline(always)]
+        fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+            let Self(span, row) = self;
+            let (a0, da) = (&span.a0, &span.da);
+            let run = Run {
+                x0: span.x0.max(0) as usize,
+                x1: span.x1.max(0) as usize,
+                a0: [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
+                da: [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
+            };
+            walk::<VIS, SRC>(&run, paint, row)
+        }
+    }
+    dispatch(source, alpha, vis, OneSpan(span, row))
+}
+
+/// A fast-path source resolved for the pixel loops: the texture (if any) and
+/// `(flat colour, tint, alpha mask)`.
+pub(super) struct Paint<'a> {
+    tex: Option<(&'a Texture, Sampler)>,
+    colors: (u32, [u32; 3], Option<(f32, f32)>),
+}
+
+/// Work done by a loop monomorphised for one (visibility, source) pair; [`dispatch`] picks the pair.
+pub(super) trait Fill {
+    /// Runs the work with visibility `VIS` and source `SRC`, returning the pixel counts.
+    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts;
+}
+
+/// Calls `job` with the loop for `source` under `vis`, so nothing is decided per pixel.
+#[inline(always)]
+pub(super) fn dispatch(source: Source<'_>, alpha: Option<(f32, f32)>, vis: Visibility, job: impl Fill) -> SpanCounts {
     macro_rules! by_vis {
-        ($src:expr, $tex:expr, $colors:expr) => {
+        ($src:expr, $paint:expr) => {
             match vis {
-                Visibility::Overwrite => walk::<OVERWRITE, $src>(span, $tex, $colors, row),
-                Visibility::DepthTest => walk::<DEPTH_TEST, $src>(span, $tex, $colors, row),
-                Visibility::Coverage => walk::<COVERAGE, $src>(span, $tex, $colors, row),
+                Visibility::Overwrite => job.fill::<OVERWRITE, $src>(&$paint),
+                Visibility::DepthTest => job.fill::<DEPTH_TEST, $src>(&$paint),
+                Visibility::Coverage => job.fill::<COVERAGE, $src>(&$paint),
             }
         };
     }
     match source {
-        // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
-        Source::Flat(c) if vis == Visibility::Overwrite => {
-            let n = span.x1.saturating_sub(span.x0).max(0) as u64;
-            match row.color.get_mut(span.x0.max(0) as usize..span.x1.max(0) as usize) {
-                Some(run) => {
-                    run.fill(c);
-                    SpanCounts { shaded: n, written: n, rejected: 0 }
-                }
-                None => SpanCounts::default(),
-            }
-        }
-        Source::Flat(c) => by_vis!(FLAT, None, (c, [0; 3], None)),
-        Source::Texel(t, s) => by_vis!(TEXEL, Some((t, s)), (0, [0; 3], alpha)),
-        Source::Tinted(t, s, tint) => by_vis!(TINTED, Some((t, s)), (0, tint, alpha)),
+        Source::Flat(c) => by_vis!(FLAT, Paint { tex: None, colors: (c, [0; 3], None) }),
+        Source::Texel(t, s) => by_vis!(TEXEL, Paint { tex: Some((t, s)), colors: (0, [0; 3], alpha) }),
+        Source::Tinted(t, s, tint) => by_vis!(TINTED, Paint { tex: Some((t, s)), colors: (0, tint, alpha) }),
     }
+}
+
+/// Pixels `x0..x1` of one row, with depth, `1/w`, `s/w` and `t/w` at the centre of `x0` and their change
+/// per pixel.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Run {
+    /// First pixel.
+    pub(super) x0: usize,
+    /// End pixel (exclusive).
+    pub(super) x1: usize,
+    /// Depth, `1/w`, `s/w`, `t/w` at the centre of `x0`.
+    pub(super) a0: [f32; 4],
+    /// Their change per pixel.
+    pub(super) da: [f32; 4],
 }
 
 pub(super) const OVERWRITE: u8 = 0;
@@ -132,36 +179,24 @@ fn has_avx2() -> bool {
     }
 }
 
-/// Draws the span: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
+/// Draws a run: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
 /// per-pixel loop is the reference the chunk loop must match bit for bit.
 #[inline(always)]
-fn walk<const VIS: u8, const SRC: u8>(
-    span: &Span,
-    tex: Option<(&Texture, Sampler)>,
-    colors: (u32, [u32; 3], Option<(f32, f32)>),
-    row: &mut Row<'_>,
-) -> SpanCounts {
-    let (a0, da) = (&span.a0, &span.da);
+pub(super) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
+    let Paint { tex, colors } = *paint;
+    let (a0, da) = (&run.a0, &run.da);
     let (w, h) = tex.map_or((0.0, 0.0), |(t, _)| (t.width() as f32, t.height() as f32));
-    let setup = Setup {
-        d0: a0[slot::DEPTH],
-        dd: da[slot::DEPTH],
-        q0: a0[slot::Q],
-        dq: da[slot::Q],
-        s0: a0[slot::S],
-        ds: da[slot::S],
-        t0: a0[slot::T],
-        dt: da[slot::T],
-        w,
-        h,
-    };
-    let (x0, x1) = (span.x0 as usize, span.x1 as usize);
+    let setup = Setup { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h };
+    let (x0, x1) = (run.x0, run.x1);
+    // The chunk loop's counts live in memory (it takes them by reference); the per-pixel loop counts in
+    // locals, which stay in registers (counting through memory cost a store-forwarding stall per span).
     let mut counts = SpanCounts::default();
+    let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
     // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up
     // (measured: 4% of the small-polygon scene, whose spans are 1-3 pixels).
-    if x1 - x0 >= LANES && has_avx2() && !portable_forced() {
+    if x1.saturating_sub(x0) >= LANES && has_avx2() && !portable_forced() {
         // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
         #[allow(unsafe_code)]
         {
@@ -179,10 +214,10 @@ fn walk<const VIS: u8, const SRC: u8>(
             _ => true,
         };
         if !pass {
-            counts.rejected += 1;
+            rejected += 1;
             continue;
         }
-        counts.shaded += 1;
+        shaded += 1;
         let texel = match tex {
             Some((t, s)) if SRC != FLAT => {
                 let (tx, ty) = setup.texel_xy(k);
@@ -213,9 +248,13 @@ fn walk<const VIS: u8, const SRC: u8>(
             }
             _ => {}
         }
-        counts.written += 1;
+        written += 1;
     }
-    counts
+    SpanCounts {
+        shaded: counts.shaded + shaded,
+        written: counts.written + written,
+        rejected: counts.rejected + rejected,
+    }
 }
 
 /// The 'already drawn' bits of pixels `x..x + 8`, bit `i` for pixel `x + i` (missing words read as drawn).

@@ -1,0 +1,256 @@
+//! Small triangles: coverage by edge functions over the bounding box, attributes from the triangle's plane.
+//!
+//! A triangle a few pixels across costs the scanline walker ([`super::scanline`]) more in set-up than in
+//! pixels: each edge is positioned with 64-bit divisions, each row samples both edges and divides for the
+//! attribute steps, and each row's span goes through the span dispatch on its own. Here a triangle whose
+//! bounding box is at most [`MAX_SIDE`] pixels each way is set up once per band: three integer edge functions
+//! and the plane of its attributes (one division for the whole triangle); the band's fill then draws all its
+//! rows in one call of the pixel loop chosen for the polygon ([`super::span_lanes::dispatch`]).
+//!
+//! **Sub-pixel and fill rules** are the scanline walker's, decided with exact integers on the same
+//! [`Fx28_4`] grid: pixel `(x, y)` is sampled at its centre `(x + 0.5, y + 0.5)`, rows whose centre lies in
+//! `[top, bottom)` are covered, and within a row a centre on a left edge is in, on a right edge out. An edge
+//! from an upper vertex `a` to a lower vertex `b` has the edge function
+//! `F = (X - a.x)(b.y - a.y) - (b.x - a.x)(Y - a.y)` (raw units, `(X, Y)` the centre): the centre is right of
+//! or on the edge when `F >= 0`. A triangle is convex, so a centre is inside when it is right of or on every
+//! left edge and strictly left of every right edge; horizontal edges are decided by the row rule. This is
+//! exactly the set of pixels the walker's quotient-and-remainder steps give (a test compares the two), so a
+//! shared edge between a small and a large triangle has no gap and no overlap.
+//!
+//! Attributes come from the plane through the three vertices, `a(x, y) = a0 + dadx (x - x0) + dady (y - y0)`,
+//! evaluated at each row's first covered centre from the first vertex rather than stepped from row to row,
+//! so a row's values do not depend on which band draws it. They differ from the walker's only by rounding.
+
+use super::fixed::Fx28_4;
+use super::scanline::{ScreenVertex, signed_area2};
+use super::span_lanes::Run;
+
+/// Largest bounding box side, in pixels (rows or columns whose centres it may cover), taken by this path.
+pub const MAX_SIDE: i32 = 16;
+
+/// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
+/// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
+#[derive(Clone, Copy, Debug)]
+struct EdgeFn {
+    /// Value at the first pixel centre of the box on the current row.
+    at_row: i32,
+    /// Change per pixel to the right.
+    step_x: i32,
+    /// Change per row down.
+    step_y: i32,
+}
+
+impl EdgeFn {
+    /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area`, with the
+    /// function evaluated at raw centre `(cx, cy)`; a horizontal edge gives a function positive everywhere
+    /// (the row rule decides those).
+    #[inline]
+    fn new(p: &ScreenVertex, q: &ScreenVertex, area: i64, (cx, cy): (i32, i32)) -> Self {
+        let down = q.y.0 > p.y.0;
+        let (a, b) = if down { (p, q) } else { (q, p) };
+        let (dx, dy) = (b.x.0 - a.x.0, b.y.0 - a.y.0);
+        let f = (cx - a.x.0) * dy - dx * (cy - a.y.0);
+        // With y down and a positive area the polygon's forward order runs down its right side. A centre is
+        // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0.
+        let right = down == (area > 0);
+        let (sign, bias) = if dy == 0 {
+            (0, 1)
+        } else if right {
+            (-1, 0)
+        } else {
+            (1, 1)
+        };
+        let one = Fx28_4::ONE;
+        Self { at_row: sign * f + bias, step_x: sign * dy * one, step_y: -sign * dx * one }
+    }
+}
+
+/// A small triangle set up for the rows of one band.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SmallTriangle {
+    edges: [EdgeFn; 3],
+    /// First column of the box (clipped to the frame) and how many columns it has there.
+    x_start: i32,
+    columns: i32,
+    /// Rows of the box within the band.
+    rows: (i32, i32),
+    /// Depth, `1/w`, `s/w`, `t/w` at the centre of column `x_start` on the line through the first vertex's
+    /// y, and their change per pixel and per row.
+    a0: [f32; 4],
+    /// The first vertex's y, in pixels.
+    y0: f32,
+    dadx: [f32; 4],
+    dady: [f32; 4],
+}
+
+impl SmallTriangle {
+    /// Sets up `v` for rows `rows.0..rows.1` clipped to `0..width`; `None` when `v` is not a triangle or its
+    /// bounding box is larger than [`MAX_SIDE`] (the caller uses the scanline walker then). The decision is
+    /// made on the whole triangle, never on the band, so every band draws a triangle the same way. A
+    /// zero-area triangle, or one with nothing in these rows, is set up with no rows.
+    #[inline]
+    pub(super) fn new(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Self> {
+        let [p0, p1, p2] = v else { return None };
+        let col0 = p0.x.min(p1.x).min(p2.x).first_centre_at_or_after();
+        let col1 = p0.x.max(p1.x).max(p2.x).first_centre_at_or_after();
+        let row0 = p0.y.min(p1.y).min(p2.y).first_centre_at_or_after();
+        let row1 = p0.y.max(p1.y).max(p2.y).first_centre_at_or_after();
+        if col1 - col0 > MAX_SIDE || row1 - row0 > MAX_SIDE {
+            return None;
+        }
+        let area = signed_area2(v);
+        let (x_start, x_end) = (col0.max(0), col1.min(width));
+        let (y_start, y_end) = (row0.max(rows.0), row1.min(rows.1));
+        let empty = Self {
+            edges: [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3],
+            x_start,
+            columns: 0,
+            rows: (y_start, y_start),
+            a0: [0.0; 4],
+            y0: 0.0,
+            dadx: [0.0; 4],
+            dady: [0.0; 4],
+        };
+        if area == 0 || x_start >= x_end || y_start >= y_end {
+            return Some(empty);
+        }
+        let centre = |i: i32| i * Fx28_4::ONE + Fx28_4::HALF;
+        let origin = (centre(x_start), centre(y_start));
+        let edges =
+            [EdgeFn::new(p0, p1, area, origin), EdgeFn::new(p1, p2, area, origin), EdgeFn::new(p2, p0, area, origin)];
+        // The attributes' plane, from the vertices' exact grid positions.
+        let (x0, y0) = (p0.x.to_f32(), p0.y.to_f32());
+        let (e1x, e1y) = (p1.x.to_f32() - x0, p1.y.to_f32() - y0);
+        let (e2x, e2y) = (p2.x.to_f32() - x0, p2.y.to_f32() - y0);
+        let inv_det = 1.0 / (e1x * e2y - e2x * e1y);
+        let ox = x_start as f32 + 0.5 - x0;
+        let mut t = Self { edges, columns: x_end - x_start, rows: (y_start, y_end), y0, ..empty };
+        for i in 0..4 {
+            let (d1, d2) = (p1.attrs[i] - p0.attrs[i], p2.attrs[i] - p0.attrs[i]);
+            t.dadx[i] = (d1 * e2y - d2 * e1y) * inv_det;
+            t.dady[i] = (d2 * e1x - d1 * e2x) * inv_det;
+            t.a0[i] = p0.attrs[i] + t.dadx[i] * ox;
+        }
+        Some(t)
+    }
+
+    /// Calls `f` with each row and the run of pixels the triangle covers on it, top to bottom.
+    #[inline(always)]
+    pub(super) fn for_each_run(&self, mut f: impl FnMut(i32, &Run)) {
+        let mut edges = self.edges;
+        for y in self.rows.0..self.rows.1 {
+            // A triangle is convex: the covered centres of a row are one run of the box's columns.
+            let mut m = 0u32;
+            let [mut f0, mut f1, mut f2] = [edges[0].at_row, edges[1].at_row, edges[2].at_row];
+            for k in 0..self.columns {
+                m |= u32::from((f0 > 0) & (f1 > 0) & (f2 > 0)) << k;
+                f0 += edges[0].step_x;
+                f1 += edges[1].step_x;
+                f2 += edges[2].step_x;
+            }
+            if m != 0 {
+                let (first, end) = (m.trailing_zeros(), u32::BITS - m.leading_zeros());
+                // Evaluated from the first vertex on every row (not stepped), so any band gives the same values.
+                let (k, dy) = (first as f32, y as f32 + 0.5 - self.y0);
+                let mut a0 = self.a0;
+                for ((a, dx), dy_) in a0.iter_mut().zip(&self.dadx).zip(&self.dady) {
+                    *a += dy_ * dy + k * dx;
+                }
+                let x = self.x_start as usize;
+                f(y, &Run { x0: x + first as usize, x1: x + end as usize, a0, da: self.dadx });
+            }
+            for e in &mut edges {
+                e.at_row += e.step_y;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::scanline::{Span, fill_spans};
+
+    /// A small deterministic generator, so failures reproduce.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u32 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 33) as u32
+        }
+
+        fn range(&mut self, lo: i32, hi: i32) -> i32 {
+            lo + (self.next() % (hi - lo) as u32) as i32
+        }
+    }
+
+    fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {
+        ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [a, 1.0, a * 2.0, -a, 0.5, 0.5, 0.5, 1.0] }
+    }
+
+    /// A run as `(y, x0, x1)` and the first four attributes at its first pixel.
+    type Runs = Vec<((i32, usize, usize), [f32; 4])>;
+
+    /// The runs the small path gives, `None` if it declines.
+    fn small_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Runs> {
+        let t = SmallTriangle::new(v, rows, width)?;
+        let mut out = vec![];
+        t.for_each_run(|y, r| out.push(((y, r.x0, r.x1), r.a0)));
+        Some(out)
+    }
+
+    fn walker_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Runs {
+        let mut out = vec![];
+        fill_spans(v, rows, width, |s: &Span| {
+            out.push(((s.y, s.x0 as usize, s.x1 as usize), [s.a0[0], s.a0[1], s.a0[2], s.a0[3]]));
+        });
+        out
+    }
+
+    #[test]
+    fn coverage_equals_the_scanline_walker_on_random_and_edge_aligned_triangles() {
+        let mut rng = Lcg(7);
+        let mut drawn = 0;
+        for case in 0..20_000 {
+            // Vertices on a coarse grid (whole, half and quarter pixels) make centres land on edges often.
+            let step = [16, 8, 4, 1][case % 4];
+            let mut p = || (rng.range(-8, 40) * step / 4 + 100, rng.range(-8, 40) * step / 4 + 60);
+            let t = [p(), p(), p()];
+            let v: Vec<_> = t.iter().enumerate().map(|(i, &(x, y))| sv(x, y, i as f32)).collect();
+            let (width, rows) = (14, (4, 11));
+            let Some(small) = small_runs(&v, rows, width) else { continue };
+            let walker = walker_runs(&v, rows, width);
+            let pixels = |r: &Runs| r.iter().map(|r| r.0).collect::<Vec<_>>();
+            assert_eq!(pixels(&small), pixels(&walker), "triangle {t:?}");
+            drawn += small.len();
+            // The attributes agree with the walker's to rounding.
+            for (a, b) in small.iter().zip(&walker) {
+                for i in 0..4 {
+                    assert!((a.1[i] - b.1[i]).abs() < 1e-3, "{t:?} attr {i}: {} vs {}", a.1[i], b.1[i]);
+                }
+            }
+        }
+        assert!(drawn > 10_000, "only {drawn} runs compared");
+    }
+
+    #[test]
+    fn large_or_non_triangular_polygons_are_left_to_the_walker() {
+        let big = [sv(0, 0, 0.0), sv(16 * 17, 0, 0.0), sv(0, 16 * 3, 0.0)];
+        assert!(SmallTriangle::new(&big, (0, 100), 400).is_none());
+        let quad = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(32, 32, 0.0), sv(0, 32, 0.0)];
+        assert!(SmallTriangle::new(&quad, (0, 100), 400).is_none());
+        let flat = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(64, 0, 0.0)];
+        assert_eq!(small_runs(&flat, (0, 100), 400), Some(vec![]));
+    }
+
+    #[test]
+    fn a_band_draws_the_same_rows_as_the_whole_frame() {
+        let t = [sv(20, 20, 0.0), sv(200, 60, 1.0), sv(90, 230, 2.0)];
+        let whole = small_runs(&t, (0, 100), 100);
+        let mut banded = small_runs(&t, (0, 7), 100).unwrap_or_default();
+        banded.extend(small_runs(&t, (7, 100), 100).unwrap_or_default());
+        assert_eq!(whole.as_deref(), Some(&banded[..]));
+        assert!(banded.len() >= 10);
+    }
+}
