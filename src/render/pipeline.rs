@@ -326,27 +326,31 @@ impl Renderer {
             let clip_from_model: Mat4 = clip_from_world * inst.model;
             let view_from_model: Mat4 = camera.view * inst.model;
             let depth_row = view_from_model.row(2);
-            self.setup_vertices.clear();
             let perspective = camera.is_perspective();
-            let vertex = |v: &Vertex| {
-                let p = v.position.extend(1.0);
-                SetupVertex::new(clip_from_model * p, -depth_row.dot(p), &volume, (wf, hf), perspective)
+            // Each vertex is written straight into its slot: returned by value through a `map`, every
+            // record went through a stack copy that stalled on store forwarding (12% of the small scene).
+            let transform = |out: &mut [SetupVertex], vs: &[Vertex]| {
+                for (o, v) in out.iter_mut().zip(vs) {
+                    let p = v.position.extend(1.0);
+                    *o = SetupVertex::new(clip_from_model * p, -depth_row.dot(p), &volume, (wf, hf), perspective);
+                }
             };
-            if threads > 1 && mesh.vertices().len() >= PARALLEL_VERTICES {
-                // Written in place, a slice per worker (collecting from a parallel iterator would build
-                // per-thread lists and copy them once more).
-                let n = mesh.vertices().len();
+            let n = mesh.vertices().len();
+            // Every slot is overwritten below, so a longer buffer is only shortened.
+            if self.setup_vertices.len() < n {
                 self.setup_vertices.resize(n, SetupVertex::default());
+            }
+            self.setup_vertices.truncate(n);
+            if threads > 1 && n >= PARALLEL_VERTICES {
+                // In place, a slice per worker (collecting from a parallel iterator would build per-thread
+                // lists and copy them once more).
                 let chunk = n.div_ceil(threads * 4);
-                self.setup_vertices.par_chunks_mut(chunk).zip(mesh.vertices().par_chunks(chunk)).for_each(
-                    |(out, vs)| {
-                        for (o, v) in out.iter_mut().zip(vs) {
-                            *o = vertex(v);
-                        }
-                    },
-                );
+                self.setup_vertices
+                    .par_chunks_mut(chunk)
+                    .zip(mesh.vertices().par_chunks(chunk))
+                    .for_each(|(out, vs)| transform(out, vs));
             } else {
-                self.setup_vertices.extend(mesh.vertices().iter().map(vertex));
+                transform(&mut self.setup_vertices, mesh.vertices());
             }
             stats.ms_transform += ms(t_transform);
             let t_clip = Instant::now();

@@ -105,7 +105,7 @@ pub(super) struct SetupVertex {
 
 impl SetupVertex {
     /// Tests and projects a vertex at clip position `pos` with view depth `view_depth`.
-    #[inline]
+    #[inline(always)]
     pub(super) fn new(pos: Vec4, view_depth: f32, volume: &ClipVolume, size: (f32, f32), perspective: bool) -> Self {
         let finite = pos.is_finite() && view_depth.is_finite();
         let codes = volume.codes(pos);
