@@ -27,6 +27,9 @@ mod span_avx2;
 pub mod span_lanes;
 pub mod stats;
 pub mod texture;
+mod transform;
+#[cfg(target_arch = "x86_64")]
+mod transform_avx2;
 pub mod view_lists;
 
 use std::fmt;

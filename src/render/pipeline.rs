@@ -27,8 +27,9 @@ use super::project::{Batch, ObjectSetup, SetupVertex};
 use super::scanline::{ScreenVertex, slot};
 use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
+use super::transform::VertexTransform;
 use super::view_lists::model_direction;
-use super::{Camera, DrawList, Method, RenderOptions, Stats, Vertex};
+use super::{Camera, DrawList, Method, RenderOptions, Stats};
 
 /// Why a frame could not be drawn.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -325,15 +326,12 @@ impl Renderer {
             }
             let clip_from_model: Mat4 = clip_from_world * inst.model;
             let view_from_model: Mat4 = camera.view * inst.model;
-            let depth_row = view_from_model.row(2);
-            let perspective = camera.is_perspective();
-            // Each vertex is written straight into its slot: returned by value through a `map`, every
-            // record went through a stack copy that stalled on store forwarding (12% of the small scene).
-            let transform = |out: &mut [SetupVertex], vs: &[Vertex]| {
-                for (o, v) in out.iter_mut().zip(vs) {
-                    let p = v.position.extend(1.0);
-                    *o = SetupVertex::new(clip_from_model * p, -depth_row.dot(p), &volume, (wf, hf), perspective);
-                }
+            let transform = VertexTransform {
+                clip_from_model,
+                depth_row: view_from_model.row(2),
+                volume,
+                size: (wf, hf),
+                perspective: camera.is_perspective(),
             };
             let n = mesh.vertices().len();
             // Every slot is overwritten below, so a longer buffer is only shortened.
@@ -348,9 +346,9 @@ impl Renderer {
                 self.setup_vertices
                     .par_chunks_mut(chunk)
                     .zip(mesh.vertices().par_chunks(chunk))
-                    .for_each(|(out, vs)| transform(out, vs));
+                    .for_each(|(out, vs)| transform.run(out, vs));
             } else {
-                transform(&mut self.setup_vertices, mesh.vertices());
+                transform.run(&mut self.setup_vertices, mesh.vertices());
             }
             stats.ms_transform += ms(t_transform);
             let t_clip = Instant::now();

@@ -88,19 +88,25 @@ impl Batch {
     }
 }
 
+/// A [`SetupVertex`] as bits: position, view depth, codes, finite, and screen `(x, y, depth, 1/w)`.
+#[cfg(test)]
+pub(super) type SetupBits = ([u32; 4], u32, VertexCodes, bool, Option<(i32, i32, u32, u32)>);
+
 /// One vertex of an object after the transform: its clip codes and, when it needs no clipping, its snapped
 /// screen position, so a polygon wholly inside the guard band is set up by gathering its corners (computed
 /// once per vertex, however many polygons share it) without going through the clipper.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct SetupVertex {
     /// Clip-space position.
-    pos: Vec4,
+    pub(super) pos: Vec4,
     /// View depth (distance along the view direction), for ordering keys.
-    view_depth: f32,
-    codes: VertexCodes,
-    finite: bool,
+    pub(super) view_depth: f32,
+    /// Where it lies against the clip planes.
+    pub(super) codes: VertexCodes,
+    /// Whether the position and the view depth are finite.
+    pub(super) finite: bool,
     /// `(x, y, depth, 1/w)` when the vertex is finite, inside every clip plane and projects onto the grid.
-    screen: Option<(Fx28_4, Fx28_4, f32, f32)>,
+    pub(super) screen: Option<(Fx28_4, Fx28_4, f32, f32)>,
 }
 
 impl SetupVertex {
@@ -111,6 +117,22 @@ impl SetupVertex {
         let codes = volume.codes(pos);
         let screen = if finite && codes.cut == 0 { project(pos, size, perspective) } else { None };
         Self { pos, view_depth, codes, finite, screen }
+    }
+
+    /// Every field as bits, to compare records exactly; every NaN is one value (the sign and payload of a
+    /// NaN depend on operand order, which the compiler may swap, and no frame depends on them: a vertex with
+    /// one is never drawn).
+    #[cfg(test)]
+    pub(super) fn bits(&self) -> SetupBits {
+        let b = |v: f32| if v.is_nan() { f32::NAN.to_bits() } else { v.to_bits() };
+        let screen = self.screen.map(|(x, y, d, q)| (x.0, y.0, b(d), b(q)));
+        (self.pos.to_array().map(b), b(self.view_depth), self.codes, self.finite, screen)
+    }
+
+    /// Whether the vertex has a screen position.
+    #[cfg(test)]
+    pub(super) fn is_projected(&self) -> bool {
+        self.screen.is_some()
     }
 }
 

@@ -1,0 +1,169 @@
+//! The vertex transform: every vertex of an object to clip space, its view depth, its clip codes and (when
+//! it needs no clipping) its snapped screen position, once per vertex however many polygons share it.
+//!
+//! [`VertexTransform::vertex`] is the reference, one vertex at a time, with the matrix product and the
+//! depth's dot product written out in a fixed order (glam's, so frames did not change when this moved
+//! here). Where the CPU has AVX2, [`VertexTransform::run`] takes eight vertices per step instead
+//! ([`super::transform_avx2`]): the same IEEE operations in the same order, so the records are bit-identical
+//! (a test compares the two on random and hostile positions).
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::clip::ClipVolume;
+use super::mesh::Vertex;
+use super::project::SetupVertex;
+
+/// What turns an object's model-space positions into [`SetupVertex`] records for one frame.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct VertexTransform {
+    /// Model to clip space.
+    pub(super) clip_from_model: Mat4,
+    /// The row of the model-to-view matrix that gives view z (the view depth is its negation).
+    pub(super) depth_row: Vec4,
+    /// The clip volume.
+    pub(super) volume: ClipVolume,
+    /// Frame width and height in pixels.
+    pub(super) size: (f32, f32),
+    /// Perspective (depth is `1/w`) or orthographic camera.
+    pub(super) perspective: bool,
+}
+
+impl VertexTransform {
+    /// The clip position and view depth of model position `p`, in the reference order of operations.
+    #[inline(always)]
+    pub(super) fn clip_and_depth(&self, p: Vec3) -> (Vec4, f32) {
+        let (m, d) = (&self.clip_from_model, self.depth_row);
+        let row = |x: f32, y: f32, z: f32, w: f32| ((x * p.x + y * p.y) + z * p.z) + w;
+        let pos = Vec4::new(
+            row(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x),
+            row(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y),
+            row(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z),
+            row(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w),
+        );
+        (pos, -((d.x * p.x + d.z * p.z) + (d.y * p.y + d.w)))
+    }
+
+    /// One vertex, the reference the eight-lane path must match bit for bit.
+    #[inline(always)]
+    pub(super) fn vertex(&self, p: Vec3) -> SetupVertex {
+        let (pos, view_depth) = self.clip_and_depth(p);
+        SetupVertex::new(pos, view_depth, &self.volume, self.size, self.perspective)
+    }
+
+    /// Transforms `vs` into `out` (as many as the shorter holds).
+    pub(super) fn run(&self, out: &mut [SetupVertex], vs: &[Vertex]) {
+        let mut done = 0;
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && !portable_forced() {
+            // SAFETY: `run_avx2` only needs the CPU to have AVX2, which was just detected.
+            #[allow(unsafe_code)]
+            {
+                done = unsafe { super::transform_avx2::run(self, out, vs) };
+            }
+        }
+        for (o, v) in out.iter_mut().zip(vs).skip(done) {
+            *o = self.vertex(v.position);
+        }
+    }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Set by tests to force the one-vertex loop on CPUs with AVX2, to compare the two.
+    pub(super) static PORTABLE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// True when a test asked for the one-vertex loop only.
+#[inline(always)]
+fn portable_forced() -> bool {
+    #[cfg(test)]
+    {
+        PORTABLE_ONLY.with(std::cell::Cell::get)
+    }
+    #[cfg(not(test))]
+    {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Quat, Vec2};
+
+    use crate::render::camera::{Camera, Projection};
+
+    /// A small deterministic generator, so failures reproduce.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u32 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 33) as u32
+        }
+
+        fn coord(&mut self, hostile: bool) -> f32 {
+            match self.next() % 16 {
+                0 if hostile => [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e30, -3e30, 0.0][(self.next() % 6) as usize],
+                1 => 0.0,
+                _ => (self.next() as f32 / u32::MAX as f32 - 0.5) * [2.0, 40.0, 400.0, 1e5][(self.next() % 4) as usize],
+            }
+        }
+    }
+
+    fn run(t: &VertexTransform, vs: &[Vertex], portable: bool) -> Vec<SetupVertex> {
+        let mut out = vec![SetupVertex::default(); vs.len()];
+        PORTABLE_ONLY.with(|p| p.set(portable));
+        t.run(&mut out, vs);
+        PORTABLE_ONLY.with(|p| p.set(false));
+        out
+    }
+
+    #[test]
+    fn eight_lanes_match_the_one_vertex_loop_bit_for_bit() {
+        let mut rng = Lcg(11);
+        let mut projected = 0;
+        for case in 0..400 {
+            let hostile = case % 3 == 2;
+            let (w, h) = ([640usize, 1280, 1, 333][case % 4], [480usize, 720, 1, 77][(case / 4) % 4]);
+            let projection = if case % 5 == 4 {
+                Projection::Orthographic { xmag: 30.0, ymag: 20.0, znear: 0.5, zfar: 500.0 }
+            } else {
+                Projection::Perspective { yfov: 1.0, aspect: None, znear: 0.1, zfar: (case % 2 == 0).then_some(300.0) }
+            };
+            let eye = Vec3::new(rng.coord(false), rng.coord(false), rng.coord(false) + 5.0);
+            let view = Mat4::from_rotation_x(rng.next() as f32 * 1e-4) * Mat4::from_translation(-eye);
+            let camera = Camera { view, projection };
+            let model = Mat4::from_scale_rotation_translation(
+                Vec3::splat(0.5 + (rng.next() % 4) as f32),
+                Quat::from_rotation_y(rng.next() as f32 * 1e-3),
+                Vec3::new(rng.coord(false), 0.0, rng.coord(false)),
+            );
+            let view_from_model = camera.view * model;
+            let t = VertexTransform {
+                clip_from_model: camera.clip_from_view(w, h) * camera.view * model,
+                depth_row: view_from_model.row(2),
+                volume: ClipVolume::new(w, h, camera.has_far_plane()),
+                size: (w as f32, h as f32),
+                perspective: camera.is_perspective(),
+            };
+            let n = (rng.next() % 40) as usize;
+            let vs: Vec<Vertex> = (0..n)
+                .map(|_| Vertex::new(Vec3::new(rng.coord(hostile), rng.coord(hostile), rng.coord(hostile)), Vec2::ZERO))
+                .collect();
+            let (fast, slow) = (run(&t, &vs, false), run(&t, &vs, true));
+            for (i, (a, b)) in fast.iter().zip(&slow).enumerate() {
+                assert_eq!(a.bits(), b.bits(), "case {case}, vertex {i} at {:?}", vs[i].position);
+            }
+            // The reference is SetupVertex::new on glam's own product, bit for bit.
+            for (v, s) in vs.iter().zip(&slow) {
+                let p = v.position.extend(1.0);
+                let glam =
+                    SetupVertex::new(t.clip_from_model * p, -t.depth_row.dot(p), &t.volume, t.size, t.perspective);
+                assert_eq!(s.bits(), glam.bits(), "case {case} at {:?}", v.position);
+            }
+            projected += slow.iter().filter(|s| s.is_projected()).count();
+        }
+        assert!(projected > 1000, "only {projected} vertices projected");
+    }
+}

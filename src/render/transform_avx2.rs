@@ -1,0 +1,119 @@
+//! The vertex transform eight vertices at a time with AVX2, written out by hand because the compiler keeps
+//! the clip codes, the snapping and the record assembly scalar.
+//!
+//! Each step repeats [`super::transform::VertexTransform::vertex`] operation for operation (the same IEEE
+//! operations in the same order, no fused multiply-add; `Fx28_4::from_f32`'s rounding and range checks are
+//! rebuilt with compares), so the records are bit-identical to the one-vertex loop's.
+
+use std::arch::x86_64::{
+    __m256, __m256i, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _mm256_add_epi32, _mm256_add_ps,
+    _mm256_and_ps, _mm256_and_si256, _mm256_castps_si256, _mm256_cmp_ps, _mm256_cvtepi32_ps, _mm256_cvttps_epi32,
+    _mm256_div_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps,
+    _mm256_sub_epi32, _mm256_sub_ps, _mm256_xor_ps,
+};
+
+use glam::Vec4;
+
+use super::clip::VertexCodes;
+use super::fixed::Fx28_4;
+use super::mesh::Vertex;
+use super::project::SetupVertex;
+use super::transform::VertexTransform;
+
+/// Vertices per step.
+const LANES: usize = 8;
+
+/// Transforms whole groups of eight of `vs` into `out` and returns how many it did (the caller does the
+/// rest one at a time).
+#[target_feature(enable = "avx2")]
+pub(super) fn run(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
+    let n = out.len().min(vs.len()) / LANES * LANES;
+    let m = &t.clip_from_model;
+    let d = t.depth_row;
+    let s = _mm256_set1_ps;
+    let (gx, gy) = (s(t.volume.guard_x), s(t.volume.guard_y));
+    let far = t.volume.far;
+    let sign = s(-0.0);
+    let abs = |v: __m256| _mm256_and_ps(v, s(f32::from_bits(0x7fff_ffff)));
+    let finite = |v: __m256| _mm256_cmp_ps::<_CMP_LT_OQ>(abs(v), s(f32::INFINITY));
+    // The mask of lanes where `c` holds, as bit `shift` of each lane.
+    let bit = |c: __m256, shift: i32| _mm256_and_si256(_mm256_castps_si256(c), _mm256_set1_epi32(1 << shift));
+    // `Fx28_4::from_f32`: the raw value and the lanes where it exists.
+    let snap = |v: __m256| {
+        let ok = _mm256_and_ps(finite(v), _mm256_cmp_ps::<_CMP_LE_OQ>(abs(v), s(Fx28_4::MAX_PIXELS)));
+        let scaled = _mm256_mul_ps(v, s(Fx28_4::ONE as f32));
+        let t = _mm256_cvttps_epi32(scaled);
+        let frac = _mm256_sub_ps(scaled, _mm256_cvtepi32_ps(t));
+        // Compare masks are -1 where true: subtracting the first adds one, adding the second takes one away.
+        let up = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(frac, s(0.5)));
+        let down = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(frac, s(-0.5)));
+        (_mm256_add_epi32(_mm256_sub_epi32(t, up), down), ok)
+    };
+    for (outs, ins) in out[..n].chunks_exact_mut(LANES).zip(vs[..n].chunks_exact(LANES)) {
+        let lane = |f: fn(&Vertex) -> f32| bytemuck::cast::<[f32; LANES], __m256>(std::array::from_fn(|l| f(&ins[l])));
+        let (x, y, z) = (lane(|v| v.position.x), lane(|v| v.position.y), lane(|v| v.position.z));
+        let row = |a: f32, b: f32, c: f32, w: f32| {
+            _mm256_add_ps(
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(s(a), x), _mm256_mul_ps(s(b), y)), _mm256_mul_ps(s(c), z)),
+                s(w),
+            )
+        };
+        let cx = row(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
+        let cy = row(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
+        let cz = row(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z);
+        let cw = row(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
+        let xz = _mm256_add_ps(_mm256_mul_ps(s(d.x), x), _mm256_mul_ps(s(d.z), z));
+        let yw = _mm256_add_ps(_mm256_mul_ps(s(d.y), y), s(d.w));
+        let view_depth = _mm256_xor_ps(_mm256_add_ps(xz, yw), sign);
+        let all_finite = _mm256_and_ps(
+            _mm256_and_ps(finite(cx), finite(cy)),
+            _mm256_and_ps(_mm256_and_ps(finite(cz), finite(cw)), finite(view_depth)),
+        );
+        // `ClipVolume::codes`.
+        let neg_w = _mm256_xor_ps(cw, sign);
+        let lt = |a: __m256, b: __m256| _mm256_cmp_ps::<_CMP_LT_OQ>(a, b);
+        let gt = |a: __m256, b: __m256| _mm256_cmp_ps::<_CMP_GT_OQ>(a, b);
+        let mut outside = _mm256_or_si256(bit(lt(cz, neg_w), 0), bit(lt(cx, neg_w), 2));
+        outside = _mm256_or_si256(outside, _mm256_or_si256(bit(gt(cx, cw), 3), bit(lt(cy, neg_w), 4)));
+        outside = _mm256_or_si256(outside, bit(gt(cy, cw), 5));
+        let zero = s(0.0);
+        let gxw = _mm256_mul_ps(gx, cw);
+        let gyw = _mm256_mul_ps(gy, cw);
+        let mut cut =
+            _mm256_or_si256(bit(lt(_mm256_add_ps(cz, cw), zero), 0), bit(lt(_mm256_add_ps(cx, gxw), zero), 2));
+        cut = _mm256_or_si256(
+            cut,
+            _mm256_or_si256(bit(lt(_mm256_sub_ps(gxw, cx), zero), 3), bit(lt(_mm256_add_ps(cy, gyw), zero), 4)),
+        );
+        cut = _mm256_or_si256(cut, bit(lt(_mm256_sub_ps(gyw, cy), zero), 5));
+        if far {
+            outside = _mm256_or_si256(outside, bit(gt(cz, cw), 1));
+            cut = _mm256_or_si256(cut, bit(lt(_mm256_sub_ps(cw, cz), zero), 1));
+        }
+        // `project`.
+        let q = _mm256_div_ps(s(1.0), cw);
+        let sx = _mm256_mul_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(cx, q), s(1.0)), s(0.5)), s(t.size.0));
+        let sy = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(s(1.0), _mm256_mul_ps(cy, q)), s(0.5)), s(t.size.1));
+        let ((fx, okx), (fy, oky)) = (snap(sx), snap(sy));
+        let in_front = _mm256_and_ps(gt(cw, zero), finite(q));
+        let cut_none = _mm256_cmp_ps::<_CMP_EQ_OQ>(_mm256_cvtepi32_ps(cut), zero);
+        let projected =
+            _mm256_and_ps(_mm256_and_ps(_mm256_and_ps(okx, oky), in_front), _mm256_and_ps(all_finite, cut_none));
+        let depth = if t.perspective { q } else { _mm256_mul_ps(s(0.5), _mm256_sub_ps(s(1.0), _mm256_mul_ps(cz, q))) };
+        let f = |v: __m256| bytemuck::cast::<__m256, [f32; LANES]>(v);
+        let i = |v: __m256i| bytemuck::cast::<__m256i, [i32; LANES]>(v);
+        let (cx, cy, cz, cw, vd, depth, q) = (f(cx), f(cy), f(cz), f(cw), f(view_depth), f(depth), f(q));
+        let (fx, fy, outside, cut) = (i(fx), i(fy), i(outside), i(cut));
+        let (all_finite, projected) = (_mm256_movemask_ps(all_finite), _mm256_movemask_ps(projected));
+        for (l, o) in outs.iter_mut().enumerate() {
+            *o = SetupVertex {
+                pos: Vec4::new(cx[l], cy[l], cz[l], cw[l]),
+                view_depth: vd[l],
+                codes: VertexCodes { outside: outside[l] as u8, cut: cut[l] as u8 },
+                finite: all_finite >> l & 1 != 0,
+                screen: (projected >> l & 1 != 0).then_some((Fx28_4(fx[l]), Fx28_4(fy[l]), depth[l], q[l])),
+            };
+        }
+    }
+    n
+}
