@@ -310,6 +310,47 @@ fn frames_are_bit_identical_for_every_thread_count() {
     }
 }
 
+/// Several big objects in one frame each set up in pieces on the pool, their screen vertices left in their
+/// own set-up batches: frames must not depend on the thread count, and a renderer reused across frames
+/// with different object counts must draw the same as a fresh one.
+#[test]
+fn frames_with_several_big_objects_are_bit_identical_for_every_thread_count() {
+    let path = samples().join("Duck/Duck.gltf");
+    let mut scene = scanline_racer::asset::load(&path).expect("Duck loads");
+    let (w, h) = (160usize, 120usize);
+    let camera = scene.framing_camera(w as f32 / h as f32);
+    let duck = scene.instances[0].clone();
+    let (lo, hi) = scene.bounds.expect("the duck has bounds");
+    let size = (hi - lo).length();
+    // Four ducks side by side and in depth, overlapping on screen.
+    for k in 1..4 {
+        let mut d = duck.clone();
+        d.model = Mat4::from_translation(Vec3::new(0.3 * k as f32, 0.0, -0.4 * k as f32) * size) * d.model;
+        scene.instances.push(d);
+    }
+    let polygons: usize = scene.meshes.iter().map(|m| m.polygons().len()).sum();
+    assert!(polygons >= 1024, "each duck must be big enough to be set up in pieces ({polygons} polygons)");
+    let render_with = |r: &mut Renderer, instances: usize, threads: usize, method: Method| {
+        let list = DrawList { instances: &scene.instances[..instances], ..scene.draw_list() };
+        let mut frame = vec![0u32; w * h];
+        let o = RenderOptions { method, threads, ..RenderOptions::default() };
+        let stats = r.render(&mut frame, w, h, &camera, &list, &o).unwrap();
+        (frame, stats.polygons_drawn)
+    };
+    for method in Method::ALL {
+        let reference = render_with(&mut Renderer::new(), 4, 1, method);
+        let one = render_with(&mut Renderer::new(), 1, 1, method);
+        assert!(reference.1 > one.1, "{method}: four ducks draw more polygons than one");
+        for threads in [2usize, 3, 5] {
+            let mut r = Renderer::new();
+            assert!(render_with(&mut r, 4, threads, method) == reference, "{method}: {threads} threads differ from 1");
+            // Fewer objects, then more again, on the same renderer.
+            assert!(render_with(&mut r, 1, threads, method) == one, "{method}: {threads} threads, one duck after four");
+            assert!(render_with(&mut r, 4, threads, method) == reference, "{method}: {threads} threads, reused");
+        }
+    }
+}
+
 fn checker(n: u32) -> Texture {
     let texels =
         (0..n * n).map(|i| if ((i % n) + (i / n)).is_multiple_of(2) { 0xffff_ffff } else { 0xff00_0000 }).collect();

@@ -6,7 +6,8 @@
 use super::DrawList;
 use super::RenderOptions;
 use super::pipeline::DrawPolygon;
-use super::scanline::{ScreenVertex, Span, fill_spans, fill_spans_first};
+use super::project::Screens;
+use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small_triangle::SmallTriangle;
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
 use super::span_lanes::{Fill, Paint, dispatch, walk};
@@ -52,7 +53,7 @@ thread_local! {
 pub(super) struct FillContext<'a> {
     pub(super) polys: &'a [DrawPolygon],
     pub(super) background: Option<u32>,
-    pub(super) screen: &'a [ScreenVertex],
+    pub(super) screens: Screens<'a>,
     pub(super) list: &'a DrawList<'a>,
     pub(super) options: &'a RenderOptions,
     pub(super) visibility: Visibility,
@@ -63,7 +64,7 @@ pub(super) struct FillContext<'a> {
 /// Puts each polygon of `order` (in order) into the bin of every band of `rows_per_band` rows it touches.
 pub(super) fn bin(
     polys: &[DrawPolygon],
-    screen: &[ScreenVertex],
+    screens: Screens<'_>,
     order: &[u32],
     (height, rows_per_band): (usize, usize),
     bins: &mut Vec<Vec<u32>>,
@@ -75,7 +76,7 @@ pub(super) fn bin(
     bins.iter_mut().for_each(Vec::clear);
     for &pi in order {
         let Some(p) = polys.get(pi as usize) else { continue };
-        let Some(verts) = screen.get(p.first as usize..(p.first + p.count) as usize) else { continue };
+        let Some(verts) = screens.of(p) else { continue };
         let (Some(top), Some(bottom)) = (verts.iter().map(|v| v.y).min(), verts.iter().map(|v| v.y).max()) else {
             continue;
         };
@@ -92,12 +93,19 @@ pub(super) fn bin(
 }
 
 impl FillContext<'_> {
-    /// Clears a band's buffers and draws its bin; returns the pixel counts.
-    pub(super) fn fill_band(&self, band: Band<'_>, bin: &[u32]) -> SpanCounts {
-        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, bin, scratch))
+    /// Clears a band's buffers and draws its bin, band `index` of each piece of `bins` in turn; returns the
+    /// pixel counts.
+    pub(super) fn fill_band(&self, band: Band<'_>, bins: &[Vec<Vec<u32>>], index: usize) -> SpanCounts {
+        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, bins, index, scratch))
     }
 
-    fn fill_band_with(&self, band: Band<'_>, bin: &[u32], scratch: &mut Scratch) -> SpanCounts {
+    fn fill_band_with(
+        &self,
+        band: Band<'_>,
+        bins: &[Vec<Vec<u32>>],
+        index: usize,
+        scratch: &mut Scratch,
+    ) -> SpanCounts {
         let Band { y0, rows: height, color } = band;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
@@ -125,9 +133,9 @@ impl FillContext<'_> {
             total.rejected += c.rejected;
         };
         let band_rows = (y0 as i32, (y0 + height) as i32);
-        for &pi in bin {
+        for &pi in bins.iter().filter_map(|piece| piece.get(index)).flatten() {
             let p = &self.polys[pi as usize];
-            let verts = &self.screen[p.first as usize..(p.first + p.count) as usize];
+            let Some(verts) = self.screens.of(p) else { continue };
             let shading = Shading {
                 texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
                 sampler: p.sampler,

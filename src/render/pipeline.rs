@@ -23,7 +23,7 @@ use super::cull::{Frustum, world_sphere};
 use super::lod::{Level, LodMode, LodState, choose};
 use super::mesh::DEPTH_BIAS_STEP;
 use super::ordering_table::{Direction, OrderingTable};
-use super::project::{Batch, ObjectSetup, SetupVertex};
+use super::project::{Batch, ObjectSetup, Screens, SetupVertex};
 use super::scanline::{ScreenVertex, slot};
 use super::span::{SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
@@ -62,8 +62,12 @@ pub enum RenderError {
 /// A polygon (or a piece of one) ready for the fill stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct DrawPolygon {
+    /// Its first screen vertex, in its batch.
     pub(super) first: u32,
+    /// How many screen vertices it has.
     pub(super) count: u32,
+    /// The batch holding its screen vertices (see [`Screens`]).
+    pub(super) batch: u32,
     pub(super) key: f32,
     pub(super) texture: Option<u32>,
     pub(super) sampler: Sampler,
@@ -112,7 +116,8 @@ pub struct Renderer {
     main: Batch,
     batches: Vec<Batch>,
     order: Vec<u32>,
-    bins: Vec<Vec<u32>>,
+    /// The polygons of each band (inner), for each piece of the drawing order (outer).
+    bins: Vec<Vec<Vec<u32>>>,
     pool: Option<(usize, rayon::ThreadPool)>,
     table: OrderingTable,
     used_table: bool,
@@ -291,6 +296,8 @@ impl Renderer {
         stats: &mut Stats,
     ) {
         self.main.clear();
+        // Set-up batches of big objects used so far this frame (their screen vertices stay in them).
+        let mut batches_used = 0;
         let clip_from_world = camera.clip_from_view(width, height) * camera.view;
         let frustum = Frustum::new(&clip_from_world, camera.has_far_plane());
         let volume = ClipVolume::new(width, height, camera.has_far_plane());
@@ -385,14 +392,16 @@ impl Renderer {
                 // Pieces of the polygon list set up in parallel, then appended in order: the result is the
                 // same as one pass, for any thread count.
                 let pieces = threads * 4;
-                self.batches.resize_with(pieces, Batch::default);
-                self.batches.par_iter_mut().enumerate().for_each(|(i, b)| {
+                let first = batches_used;
+                batches_used += pieces;
+                if self.batches.len() < batches_used {
+                    self.batches.resize_with(batches_used, Batch::default);
+                }
+                self.batches[first..batches_used].par_iter_mut().enumerate().for_each(|(i, b)| {
                     b.clear();
                     object.run(count * i / pieces..count * (i + 1) / pieces, b);
                 });
-                for b in &mut self.batches {
-                    self.main.append(b);
-                }
+                self.main.adopt_polygons(&self.batches[first..batches_used], first as u32 + 1, true);
             } else {
                 object.run(0..count, &mut self.main);
             }
@@ -449,11 +458,24 @@ impl Renderer {
         };
         let words = width.div_ceil(64);
         let rows_per_band = BAND_ROWS.min(height);
-        bin(&self.main.polys, &self.main.screen, &self.order, (height, rows_per_band), &mut self.bins);
+        // The order is binned in pieces, in parallel; a band then draws its bin of every piece, in order.
+        let pieces = if threads > 1 && self.order.len() >= PARALLEL_POLYGONS { threads * 2 } else { 1 };
+        self.bins.resize_with(pieces, Vec::new);
+        self.bins.truncate(pieces);
+        let screens = Screens { main: &self.main.screen, batches: &self.batches };
+        let (polys, order, n) = (&self.main.polys, &self.order, self.order.len());
+        let bin_piece = |(i, b): (usize, &mut Vec<Vec<u32>>)| {
+            bin(polys, screens, &order[n * i / pieces..n * (i + 1) / pieces], (height, rows_per_band), b);
+        };
+        if pieces == 1 {
+            self.bins.iter_mut().enumerate().for_each(bin_piece);
+        } else {
+            self.bins.par_iter_mut().enumerate().for_each(bin_piece);
+        }
         let ctx = FillContext {
             polys: &self.main.polys,
             background: options.background,
-            screen: &self.main.screen,
+            screens,
             list,
             options,
             visibility,
@@ -466,13 +488,14 @@ impl Renderer {
             written: a.written + b.written,
             rejected: a.rejected + b.rejected,
         };
-        let jobs = bands.into_iter().zip(&self.bins);
+        let bins = &self.bins;
+        let jobs = bands.into_iter().enumerate();
         if threads == 1 {
-            return jobs.map(|(band, b)| ctx.fill_band(band, b)).fold(SpanCounts::default(), add);
+            return jobs.map(|(i, band)| ctx.fill_band(band, bins, i)).fold(SpanCounts::default(), add);
         }
         // Bands are handed out by work stealing, as the sky and the ground cost very different amounts.
         let jobs: Vec<_> = jobs.collect();
-        jobs.into_par_iter().map(|(band, b)| ctx.fill_band(band, b)).reduce(SpanCounts::default, add)
+        jobs.into_par_iter().map(|(i, band)| ctx.fill_band(band, bins, i)).reduce(SpanCounts::default, add)
     }
 }
 

@@ -7,6 +7,7 @@
 use std::ops::Range;
 
 use glam::Vec4;
+use rayon::iter::{IntoParallelIterator, ParallelIterator};
 
 use super::DepthKey;
 use super::clip::{ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, VertexCodes, clip_polygon};
@@ -16,6 +17,7 @@ use super::monotone::triangulate;
 use super::pipeline::{DrawPolygon, slope_scaled_bias};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
 use super::stats::Stats;
+use super::texture::Sampler;
 
 /// Polygons dropped or changed during set-up, by reason.
 #[derive(Clone, Copy, Debug, Default)]
@@ -76,15 +78,72 @@ impl Batch {
         self.counts = Counts::default();
     }
 
-    /// Moves another batch's output to the end of this one, re-basing its vertex indices.
-    pub(super) fn append(&mut self, other: &mut Batch) {
-        let base = self.screen.len() as u32;
-        self.screen.append(&mut other.screen);
-        self.polys.extend(other.polys.drain(..).map(|p| DrawPolygon { first: p.first + base, ..p }));
+    /// Appends the polygons of `others` to this batch, in order, each tagged with its batch's number
+    /// (`first_batch` for the first of `others`, then counting up); their screen vertices stay where they
+    /// are, found through [`Screens`]. The copies run on the current thread pool when `parallel`.
+    ///
+    /// Measured on the small-polygon scene with 2 threads: copying the screen vertices too (2.4 MB) took
+    /// 0.22 ms a frame, more than the parallel set-up itself saved.
+    pub(super) fn adopt_polygons(&mut self, others: &[Batch], first_batch: u32, parallel: bool) {
+        let start = self.polys.len();
+        let blank = DrawPolygon {
+            first: 0,
+            count: 0,
+            batch: 0,
+            key: 0.0,
+            texture: None,
+            sampler: Sampler::default(),
+            alpha_cutoff: None,
+            constant_color: None,
+            screen_door: false,
+        };
+        self.polys.resize(start + others.iter().map(|b| b.polys.len()).sum::<usize>(), blank);
+        // Each batch's destination, cut off the fresh end in order.
+        let mut rest = &mut self.polys[start..];
+        let mut jobs = Vec::with_capacity(others.len());
+        for (b, batch) in others.iter().zip(first_batch..) {
+            let (dest, tail) = std::mem::take(&mut rest).split_at_mut(b.polys.len());
+            rest = tail;
+            jobs.push((dest, b, batch));
+        }
+        let copy = |(dest, b, batch): (&mut [DrawPolygon], &Batch, u32)| {
+            for (d, src) in dest.iter_mut().zip(&b.polys) {
+                *d = DrawPolygon { batch, ..*src };
+            }
+        };
+        if parallel {
+            jobs.into_par_iter().for_each(copy);
+        } else {
+            jobs.into_iter().for_each(copy);
+        }
         let mut stats = Stats::default();
         self.counts.add_to(&mut stats);
-        std::mem::take(&mut other.counts).add_to(&mut stats);
+        for b in others {
+            b.counts.add_to(&mut stats);
+        }
         self.counts = Counts::from_stats(&stats);
+    }
+}
+
+/// Where the screen vertices of a frame's polygons are: batch 0 is the main batch, batch `k` the set-up
+/// batch `k - 1`.
+#[derive(Clone, Copy)]
+pub(super) struct Screens<'a> {
+    /// The main batch's vertices.
+    pub(super) main: &'a [ScreenVertex],
+    /// The set-up batches of big objects, whose vertices were left in place.
+    pub(super) batches: &'a [Batch],
+}
+
+impl<'a> Screens<'a> {
+    /// The screen vertices of polygon `p` (`None` for a polygon whose indices are out of range).
+    #[inline]
+    pub(super) fn of(&self, p: &DrawPolygon) -> Option<&'a [ScreenVertex]> {
+        let screen = match p.batch {
+            0 => self.main,
+            k => &self.batches.get(k as usize - 1)?.screen,
+        };
+        screen.get(p.first as usize..(p.first + p.count) as usize)
     }
 }
 
@@ -354,6 +413,7 @@ impl ObjectSetup<'_> {
         let base = DrawPolygon {
             first: first as u32,
             count: n as u32,
+            batch: 0,
             key,
             texture,
             sampler: material.sampler,
