@@ -319,12 +319,12 @@ fn frames_with_several_big_objects_are_bit_identical_for_every_thread_count() {
     let mut scene = scanline_racer::asset::load(&path).expect("Duck loads");
     let (w, h) = (160usize, 120usize);
     let camera = scene.framing_camera(w as f32 / h as f32);
-    let duck = scene.instances[0].clone();
+    let duck = scene.instances[0];
     let (lo, hi) = scene.bounds.expect("the duck has bounds");
     let size = (hi - lo).length();
     // Four ducks side by side and in depth, overlapping on screen.
     for k in 1..4 {
-        let mut d = duck.clone();
+        let mut d = duck;
         d.model = Mat4::from_translation(Vec3::new(0.3 * k as f32, 0.0, -0.4 * k as f32) * size) * d.model;
         scene.instances.push(d);
     }
