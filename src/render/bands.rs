@@ -64,7 +64,6 @@ pub(super) struct FillContext<'a> {
 /// Puts each polygon of `order` (in order) into the bin of every band of `rows_per_band` rows it touches.
 pub(super) fn bin(
     polys: &[DrawPolygon],
-    screens: Screens<'_>,
     order: &[u32],
     (height, rows_per_band): (usize, usize),
     bins: &mut Vec<Vec<u32>>,
@@ -76,13 +75,9 @@ pub(super) fn bin(
     bins.iter_mut().for_each(Vec::clear);
     for &pi in order {
         let Some(p) = polys.get(pi as usize) else { continue };
-        let Some(verts) = screens.of(p) else { continue };
-        let (Some(top), Some(bottom)) = (verts.iter().map(|v| v.y).min(), verts.iter().map(|v| v.y).max()) else {
-            continue;
-        };
-        // Rows whose centres are in [top, bottom): the same rule the scanline walk uses.
-        let first = top.first_centre_at_or_after().max(0) as usize;
-        let end = (bottom.first_centre_at_or_after().max(0) as usize).min(height);
+        // The rows were found at set-up, where the vertices were at hand: here they would be a cache miss.
+        let first = p.rows.0.max(0) as usize;
+        let end = (p.rows.1.max(0) as usize).min(height);
         if first >= end {
             continue;
         }

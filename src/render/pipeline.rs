@@ -68,6 +68,8 @@ pub(super) struct DrawPolygon {
     pub(super) count: u32,
     /// The batch holding its screen vertices (see [`Screens`]).
     pub(super) batch: u32,
+    /// The rows whose centres it covers, `rows.0..rows.1` (before clipping to the frame).
+    pub(super) rows: (i32, i32),
     pub(super) key: f32,
     pub(super) texture: Option<u32>,
     pub(super) sampler: Sampler,
@@ -465,7 +467,7 @@ impl Renderer {
         let screens = Screens { main: &self.main.screen, batches: &self.batches };
         let (polys, order, n) = (&self.main.polys, &self.order, self.order.len());
         let bin_piece = |(i, b): (usize, &mut Vec<Vec<u32>>)| {
-            bin(polys, screens, &order[n * i / pieces..n * (i + 1) / pieces], (height, rows_per_band), b);
+            bin(polys, &order[n * i / pieces..n * (i + 1) / pieces], (height, rows_per_band), b);
         };
         if pieces == 1 {
             self.bins.iter_mut().enumerate().for_each(bin_piece);

@@ -90,6 +90,7 @@ impl Batch {
             first: 0,
             count: 0,
             batch: 0,
+            rows: (0, 0),
             key: 0.0,
             texture: None,
             sampler: Sampler::default(),
@@ -228,6 +229,16 @@ fn screen_vertex(
         *a = c * m;
     }
     ScreenVertex { x, y, attrs }
+}
+
+/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule.
+fn rows(v: &[ScreenVertex]) -> (i32, i32) {
+    let (mut top, mut bottom) = (Fx28_4(i32::MAX), Fx28_4(i32::MIN));
+    for p in v {
+        top = top.min(p.y);
+        bottom = bottom.max(p.y);
+    }
+    if top > bottom { (0, 0) } else { (top.first_centre_at_or_after(), bottom.first_centre_at_or_after()) }
 }
 
 /// The ordering key's starting value for a rule.
@@ -414,6 +425,7 @@ impl ObjectSetup<'_> {
             first: first as u32,
             count: n as u32,
             batch: 0,
+            rows: rows(&out.screen[first..]),
             key,
             texture,
             sampler: material.sampler,
@@ -433,7 +445,8 @@ impl ObjectSetup<'_> {
             for t in &out.tris {
                 let f = out.screen.len() as u32;
                 out.screen.extend(t.iter().map(|&i| out.piece[i]));
-                out.polys.push(DrawPolygon { first: f, count: 3, ..base });
+                let rows = rows(&out.screen[f as usize..]);
+                out.polys.push(DrawPolygon { first: f, count: 3, rows, ..base });
             }
         }
     }
