@@ -52,17 +52,30 @@ impl EdgeFn {
         let f = (cx - a.x.0) * dy - dx * (cy - a.y.0);
         // With y down and a positive area the polygon's forward order runs down its right side. A centre is
         // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0.
-        let right = down == (area > 0);
-        let (sign, bias) = if dy == 0 {
-            (0, 1)
-        } else if right {
-            (-1, 0)
-        } else {
-            (1, 1)
-        };
+        // Arithmetic rather than branches: which edges are left or right is random from one triangle to
+        // the next, and mispredicted branches showed in profiles.
+        let right = i32::from(down == (area > 0));
+        let sloped = i32::from(dy != 0);
+        let sign = sloped * (1 - 2 * right);
+        let bias = 1 - sloped * right;
         let one = Fx28_4::ONE;
         Self { at_row: sign * f + bias, step_x: sign * dy * one, step_y: -sign * dx * one }
     }
+}
+
+/// The first `N` columns of the box (bit `k` for column `k`) whose centres are inside all three edges on the
+/// current row. Past the box the values stay in range (at most [`MAX_SIDE`] columns are evaluated).
+#[inline(always)]
+fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
+    let mut m = 0u32;
+    let [mut f0, mut f1, mut f2] = [edges[0].at_row, edges[1].at_row, edges[2].at_row];
+    for k in 0..N {
+        m |= u32::from((f0 > 0) & (f1 > 0) & (f2 > 0)) << k;
+        f0 += edges[0].step_x;
+        f1 += edges[1].step_x;
+        f2 += edges[2].step_x;
+    }
+    m
 }
 
 /// A small triangle set up for the rows of one band.
@@ -72,6 +85,8 @@ pub(super) struct SmallTriangle {
     /// First column of the box (clipped to the frame) and how many columns it has there.
     x_start: i32,
     columns: i32,
+    /// Bits of the box's columns.
+    column_mask: u32,
     /// Rows of the box within the band.
     rows: (i32, i32),
     /// Depth, `1/w`, `s/w`, `t/w` at the centre of column `x_start` on the line through the first vertex's
@@ -105,6 +120,7 @@ impl SmallTriangle {
             edges: [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3],
             x_start,
             columns: 0,
+            column_mask: 0,
             rows: (y_start, y_start),
             a0: [0.0; 4],
             y0: 0.0,
@@ -124,7 +140,9 @@ impl SmallTriangle {
         let (e2x, e2y) = (p2.x.to_f32() - x0, p2.y.to_f32() - y0);
         let inv_det = 1.0 / (e1x * e2y - e2x * e1y);
         let ox = x_start as f32 + 0.5 - x0;
-        let mut t = Self { edges, columns: x_end - x_start, rows: (y_start, y_end), y0, ..empty };
+        let columns = x_end - x_start;
+        let column_mask = u32::MAX >> (32 - columns);
+        let mut t = Self { edges, columns, column_mask, rows: (y_start, y_end), y0, ..empty };
         for i in 0..4 {
             let (d1, d2) = (p1.attrs[i] - p0.attrs[i], p2.attrs[i] - p0.attrs[i]);
             t.dadx[i] = (d1 * e2y - d2 * e1y) * inv_det;
@@ -140,14 +158,12 @@ impl SmallTriangle {
         let mut edges = self.edges;
         for y in self.rows.0..self.rows.1 {
             // A triangle is convex: the covered centres of a row are one run of the box's columns.
-            let mut m = 0u32;
-            let [mut f0, mut f1, mut f2] = [edges[0].at_row, edges[1].at_row, edges[2].at_row];
-            for k in 0..self.columns {
-                m |= u32::from((f0 > 0) & (f1 > 0) & (f2 > 0)) << k;
-                f0 += edges[0].step_x;
-                f1 += edges[1].step_x;
-                f2 += edges[2].step_x;
-            }
+            // A fixed number of columns (4, 8 or 16, masked to the box) unrolls without a branch per column.
+            let m = match self.columns {
+                ..=4 => row_mask::<4>(&edges),
+                5..=8 => row_mask::<8>(&edges),
+                _ => row_mask::<16>(&edges),
+            } & self.column_mask;
             if m != 0 {
                 let (first, end) = (m.trailing_zeros(), u32::BITS - m.leading_zeros());
                 // Evaluated from the first vertex on every row (not stepped), so any band gives the same values.
