@@ -12,8 +12,6 @@ use std::arch::x86_64::{
     _mm256_sub_epi32, _mm256_sub_ps, _mm256_xor_ps,
 };
 
-use glam::Vec4;
-
 use super::clip::VertexCodes;
 use super::fixed::Fx28_4;
 use super::mesh::Vertex;
@@ -102,16 +100,20 @@ pub(super) fn run(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -
         let depth = if t.perspective { q } else { _mm256_mul_ps(s(0.5), _mm256_sub_ps(s(1.0), _mm256_mul_ps(cz, q))) };
         let f = |v: __m256| bytemuck::cast::<__m256, [f32; LANES]>(v);
         let i = |v: __m256i| bytemuck::cast::<__m256i, [i32; LANES]>(v);
-        let (cx, cy, cz, cw, vd, depth, q) = (f(cx), f(cy), f(cz), f(cw), f(view_depth), f(depth), f(q));
+        // Zeros where the vertex did not project, as the one-vertex loop stores.
+        let keep = _mm256_castps_si256(projected);
+        let (fx, fy) = (_mm256_and_si256(fx, keep), _mm256_and_si256(fy, keep));
+        let (depth, q) = (_mm256_and_ps(depth, projected), _mm256_and_ps(q, projected));
+        let (vd, depth, q) = (f(view_depth), f(depth), f(q));
         let (fx, fy, outside, cut) = (i(fx), i(fy), i(outside), i(cut));
         let (all_finite, projected) = (_mm256_movemask_ps(all_finite), _mm256_movemask_ps(projected));
         for (l, o) in outs.iter_mut().enumerate() {
             *o = SetupVertex {
-                pos: Vec4::new(cx[l], cy[l], cz[l], cw[l]),
+                screen: (Fx28_4(fx[l]), Fx28_4(fy[l]), depth[l], q[l]),
                 view_depth: vd[l],
                 codes: VertexCodes { outside: outside[l] as u8, cut: cut[l] as u8 },
                 finite: all_finite >> l & 1 != 0,
-                screen: (projected >> l & 1 != 0).then_some((Fx28_4(fx[l]), Fx28_4(fy[l]), depth[l], q[l])),
+                projected: projected >> l & 1 != 0,
             };
         }
     }
