@@ -10,7 +10,7 @@ use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small_triangle::SmallTriangle;
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
-use super::span_lanes::{Fill, Paint, dispatch, walk};
+use super::span_lanes::{FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
 /// The rows of one band and their colour.
 pub(super) struct Band<'a> {
@@ -142,9 +142,15 @@ impl FillContext<'_> {
                 screen_door: p.screen_door,
             };
             let prepared = shading.prepare();
-            if let Some((source, alpha)) = prepared.fast()
-                && let Some(tri) = SmallTriangle::new(verts, band_rows, w as i32)
-            {
+            let small = |(source, alpha)| {
+                // A flat colour needs only the depth plane.
+                let tri = match source {
+                    Source::Flat(_) => SmallTriangle::new::<1>(verts, band_rows, w as i32),
+                    _ => SmallTriangle::new::<4>(verts, band_rows, w as i32),
+                };
+                tri.map(|t| (t, source, alpha))
+            };
+            if let Some((tri, source, alpha)) = prepared.fast().and_then(small) {
                 add(dispatch(source, alpha, self.visibility, SmallJob { tri: &tri, rows: &mut rows }));
                 continue;
             }
@@ -192,12 +198,17 @@ impl Fill for SmallJob<'_, '_, '_> {
     #[inline(always)]
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
         let mut total = SpanCounts::default();
-        self.tri.for_each_run(|y, run| {
+        let draw = |y, run: &Run| {
             let c = walk::<VIS, SRC>(run, paint, &mut self.rows.row(y));
             total.shaded += c.shaded;
             total.written += c.written;
             total.rejected += c.rejected;
-        });
+        };
+        if SRC == FLAT {
+            self.tri.for_each_run::<1>(draw)
+        } else {
+            self.tri.for_each_run::<4>(draw)
+        }
         total
     }
 }

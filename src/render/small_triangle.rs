@@ -102,9 +102,10 @@ impl SmallTriangle {
     /// Sets up `v` for rows `rows.0..rows.1` clipped to `0..width`; `None` when `v` is not a triangle or its
     /// bounding box is larger than [`MAX_SIDE`] (the caller uses the scanline walker then). The decision is
     /// made on the whole triangle, never on the band, so every band draws a triangle the same way. A
-    /// zero-area triangle, or one with nothing in these rows, is set up with no rows.
+    /// zero-area triangle, or one with nothing in these rows, is set up with no rows. Only the first `N`
+    /// attributes are set up (the others are 0): a flat colour needs only the depth.
     #[inline]
-    pub(super) fn new(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Self> {
+    pub(super) fn new<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Self> {
         let [p0, p1, p2] = v else { return None };
         let col0 = p0.x.min(p1.x).min(p2.x).first_centre_at_or_after();
         let col1 = p0.x.max(p1.x).max(p2.x).first_centre_at_or_after();
@@ -143,7 +144,7 @@ impl SmallTriangle {
         let columns = x_end - x_start;
         let column_mask = u32::MAX >> (32 - columns);
         let mut t = Self { edges, columns, column_mask, rows: (y_start, y_end), y0, ..empty };
-        for i in 0..4 {
+        for i in 0..N.min(4) {
             let (d1, d2) = (p1.attrs[i] - p0.attrs[i], p2.attrs[i] - p0.attrs[i]);
             t.dadx[i] = (d1 * e2y - d2 * e1y) * inv_det;
             t.dady[i] = (d2 * e1x - d1 * e2x) * inv_det;
@@ -152,9 +153,10 @@ impl SmallTriangle {
         Some(t)
     }
 
-    /// Calls `f` with each row and the run of pixels the triangle covers on it, top to bottom.
+    /// Calls `f` with each row and the run of pixels the triangle covers on it, top to bottom, with the first
+    /// `N` attributes (as set up).
     #[inline(always)]
-    pub(super) fn for_each_run(&self, mut f: impl FnMut(i32, &Run)) {
+    pub(super) fn for_each_run<const N: usize>(&self, mut f: impl FnMut(i32, &Run)) {
         let mut edges = self.edges;
         for y in self.rows.0..self.rows.1 {
             // A triangle is convex: the covered centres of a row are one run of the box's columns.
@@ -169,7 +171,7 @@ impl SmallTriangle {
                 // Evaluated from the first vertex on every row (not stepped), so any band gives the same values.
                 let (k, dy) = (first as f32, y as f32 + 0.5 - self.y0);
                 let mut a0 = self.a0;
-                for ((a, dx), dy_) in a0.iter_mut().zip(&self.dadx).zip(&self.dady) {
+                for ((a, dx), dy_) in a0.iter_mut().zip(&self.dadx).zip(&self.dady).take(N) {
                     *a += dy_ * dy + k * dx;
                 }
                 let x = self.x_start as usize;
@@ -210,9 +212,9 @@ mod tests {
 
     /// The runs the small path gives, `None` if it declines.
     fn small_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Runs> {
-        let t = SmallTriangle::new(v, rows, width)?;
+        let t = SmallTriangle::new::<4>(v, rows, width)?;
         let mut out = vec![];
-        t.for_each_run(|y, r| out.push(((y, r.x0, r.x1), r.a0)));
+        t.for_each_run::<4>(|y, r| out.push(((y, r.x0, r.x1), r.a0)));
         Some(out)
     }
 
@@ -253,9 +255,9 @@ mod tests {
     #[test]
     fn large_or_non_triangular_polygons_are_left_to_the_walker() {
         let big = [sv(0, 0, 0.0), sv(16 * 17, 0, 0.0), sv(0, 16 * 3, 0.0)];
-        assert!(SmallTriangle::new(&big, (0, 100), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&big, (0, 100), 400).is_none());
         let quad = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(32, 32, 0.0), sv(0, 32, 0.0)];
-        assert!(SmallTriangle::new(&quad, (0, 100), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&quad, (0, 100), 400).is_none());
         let flat = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(64, 0, 0.0)];
         assert_eq!(small_runs(&flat, (0, 100), 400), Some(vec![]));
     }
