@@ -155,10 +155,11 @@ impl FillContext<'_> {
                 continue;
             }
             let draw = |span: &Span| add(draw_prepared(span, &shading, &prepared, &mut rows.row(span.y)));
-            if prepared.needs_colour() {
-                fill_spans(verts, band_rows, w as i32, draw);
-            } else {
-                fill_spans_first::<4>(verts, band_rows, w as i32, draw);
+            match prepared.fast() {
+                None => fill_spans(verts, band_rows, w as i32, draw),
+                // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.
+                Some((Source::Flat(_), _)) => fill_spans_first::<1>(verts, band_rows, w as i32, draw),
+                Some(_) => fill_spans_first::<4>(verts, band_rows, w as i32, draw),
             }
         }
         total
