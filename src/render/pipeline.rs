@@ -399,9 +399,10 @@ impl Renderer {
                 }
                 self.batches[first..batches_used].par_iter_mut().enumerate().for_each(|(i, b)| {
                     b.clear();
+                    b.tag = (first + i + 1) as u32;
                     object.run(count * i / pieces..count * (i + 1) / pieces, b);
                 });
-                self.main.adopt_polygons(&self.batches[first..batches_used], first as u32 + 1, true);
+                self.main.adopt_polygons(&self.batches[first..batches_used]);
             } else {
                 object.run(0..count, &mut self.main);
             }
