@@ -10,6 +10,7 @@
 pub mod bands;
 pub mod camera;
 pub mod clip;
+mod cpu;
 pub mod cull;
 pub mod fixed;
 pub mod lod;
@@ -26,6 +27,8 @@ pub mod span;
 mod span_avx2;
 pub mod span_lanes;
 pub mod stats;
+#[cfg(test)]
+mod test_rng;
 pub mod texture;
 mod transform;
 #[cfg(target_arch = "x86_64")]

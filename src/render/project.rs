@@ -436,17 +436,8 @@ mod tests {
     use glam::{Vec2, Vec3, Vec4};
 
     use super::*;
+    use crate::render::test_rng::Lcg;
     use crate::render::{Camera, MeshBuilder, Vertex};
-
-    /// A small deterministic generator, so failures reproduce.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn unit(&mut self) -> f32 {
-            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
 
     #[test]
     fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {

@@ -188,20 +188,7 @@ impl SmallTriangle {
 mod tests {
     use super::*;
     use crate::render::scanline::{Span, fill_spans};
-
-    /// A small deterministic generator, so failures reproduce.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> u32 {
-            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 33) as u32
-        }
-
-        fn range(&mut self, lo: i32, hi: i32) -> i32 {
-            lo + (self.next() % (hi - lo) as u32) as i32
-        }
-    }
+    use crate::render::test_rng::Lcg;
 
     fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {
         ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [a, 1.0, a * 2.0, -a, 0.5, 0.5, 0.5, 1.0] }

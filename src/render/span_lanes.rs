@@ -11,6 +11,8 @@
 //! how many pixels are in flight. Writes are selects (the old value where the visibility test failed), so
 //! a rejected pixel keeps its colour and depth bit for bit.
 
+#[cfg(target_arch = "x86_64")]
+use super::cpu::use_avx2;
 use super::scanline::{Span, slot};
 use super::span::{Row, SpanCounts, Visibility};
 use super::texture::{Sampler, Texture, floor_i32};
@@ -166,19 +168,6 @@ fn shade<const SRC: u8>(t: u32, (flat, [cr, cg, cb]): (u32, [u32; 3])) -> u32 {
     }
 }
 
-/// Whether the AVX2 chunk loop may run (detected once; the detection caches its answer).
-#[inline]
-fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 /// Draws a run: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
 /// per-pixel loop is the reference the chunk loop must match bit for bit.
 #[inline(always)]
@@ -196,7 +185,7 @@ pub(super) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     #[cfg(target_arch = "x86_64")]
     // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up
     // (measured: 4% of the small-polygon scene, whose spans are 1-3 pixels).
-    if x1.saturating_sub(x0) >= LANES && has_avx2() && !portable_forced() {
+    if x1.saturating_sub(x0) >= LANES && use_avx2() {
         // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
         #[allow(unsafe_code)]
         {
@@ -283,26 +272,17 @@ pub(super) fn cover_bits(coverage: &mut [u64], x: usize, bits: u8) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::cpu::{force_portable, has_avx2};
     use crate::render::scanline::ATTRS;
+    use crate::render::test_rng::Lcg;
     use crate::render::texture::Wrap;
 
-    /// A small deterministic generator, so failures reproduce.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> u32 {
-            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 33) as u32
-        }
-        fn below(&mut self, n: u32) -> u32 {
-            self.next() % n
-        }
-        fn float(&mut self, hostile: bool) -> f32 {
-            if hostile && self.below(6) == 0 {
-                [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9, 0.0][self.below(6) as usize]
-            } else {
-                (self.next() as f32 / u32::MAX as f32 - 0.3) * 4.0
-            }
+    /// A random attribute value; when `hostile`, one in six is NaN, infinite, huge or zero.
+    fn float(rng: &mut Lcg, hostile: bool) -> f32 {
+        if hostile && rng.below(6) == 0 {
+            [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9, 0.0][rng.below(6) as usize]
+        } else {
+            (rng.next() as f32 / u32::MAX as f32 - 0.3) * 4.0
         }
     }
 
@@ -316,10 +296,10 @@ mod tests {
         portable: bool,
     ) -> (Vec<u32>, Vec<u32>, Vec<u64>, SpanCounts) {
         let (mut color, mut depth, mut coverage) = (start.0.to_vec(), start.1.to_vec(), start.2.to_vec());
-        PORTABLE_ONLY.with(|p| p.set(portable));
+        force_portable(portable);
         let counts =
             draw(span, source, alpha, vis, &mut Row { color: &mut color, depth: &mut depth, coverage: &mut coverage });
-        PORTABLE_ONLY.with(|p| p.set(false));
+        force_portable(false);
         (color, depth.iter().map(|d| d.to_bits()).collect(), coverage, counts)
     }
 
@@ -343,13 +323,13 @@ mod tests {
             let mut a0 = [0.0; ATTRS];
             let mut da = [0.0; ATTRS];
             for i in 0..ATTRS {
-                a0[i] = rng.float(hostile);
-                da[i] = rng.float(hostile) * 0.05;
+                a0[i] = float(&mut rng, hostile);
+                da[i] = float(&mut rng, hostile) * 0.05;
             }
             a0[slot::Q] = a0[slot::Q].abs() + 0.1;
             let span = Span { y: 0, x0, x1, a0, da };
             let color: Vec<u32> = (0..width).map(|_| rng.next()).collect();
-            let depth: Vec<f32> = (0..width).map(|_| rng.float(hostile)).collect();
+            let depth: Vec<f32> = (0..width).map(|_| float(&mut rng, hostile)).collect();
             // Random words, and often whole words drawn (which the chunk loop skips at once).
             let coverage: Vec<u64> = (0..width.div_ceil(64))
                 .map(|_| match rng.below(3) {
@@ -359,7 +339,7 @@ mod tests {
                 })
                 .collect();
             let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
-            let alpha = (rng.below(2) == 0).then(|| (rng.float(hostile), rng.float(false) * 0.3));
+            let alpha = (rng.below(2) == 0).then(|| (float(&mut rng, hostile), float(&mut rng, false) * 0.3));
             let sources = [Source::Flat(rng.next()), Source::Texel(&tex, sampler), Source::Tinted(&tex, sampler, tint)];
             for source in sources {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
@@ -383,24 +363,5 @@ mod tests {
         assert_eq!(coverage_byte(&cov, 64), 0x0f);
         // Past the end reads as drawn, so nothing is written there.
         assert_eq!(coverage_byte(&cov, 190), 0xfc);
-    }
-}
-
-#[cfg(test)]
-thread_local! {
-    /// Set by tests to force the portable loop on CPUs with AVX2, to compare the two.
-    static PORTABLE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-/// True when a test asked for the portable loop only.
-#[inline(always)]
-fn portable_forced() -> bool {
-    #[cfg(test)]
-    {
-        PORTABLE_ONLY.with(std::cell::Cell::get)
-    }
-    #[cfg(not(test))]
-    {
-        false
     }
 }

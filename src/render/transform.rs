@@ -54,7 +54,7 @@ impl VertexTransform {
     pub(super) fn run(&self, out: &mut [SetupVertex], vs: &[Vertex]) {
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && !portable_forced() {
+        if super::cpu::use_avx2() {
             // SAFETY: `run_avx2` only needs the CPU to have AVX2, which was just detected.
             #[allow(unsafe_code)]
             {
@@ -68,54 +68,28 @@ impl VertexTransform {
 }
 
 #[cfg(test)]
-thread_local! {
-    /// Set by tests to force the one-vertex loop on CPUs with AVX2, to compare the two.
-    pub(super) static PORTABLE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-/// True when a test asked for the one-vertex loop only.
-#[inline(always)]
-fn portable_forced() -> bool {
-    #[cfg(test)]
-    {
-        PORTABLE_ONLY.with(std::cell::Cell::get)
-    }
-    #[cfg(not(test))]
-    {
-        false
-    }
-}
-
-#[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::cpu::force_portable;
+    use crate::render::test_rng::Lcg;
     use glam::{Quat, Vec2};
+
+    /// A random coordinate of any scale; when `hostile`, one in sixteen is NaN, infinite, huge or zero.
+    fn coord(rng: &mut Lcg, hostile: bool) -> f32 {
+        match rng.below(16) {
+            0 if hostile => [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e30, -3e30, 0.0][rng.below(6) as usize],
+            1 => 0.0,
+            _ => (rng.next() as f32 / u32::MAX as f32 - 0.5) * [2.0, 40.0, 400.0, 1e5][rng.below(4) as usize],
+        }
+    }
 
     use crate::render::camera::{Camera, Projection};
 
-    /// A small deterministic generator, so failures reproduce.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> u32 {
-            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 33) as u32
-        }
-
-        fn coord(&mut self, hostile: bool) -> f32 {
-            match self.next() % 16 {
-                0 if hostile => [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e30, -3e30, 0.0][(self.next() % 6) as usize],
-                1 => 0.0,
-                _ => (self.next() as f32 / u32::MAX as f32 - 0.5) * [2.0, 40.0, 400.0, 1e5][(self.next() % 4) as usize],
-            }
-        }
-    }
-
     fn run(t: &VertexTransform, vs: &[Vertex], portable: bool) -> Vec<SetupVertex> {
         let mut out = vec![SetupVertex::default(); vs.len()];
-        PORTABLE_ONLY.with(|p| p.set(portable));
+        force_portable(portable);
         t.run(&mut out, vs);
-        PORTABLE_ONLY.with(|p| p.set(false));
+        force_portable(false);
         out
     }
 
@@ -131,13 +105,13 @@ mod tests {
             } else {
                 Projection::Perspective { yfov: 1.0, aspect: None, znear: 0.1, zfar: (case % 2 == 0).then_some(300.0) }
             };
-            let eye = Vec3::new(rng.coord(false), rng.coord(false), rng.coord(false) + 5.0);
+            let eye = Vec3::new(coord(&mut rng, false), coord(&mut rng, false), coord(&mut rng, false) + 5.0);
             let view = Mat4::from_rotation_x(rng.next() as f32 * 1e-4) * Mat4::from_translation(-eye);
             let camera = Camera { view, projection };
             let model = Mat4::from_scale_rotation_translation(
                 Vec3::splat(0.5 + (rng.next() % 4) as f32),
                 Quat::from_rotation_y(rng.next() as f32 * 1e-3),
-                Vec3::new(rng.coord(false), 0.0, rng.coord(false)),
+                Vec3::new(coord(&mut rng, false), 0.0, coord(&mut rng, false)),
             );
             let view_from_model = camera.view * model;
             let t = VertexTransform {
@@ -149,7 +123,12 @@ mod tests {
             };
             let n = (rng.next() % 40) as usize;
             let vs: Vec<Vertex> = (0..n)
-                .map(|_| Vertex::new(Vec3::new(rng.coord(hostile), rng.coord(hostile), rng.coord(hostile)), Vec2::ZERO))
+                .map(|_| {
+                    Vertex::new(
+                        Vec3::new(coord(&mut rng, hostile), coord(&mut rng, hostile), coord(&mut rng, hostile)),
+                        Vec2::ZERO,
+                    )
+                })
                 .collect();
             let (fast, slow) = (run(&t, &vs, false), run(&t, &vs, true));
             for (i, (a, b)) in fast.iter().zip(&slow).enumerate() {
