@@ -128,7 +128,20 @@ impl FillContext<'_> {
             total.rejected += c.rejected;
         };
         let band_rows = (y0 as i32, (y0 + height) as i32);
-        for &pi in bins.iter().filter_map(|piece| piece.get(index)).flatten() {
+        let bin = || bins.iter().filter_map(|piece| piece.get(index)).flatten();
+        if self.visibility != Visibility::DepthTest {
+            // Painter's orders visit the polygons in depth order, at random places in memory: reading one
+            // corner of each first, with nothing waiting on the loads, lets their cache misses overlap,
+            // where the drawing loop below would wait for them one at a time.
+            let mut touched = 0i32;
+            for &pi in bin() {
+                if let Some(v) = self.polys.get(pi as usize).and_then(|p| self.screens.of(p)) {
+                    touched ^= v.first().map_or(0, |v| v.y.0);
+                }
+            }
+            std::hint::black_box(touched);
+        }
+        for &pi in bin() {
             let p = &self.polys[pi as usize];
             let Some(verts) = self.screens.of(p) else { continue };
             let shading = Shading {
