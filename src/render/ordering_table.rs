@@ -88,8 +88,10 @@ impl OrderingTable {
             BucketMapping::Linear => (depth - self.near) * self.scale,
             BucketMapping::Reciprocal => (self.near - 1.0 / depth) * self.scale,
         };
-        // `as usize` saturates: negative and NaN become 0.
-        (f.floor() as usize).min(self.start.len().saturating_sub(1))
+        // `as usize` truncates and saturates: negative and NaN become 0, so for every `f` it gives what
+        // `f.floor() as usize` would, without the call to libm's `floorf` (the x86-64 baseline has no
+        // rounding instruction; measured on 20,000 polygons, the ordering stage went from 0.24 to 0.20 ms).
+        (f as usize).min(self.start.len().saturating_sub(1))
     }
 
     /// Registers the next polygon (its entry number is the count registered before it) at `depth`.
@@ -189,6 +191,33 @@ mod tests {
     #[test]
     fn sega_worked_example_near_to_far() {
         assert_eq!(order(Direction::NearToFar), [10, 3, 1, 9, 4, 2, 7, 6, 8, 5]);
+    }
+
+    #[test]
+    fn buckets_are_the_floor_of_the_mapped_depth_for_any_depth() {
+        let mut ot = OrderingTable::new();
+        let mut seed = 0x2545_f491u32;
+        let mut depths = vec![f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0, -0.0, 1e-40, -1e-40, 3e38, -3e38];
+        for _ in 0..20_000 {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            depths.push((seed as i32) as f32 / 1e6);
+            depths.push(f32::from_bits(seed));
+        }
+        for (mapping, near, far, buckets) in [
+            (BucketMapping::Linear, 1.0, 50.0, 256),
+            (BucketMapping::Reciprocal, 0.5, 900.0, 1024),
+            (BucketMapping::Linear, -3.0, 7.5, 7),
+        ] {
+            ot.reset(buckets, mapping, near, far, Direction::FarToNear);
+            for &d in &depths {
+                let f = match ot.mapping {
+                    BucketMapping::Linear => (d - ot.near) * ot.scale,
+                    BucketMapping::Reciprocal => (ot.near - 1.0 / d) * ot.scale,
+                };
+                let reference = (f.floor() as usize).min(buckets - 1);
+                assert_eq!(ot.bucket_of(d), reference, "{mapping:?} depth {d}");
+            }
+        }
     }
 
     #[test]
