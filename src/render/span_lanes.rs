@@ -58,12 +58,17 @@ pub(super) fn draw(
         fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
             let Self(span, row) = self;
             let (a0, da) = (&span.a0, &span.da);
-            let run = Run {
-                x0: span.x0.max(0) as usize,
-                x1: span.x1.max(0) as usize,
-                a0: [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
-                da: [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
-            };
+            let mut start = [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]];
+            let da = [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]];
+            // A span starting left of the row (spans from the fill never do) is clipped at pixel 0, its
+            // attributes moved there.
+            if span.x0 < 0 {
+                let skip = -(span.x0 as f32);
+                for (a, d) in start.iter_mut().zip(&da) {
+                    *a += skip * d;
+                }
+            }
+            let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da };
             walk::<VIS, SRC>(&run, paint, row)
         }
     }
@@ -350,6 +355,32 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_span_starting_left_of_the_row_is_clipped_with_its_attributes_moved() {
+        let mut a0 = [0.0; ATTRS];
+        let mut da = [0.0; ATTRS];
+        (a0[slot::DEPTH], da[slot::DEPTH]) = (1.0, 0.25);
+        let draw_from = |x0: i32, a0: [f32; ATTRS]| {
+            let (mut color, mut depth) = (vec![0u32; 8], vec![2.5f32; 8]);
+            let span = Span { y: 0, x0, x1: 6, a0, da };
+            let counts = draw(
+                &span,
+                Source::Flat(7),
+                None,
+                Visibility::DepthTest,
+                &mut Row { color: &mut color, depth: &mut depth, coverage: &mut [] },
+            );
+            (color, depth, counts)
+        };
+        let mut clipped = a0;
+        clipped[slot::DEPTH] += 3.0 * 0.25;
+        let (color, depth, counts) = draw_from(-3, a0);
+        assert_eq!((color.clone(), depth.clone(), counts), draw_from(0, clipped));
+        // Depths 1.75, 2.0, 2.25 fail against 2.5 on pixels 0..3; 2.5 fails (not nearer); 2.75, 3.0 pass.
+        assert_eq!(color, [0, 0, 0, 0, 7, 7, 0, 0]);
+        assert_eq!(counts, SpanCounts { shaded: 2, written: 2, rejected: 4 });
     }
 
     #[test]
