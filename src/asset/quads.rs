@@ -65,7 +65,7 @@ fn mergeable(v: &[Vertex], [a, b, c]: [u32; 3], d: u32) -> bool {
     close2(uv, vd.uv) && close4(col, vd.color)
 }
 
-/// Groups a triangle list into polygons: each `a b c` + `a c d` pair that [`mergeable`] accepts becomes the
+/// Groups a triangle list into polygons: each `a b c` + `a c d` pair that `mergeable` accepts becomes the
 /// quad `a b c d`; every other triangle stays a triangle. Order is kept.
 #[must_use]
 pub fn merge_pairs(vertices: &[Vertex], tris: &[[u32; 3]]) -> Vec<Vec<u32>> {

@@ -21,7 +21,7 @@ pub mod overlay;
 pub mod pipeline;
 mod project;
 pub mod scanline;
-pub mod small_triangle;
+mod small_triangle;
 pub mod span;
 #[cfg(target_arch = "x86_64")]
 mod span_avx2;

@@ -268,7 +268,7 @@ impl Race {
         self
     }
 
-    /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, [ and ] halve and
+    /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, `[` and `]` halve and
     /// double the speed (1/4x to 16x), R restarts.
     pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ShellError> {
         let mut race = Self::new(scene, options, 3, false);
