@@ -102,14 +102,8 @@ pub struct Prepared<'a> {
 }
 
 impl Prepared<'_> {
-    /// True when spans need only the first four attributes (depth, `1/w`, `u/w`, `v/w`): the fast paths
-    /// take the polygon's one colour instead of interpolating it.
-    #[must_use]
-    pub fn needs_colour(&self) -> bool {
-        self.fast.is_none()
-    }
-
-    /// The fast path's colour source and alpha mask, if one applies.
+    /// The fast path's colour source and alpha mask, if one applies (spans then need only the first four
+    /// attributes, depth, `1/w`, `u/w`, `v/w`, or only depth for a flat colour).
     pub(super) fn fast(&self) -> Option<(Source<'_>, Option<(f32, f32)>)> {
         self.fast
     }
