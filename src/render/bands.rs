@@ -135,7 +135,10 @@ impl FillContext<'_> {
             // where the drawing loop below would wait for them one at a time.
             let mut touched = 0i32;
             for &pi in bin() {
-                if let Some(v) = self.polys.get(pi as usize).and_then(|p| self.screens.of(p)) {
+                let Some(p) = self.polys.get(pi as usize) else { continue };
+                if let Some(t) = self.screens.small(p) {
+                    touched ^= t.rows().0;
+                } else if let Some(v) = self.screens.of(p) {
                     touched ^= v.first().map_or(0, |v| v.y.0);
                 }
             }
@@ -143,7 +146,6 @@ impl FillContext<'_> {
         }
         for &pi in bin() {
             let p = &self.polys[pi as usize];
-            let Some(verts) = self.screens.of(p) else { continue };
             let shading = Shading {
                 texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
                 sampler: p.sampler,
@@ -155,18 +157,16 @@ impl FillContext<'_> {
                 screen_door: p.screen_door,
             };
             let prepared = shading.prepare();
-            let small = |(source, alpha)| {
-                // A flat colour needs only the depth plane.
-                let tri = match source {
-                    Source::Flat(_) => SmallTriangle::new::<1>(verts, band_rows, w as i32),
-                    _ => SmallTriangle::new::<4>(verts, band_rows, w as i32),
-                };
-                tri.map(|t| (t, source, alpha))
-            };
-            if let Some((tri, source, alpha)) = prepared.fast().and_then(small) {
-                add(dispatch(source, alpha, self.visibility, SmallJob { tri: &tri, rows: &mut rows }));
+            if let Some(tri) = self.screens.small(p) {
+                // Set up only for polygons with a fast path (`FastPathRule`, which a test holds to `prepare`).
+                debug_assert!(prepared.fast().is_some(), "a small triangle without a fast path");
+                if let Some((source, alpha)) = prepared.fast() {
+                    let job = SmallJob { tri, band: band_rows, rows: &mut rows };
+                    add(dispatch(source, alpha, self.visibility, job));
+                }
                 continue;
             }
+            let Some(verts) = self.screens.of(p) else { continue };
             let draw = |span: &Span| add(draw_prepared(span, &shading, &prepared, &mut rows.row(span.y)));
             match prepared.fast() {
                 None => fill_spans(verts, band_rows, w as i32, draw),
@@ -205,6 +205,8 @@ impl BandRows<'_> {
 /// A small triangle's rows drawn by one monomorphised pixel loop.
 struct SmallJob<'t, 'r, 'b> {
     tri: &'t SmallTriangle,
+    /// The band's rows, `band.0..band.1`.
+    band: (i32, i32),
     rows: &'r mut BandRows<'b>,
 }
 
@@ -218,10 +220,11 @@ impl Fill for SmallJob<'_, '_, '_> {
             total.written += c.written;
             total.rejected += c.rejected;
         };
+        // A flat colour needs only the depth.
         if SRC == FLAT {
-            self.tri.for_each_run::<1>(draw)
+            self.tri.for_each_run::<1>(self.band, draw)
         } else {
-            self.tri.for_each_run::<4>(draw)
+            self.tri.for_each_run::<4>(self.band, draw)
         }
         total
     }

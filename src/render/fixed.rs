@@ -50,7 +50,8 @@ impl Fx28_4 {
     /// edge belongs to the polygon on its right (or below), never to both, never to neither.
     #[must_use]
     pub fn first_centre_at_or_after(self) -> i32 {
-        ceil_div(i64::from(self.0) - i64::from(Self::HALF), i64::from(Self::ONE)) as i32
+        // ceil((n - 8) / 16) = floor((n + 7) / 16): a shift, not a division (set-up does this per corner).
+        ((i64::from(self.0) + i64::from(Self::ONE - 1 - Self::HALF)) >> 4) as i32
     }
 }
 
@@ -89,6 +90,10 @@ mod tests {
         assert_eq!(Fx28_4::from_f32(f32::NAN), None);
         assert_eq!(Fx28_4::from_f32(1e30), None);
         // A coordinate exactly on a centre includes that pixel; just after it, the next one.
+        for n in (-4000..4000).chain([i32::MIN, i32::MIN + 7, i32::MAX - 7, i32::MAX]) {
+            let exact = ceil_div(i64::from(n) - 8, 16);
+            assert_eq!(i64::from(Fx28_4(n).first_centre_at_or_after()), exact, "raw {n}");
+        }
         assert_eq!(Fx28_4(8).first_centre_at_or_after(), 0);
         assert_eq!(Fx28_4(9).first_centre_at_or_after(), 1);
         assert_eq!(Fx28_4(7).first_centre_at_or_after(), 0);

@@ -25,7 +25,7 @@ use super::mesh::DEPTH_BIAS_STEP;
 use super::ordering_table::{Direction, OrderingTable};
 use super::project::{Batch, ObjectSetup, Screens, SetupVertex};
 use super::scanline::{ScreenVertex, slot};
-use super::span::{SpanCounts, TextureMode, Visibility};
+use super::span::{FastPathRule, SpanCounts, TextureMode, Visibility};
 use super::texture::Sampler;
 use super::transform::VertexTransform;
 use super::view_lists::model_direction;
@@ -76,6 +76,9 @@ pub(super) struct DrawPolygon {
     pub(super) alpha_cutoff: Option<f32>,
     pub(super) constant_color: Option<[f32; 4]>,
     pub(super) screen_door: bool,
+    /// Whether it is a small triangle set up for the fast path: then `first` indexes its batch's small
+    /// triangles and it has no screen vertices.
+    pub(super) small: bool,
 }
 
 /// Moves a decal's depth towards the viewer for the depth test by `steps` times (one pixel of the
@@ -387,6 +390,8 @@ impl Renderer {
                 object_key,
                 textures: list.textures.len(),
                 see_through: inst.see_through,
+                fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode },
+                width: width as i32,
             };
             if threads > 1 && count >= PARALLEL_POLYGONS {
                 // Pieces of the polygon list set up in parallel, then appended in order: the result is the
@@ -463,7 +468,7 @@ impl Renderer {
         let pieces = if threads > 1 && self.order.len() >= PARALLEL_POLYGONS { threads * 2 } else { 1 };
         self.bins.resize_with(pieces, Vec::new);
         self.bins.truncate(pieces);
-        let screens = Screens { main: &self.main.screen, batches: &self.batches };
+        let screens = Screens { main: &self.main, batches: &self.batches };
         let (polys, order, n) = (&self.main.polys, &self.order, self.order.len());
         let bin_piece = |(i, b): (usize, &mut Vec<Vec<u32>>)| {
             bin(polys, &order[n * i / pieces..n * (i + 1) / pieces], (height, rows_per_band), b);

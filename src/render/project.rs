@@ -15,6 +15,8 @@ use super::mesh::{AlphaMode, Material, Mesh};
 use super::monotone::triangulate;
 use super::pipeline::{DrawPolygon, slope_scaled_bias};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
+use super::small_triangle::SmallTriangle;
+use super::span::FastPathRule;
 use super::stats::Stats;
 use super::transform::VertexTransform;
 
@@ -60,6 +62,8 @@ impl Counts {
 #[derive(Debug, Default)]
 pub(super) struct Batch {
     pub(super) screen: Vec<ScreenVertex>,
+    /// Small triangles set up for the fast path, in place of their screen vertices.
+    pub(super) small: Vec<SmallTriangle>,
     pub(super) polys: Vec<DrawPolygon>,
     pub(super) counts: Counts,
     clip_in: Vec<ClipVertex>,
@@ -75,6 +79,7 @@ impl Batch {
     /// Empties the output, keeping the allocations.
     pub(super) fn clear(&mut self) {
         self.screen.clear();
+        self.small.clear();
         self.polys.clear();
         self.counts = Counts::default();
     }
@@ -96,25 +101,43 @@ impl Batch {
     }
 }
 
-/// Where the screen vertices of a frame's polygons are: batch 0 is the main batch, batch `k` the set-up
-/// batch `k - 1`.
+/// Where the screen vertices (or small triangles) of a frame's polygons are: batch 0 is the main batch,
+/// batch `k` the set-up batch `k - 1`.
 #[derive(Clone, Copy)]
 pub(super) struct Screens<'a> {
-    /// The main batch's vertices.
-    pub(super) main: &'a [ScreenVertex],
+    /// The main batch.
+    pub(super) main: &'a Batch,
     /// The set-up batches of big objects, whose vertices were left in place.
     pub(super) batches: &'a [Batch],
 }
 
 impl<'a> Screens<'a> {
-    /// The screen vertices of polygon `p` (`None` for a polygon whose indices are out of range).
+    /// The batch holding polygon `p`'s corners.
+    #[inline]
+    fn batch(&self, p: &DrawPolygon) -> Option<&'a Batch> {
+        match p.batch {
+            0 => Some(self.main),
+            k => self.batches.get(k as usize - 1),
+        }
+    }
+
+    /// The screen vertices of polygon `p` (`None` for a small triangle, or a polygon whose indices are out
+    /// of range).
     #[inline]
     pub(super) fn of(&self, p: &DrawPolygon) -> Option<&'a [ScreenVertex]> {
-        let screen = match p.batch {
-            0 => self.main,
-            k => &self.batches.get(k as usize - 1)?.screen,
-        };
-        screen.get(p.first as usize..(p.first + p.count) as usize)
+        if p.small {
+            return None;
+        }
+        self.batch(p)?.screen.get(p.first as usize..(p.first + p.count) as usize)
+    }
+
+    /// The set-up of small triangle `p` (`None` if `p` is not one).
+    #[inline]
+    pub(super) fn small(&self, p: &DrawPolygon) -> Option<&'a SmallTriangle> {
+        if !p.small {
+            return None;
+        }
+        self.batch(p)?.small.get(p.first as usize)
     }
 }
 
@@ -261,6 +284,10 @@ pub(super) struct ObjectSetup<'a> {
     pub(super) textures: usize,
     /// Draw with the screen door (the ghost car).
     pub(super) see_through: bool,
+    /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
+    pub(super) fast_path: FastPathRule,
+    /// The frame's width in pixels.
+    pub(super) width: i32,
 }
 
 /// What gathering a polygon's corners gave: its ordering key and whether all corners share one colour.
@@ -404,16 +431,35 @@ impl ObjectSetup<'_> {
             first: first as u32,
             count: n as u32,
             batch: out.tag,
-            rows: rows(&out.screen[first..]),
+            rows: (0, 0),
             key,
             texture,
             sampler: material.sampler,
             alpha_cutoff,
             constant_color: g.constant_color,
             screen_door: self.see_through,
+            small: false,
         };
-        if is_y_monotone(&out.screen[first..]) {
-            out.polys.push(base);
+        let fast = self.fast_path.applies(
+            texture.is_some(),
+            g.constant_color.is_some(),
+            alpha_cutoff.is_some(),
+            self.see_through,
+        );
+        let corners = &out.screen[first..];
+        // A flat colour needs only the depth plane.
+        let small = match (fast, texture) {
+            (false, _) => None,
+            (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
+            (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
+        };
+        if let Some(t) = small {
+            out.screen.truncate(first);
+            let small = DrawPolygon { first: out.small.len() as u32, rows: t.rows(), small: true, ..base };
+            out.small.push(t);
+            out.polys.push(small);
+        } else if is_y_monotone(&out.screen[first..]) {
+            out.polys.push(DrawPolygon { rows: rows(&out.screen[first..]), ..base });
         } else {
             out.counts.split += 1;
             out.tris.clear();
@@ -437,7 +483,7 @@ mod tests {
 
     use super::*;
     use crate::render::test_rng::Lcg;
-    use crate::render::{Camera, MeshBuilder, Vertex};
+    use crate::render::{Camera, Filter, MeshBuilder, TextureMode, Vertex};
 
     #[test]
     fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {
@@ -482,9 +528,11 @@ mod tests {
                 object_key: None,
                 textures: 0,
                 see_through: false,
+                fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
+                width: 320,
             };
             let (mut fast, mut slow) = (Batch::default(), Batch::default());
-            let mut compared = 0;
+            let (mut compared, mut small) = (0, 0);
             for (k, poly) in mesh.polygons().iter().enumerate() {
                 let idx = mesh.polygon_indices(poly);
                 if idx.iter().any(|&i| !vertices[i as usize].projected) {
@@ -501,10 +549,13 @@ mod tests {
                 };
                 setup.finish(0, g, material, &mut slow);
                 assert_eq!(fast.screen, slow.screen, "polygon {k}");
+                assert_eq!(fast.small, slow.small, "polygon {k}");
                 assert_eq!(fast.polys, slow.polys, "polygon {k}");
                 compared += usize::from(!fast.polys.is_empty());
+                small += fast.small.len();
             }
             assert!(compared > 1000, "only {compared} polygons drawn and compared");
+            assert!(small > 300, "only {small} small triangles set up");
         }
     }
 }

@@ -3,9 +3,10 @@
 //! A triangle a few pixels across costs the scanline walker ([`super::scanline`]) more in set-up than in
 //! pixels: each edge is positioned with 64-bit divisions, each row samples both edges and divides for the
 //! attribute steps, and each row's span goes through the span dispatch on its own. Here a triangle whose
-//! bounding box is at most [`MAX_SIDE`] pixels each way is set up once per band: three integer edge functions
-//! and the plane of its attributes (one division for the whole triangle); the band's fill then draws all its
-//! rows in one call of the pixel loop chosen for the polygon ([`super::span_lanes::dispatch`]).
+//! bounding box is at most [`MAX_SIDE`] pixels each way, and whose shading takes a fast path, is set up once,
+//! at polygon set-up: three integer edge functions and the plane of its attributes (one division for the
+//! whole triangle). Each band's fill then draws its rows in one call of the pixel loop chosen for the polygon
+//! ([`super::span_lanes::dispatch`]).
 //!
 //! **Sub-pixel and fill rules** are the scanline walker's, decided with exact integers on the same
 //! [`Fx28_4`] grid: pixel `(x, y)` is sampled at its centre `(x + 0.5, y + 0.5)`, rows whose centre lies in
@@ -30,7 +31,7 @@ pub const MAX_SIDE: i32 = 16;
 
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
 /// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct EdgeFn {
     /// Value at the first pixel centre of the box on the current row.
     at_row: i32,
@@ -78,16 +79,21 @@ fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
     m
 }
 
-/// A small triangle set up for the rows of one band.
-#[derive(Clone, Copy, Debug)]
+/// A small triangle set up once, at polygon set-up, for every band that draws it.
+///
+/// Polygon set-up has the corners in cache and has just computed the area; setting the triangle up there
+/// (rather than in each band's fill, from the corners read back) also replaces its three 40-byte screen
+/// vertices with this one record.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct SmallTriangle {
+    /// The edge functions at the centre of pixel `(x_start, rows.0)`.
     edges: [EdgeFn; 3],
     /// First column of the box (clipped to the frame) and how many columns it has there.
     x_start: i32,
     columns: i32,
     /// Bits of the box's columns.
     column_mask: u32,
-    /// Rows of the box within the band.
+    /// Rows of the box (not clipped to a band).
     rows: (i32, i32),
     /// Depth, `1/w`, `s/w`, `t/w` at the centre of column `x_start` on the line through the first vertex's
     /// y, and their change per pixel and per row.
@@ -99,13 +105,13 @@ pub(super) struct SmallTriangle {
 }
 
 impl SmallTriangle {
-    /// Sets up `v` for rows `rows.0..rows.1` clipped to `0..width`; `None` when `v` is not a triangle or its
-    /// bounding box is larger than [`MAX_SIDE`] (the caller uses the scanline walker then). The decision is
-    /// made on the whole triangle, never on the band, so every band draws a triangle the same way. A
-    /// zero-area triangle, or one with nothing in these rows, is set up with no rows. Only the first `N`
-    /// attributes are set up (the others are 0): a flat colour needs only the depth.
+    /// Sets up triangle `v` of signed area `area` ([`signed_area2`]) for a frame `width` pixels wide; `None`
+    /// when `v` is not a triangle or its bounding box is larger than [`MAX_SIDE`] (the caller uses the
+    /// scanline walker then). A zero-area triangle, or one wholly left or right of the frame, is set up with
+    /// no rows. Only the first `N` attributes are set up (the others are 0): a flat colour needs only the
+    /// depth.
     #[inline]
-    pub(super) fn new<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Self> {
+    pub(super) fn new<const N: usize>(v: &[ScreenVertex], area: i64, width: i32) -> Option<Self> {
         let [p0, p1, p2] = v else { return None };
         let col0 = p0.x.min(p1.x).min(p2.x).first_centre_at_or_after();
         let col1 = p0.x.max(p1.x).max(p2.x).first_centre_at_or_after();
@@ -114,25 +120,24 @@ impl SmallTriangle {
         if col1 - col0 > MAX_SIDE || row1 - row0 > MAX_SIDE {
             return None;
         }
-        let area = signed_area2(v);
+        debug_assert_eq!(area, signed_area2(v));
         let (x_start, x_end) = (col0.max(0), col1.min(width));
-        let (y_start, y_end) = (row0.max(rows.0), row1.min(rows.1));
         let empty = Self {
             edges: [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3],
             x_start,
             columns: 0,
             column_mask: 0,
-            rows: (y_start, y_start),
+            rows: (row0, row0),
             a0: [0.0; 4],
             y0: 0.0,
             dadx: [0.0; 4],
             dady: [0.0; 4],
         };
-        if area == 0 || x_start >= x_end || y_start >= y_end {
+        if area == 0 || x_start >= x_end || row0 >= row1 {
             return Some(empty);
         }
         let centre = |i: i32| i * Fx28_4::ONE + Fx28_4::HALF;
-        let origin = (centre(x_start), centre(y_start));
+        let origin = (centre(x_start), centre(row0));
         let edges =
             [EdgeFn::new(p0, p1, area, origin), EdgeFn::new(p1, p2, area, origin), EdgeFn::new(p2, p0, area, origin)];
         // The attributes' plane, from the vertices' exact grid positions.
@@ -143,7 +148,7 @@ impl SmallTriangle {
         let ox = x_start as f32 + 0.5 - x0;
         let columns = x_end - x_start;
         let column_mask = u32::MAX >> (32 - columns);
-        let mut t = Self { edges, columns, column_mask, rows: (y_start, y_end), y0, ..empty };
+        let mut t = Self { edges, columns, column_mask, rows: (row0, row1), y0, ..empty };
         for i in 0..N.min(4) {
             let (d1, d2) = (p1.attrs[i] - p0.attrs[i], p2.attrs[i] - p0.attrs[i]);
             t.dadx[i] = (d1 * e2y - d2 * e1y) * inv_det;
@@ -153,12 +158,23 @@ impl SmallTriangle {
         Some(t)
     }
 
-    /// Calls `f` with each row and the run of pixels the triangle covers on it, top to bottom, with the first
-    /// `N` attributes (as set up).
+    /// The rows whose centres the triangle may cover, `rows().0..rows().1`.
+    pub(super) fn rows(&self) -> (i32, i32) {
+        self.rows
+    }
+
+    /// Calls `f` with each row of `band` (`band.0..band.1`) and the run of pixels the triangle covers on it,
+    /// top to bottom, with the first `N` attributes.
     #[inline(always)]
-    pub(super) fn for_each_run<const N: usize>(&self, mut f: impl FnMut(i32, &Run)) {
+    pub(super) fn for_each_run<const N: usize>(&self, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
+        let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
         let mut edges = self.edges;
-        for y in self.rows.0..self.rows.1 {
+        // Exact integers: a band starting inside the box gets the values the rows above it would have
+        // stepped to.
+        for e in &mut edges {
+            e.at_row += e.step_y * (y_start - self.rows.0).max(0);
+        }
+        for y in y_start..y_end {
             // A triangle is convex: the covered centres of a row are one run of the box's columns.
             // A fixed number of columns (4, 8 or 16, masked to the box) unrolls without a branch per column.
             let m = match self.columns {
@@ -199,9 +215,9 @@ mod tests {
 
     /// The runs the small path gives, `None` if it declines.
     fn small_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Runs> {
-        let t = SmallTriangle::new::<4>(v, rows, width)?;
+        let t = SmallTriangle::new::<4>(v, signed_area2(v), width)?;
         let mut out = vec![];
-        t.for_each_run::<4>(|y, r| out.push(((y, r.x0, r.x1), r.a0)));
+        t.for_each_run::<4>(rows, |y, r| out.push(((y, r.x0, r.x1), r.a0)));
         Some(out)
     }
 
@@ -242,9 +258,9 @@ mod tests {
     #[test]
     fn large_or_non_triangular_polygons_are_left_to_the_walker() {
         let big = [sv(0, 0, 0.0), sv(16 * 17, 0, 0.0), sv(0, 16 * 3, 0.0)];
-        assert!(SmallTriangle::new::<4>(&big, (0, 100), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&big, signed_area2(&big), 400).is_none());
         let quad = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(32, 32, 0.0), sv(0, 32, 0.0)];
-        assert!(SmallTriangle::new::<4>(&quad, (0, 100), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&quad, signed_area2(&quad), 400).is_none());
         let flat = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(64, 0, 0.0)];
         assert_eq!(small_runs(&flat, (0, 100), 400), Some(vec![]));
     }

@@ -109,6 +109,25 @@ impl Prepared<'_> {
     }
 }
 
+/// What decides whether a polygon's spans take a fast path, known before any span is drawn: polygon set-up
+/// asks it to prepare small triangles only for polygons the fill will draw that way.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FastPathRule {
+    /// The texture filter of the frame.
+    pub(super) filter: Filter,
+    /// The texture mode of the frame.
+    pub(super) mode: TextureMode,
+}
+
+impl FastPathRule {
+    /// Whether a polygon with (or without) a texture, a constant colour and an alpha cutoff, drawn with or
+    /// without the screen door, takes a fast path: exactly when [`Shading::prepare`] gives it one.
+    pub(super) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
+        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
+        !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
+    }
+}
+
 impl<'a> Shading<'a> {
     /// Chooses the fast path (if any) for spans with this shading.
     #[must_use]
@@ -228,6 +247,35 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_fast_path_rule_agrees_with_prepare_on_every_combination() {
+        let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
+        let mut fast = 0;
+        for bits in 0..128u32 {
+            let bit = |k: u32| bits >> k & 1 == 1;
+            let rule = FastPathRule {
+                filter: if bit(0) { Filter::Bilinear } else { Filter::Nearest },
+                mode: if bit(1) { TextureMode::Subdivided } else { TextureMode::Perspective },
+            };
+            let sh = Shading {
+                texture: bit(2).then_some(&texture),
+                sampler: Sampler::default(),
+                filter: rule.filter,
+                mode: rule.mode,
+                alpha_cutoff: bit(3).then_some(0.5),
+                visibility: Visibility::DepthTest,
+                constant_color: bit(4).then_some(if bit(5) { [1.0; 4] } else { [0.5, 0.2, 0.1, 0.7] }),
+                screen_door: bit(6),
+            };
+            let expected = sh.prepare().fast().is_some();
+            assert_eq!(rule.applies(bit(2), bit(4), bit(3), bit(6)), expected, "combination {bits:07b}");
+            fast += usize::from(expected);
+        }
+        // Flat without a cutoff under any filter and mode, white or not (8); textured with nearest
+        // perspective sampling, with or without a cutoff, white or tinted (4).
+        assert_eq!(fast, 8 + 4);
+    }
 
     #[test]
     fn packing_rounds_and_clamps() {
