@@ -517,3 +517,71 @@ fn see_through_instances_draw_a_checkerboard_in_every_method() {
         }
     }
 }
+
+/// Small triangles that follow one another with different paints (flat colours, two textures, white and
+/// tinted, with and without a cutoff) are drawn by loops shared between neighbours that paint alike: every
+/// triangle must still get its own paint. The reference draws each triangle alone, where nothing is shared.
+#[test]
+fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
+    let (w, h) = (96usize, 40usize);
+    let camera = Camera {
+        view: Mat4::from_translation(Vec3::new(-(w as f32) * 0.5, -(h as f32) * 0.5, -100.0)),
+        projection: scanline_racer::render::Projection::Orthographic {
+            xmag: w as f32 * 0.5,
+            ymag: h as f32 * 0.5,
+            znear: 1.0,
+            zfar: 300.0,
+        },
+    };
+    let stripes = |seed: u32| {
+        let texels = (0..16u32).map(|i| 0xff00_0000 | (i * 0x0011_0d07).wrapping_mul(seed) & 0x00ff_ffff).collect();
+        Texture::new(4, 4, texels).unwrap()
+    };
+    let textures = [stripes(3), stripes(7)];
+    let tinted = Vec4::new(0.5, 0.75, 0.25, 1.0);
+    let materials = [
+        Material { base_color: RED, ..Material::default() },
+        Material { base_color: BLUE, ..Material::default() },
+        Material { texture: Some(0), ..Material::default() },
+        Material { texture: Some(0), base_color: tinted, ..Material::default() },
+        Material { texture: Some(1), ..Material::default() },
+        Material { texture: Some(0), alpha_mode: AlphaMode::Mask { cutoff: 0.5 }, ..Material::default() },
+        Material { texture: Some(1), base_color: tinted, ..Material::default() },
+    ];
+    // Runs of equal paints and every change between neighbours.
+    let pattern = [0, 0, 1, 2, 2, 3, 2, 4, 4, 5, 2, 6, 3, 3, 0, 6, 6, 1, 5, 5, 4, 0, 2, 1];
+    let mesh_of = |tris: &[(usize, usize)]| {
+        let mut b = MeshBuilder::new();
+        let ms: Vec<u32> = materials.iter().map(|m| b.material(Material { double_sided: true, ..m.clone() })).collect();
+        for &(i, m) in tris {
+            let (x, y) = ((i % 12) as f32 * 8.0 + 0.5, (i / 12) as f32 * 10.0 + 0.5);
+            let corners = [(x, y, 0.0, 0.0), (x + 6.0, y, 1.0, 0.0), (x, y + 6.0, 0.0, 1.0)];
+            let idx: Vec<u32> = corners
+                .iter()
+                .map(|&(x, y, u, v)| {
+                    let color = Vec4::ONE;
+                    b.vertex(Vertex { position: Vec3::new(x, y, (i % 5) as f32), uv: Vec2::new(u, v), color })
+                })
+                .collect();
+            b.polygon(&idx, ms[m]);
+        }
+        b.build().unwrap()
+    };
+    let all: Vec<(usize, usize)> = (0..36).map(|i| (i, pattern[i % pattern.len()])).collect();
+    for method in [Method::ZBuffer, Method::BucketFar, Method::BucketNear] {
+        let o = opts(method);
+        let (frame, _) = render(&[mesh_of(&all)], &textures, &camera, w, h, &o);
+        let mut expected = vec![0u32; w * h];
+        for t in &all {
+            let (alone, _) = render(&[mesh_of(&[*t])], &textures, &camera, w, h, &o);
+            for (e, a) in expected.iter_mut().zip(&alone) {
+                *e |= a;
+            }
+        }
+        assert_eq!(frame, expected, "{method}");
+        // Each triangle is drawn (about 18 pixels), and the paints differ.
+        assert!(frame.iter().filter(|&&p| p != 0).count() > 36 * 12, "{method}");
+        let distinct: std::collections::BTreeSet<u32> = frame.iter().copied().collect();
+        assert!(distinct.len() > 12, "{method}: {} colours", distinct.len());
+    }
+}

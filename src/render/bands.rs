@@ -9,7 +9,7 @@ use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small_triangle::SmallTriangle;
-use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
+use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared, pack_rgb};
 use super::span_lanes::{FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
 /// The rows of one band and their colour.
@@ -144,7 +144,8 @@ impl FillContext<'_> {
             }
             std::hint::black_box(touched);
         }
-        for &pi in bin() {
+        let mut polys = bin().peekable();
+        while let Some(&pi) = polys.next() {
             let p = &self.polys[pi as usize];
             let shading = Shading {
                 texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
@@ -161,8 +162,9 @@ impl FillContext<'_> {
                 // Set up only for polygons with a fast path (`FastPathRule`, which a test holds to `prepare`).
                 debug_assert!(prepared.fast().is_some(), "a small triangle without a fast path");
                 if let Some((source, alpha)) = prepared.fast() {
-                    let job = SmallJob { tri, band: band_rows, rows: &mut rows };
-                    add(dispatch(source, alpha, self.visibility, job));
+                    let group =
+                        SmallGroup { first: (p, tri), rest: &mut polys, ctx: self, band: band_rows, rows: &mut rows };
+                    add(dispatch(source, alpha, self.visibility, group));
                 }
                 continue;
             }
@@ -202,29 +204,64 @@ impl BandRows<'_> {
     }
 }
 
-/// A small triangle's rows drawn by one monomorphised pixel loop.
-struct SmallJob<'t, 'r, 'b> {
-    tri: &'t SmallTriangle,
+/// Small triangles that follow one another in a bin and paint alike (flat colours, or one texture with one
+/// tint and cutoff), drawn by one monomorphised loop: the shading, its fast path and the dispatch are
+/// chosen once for the group rather than per triangle.
+struct SmallGroup<'g, 'c, 'r, 'b, I: Iterator> {
+    /// The group's first polygon and its set-up.
+    first: (&'c DrawPolygon, &'c SmallTriangle),
+    /// The rest of the bin; the group takes polygons from it while they paint like the first.
+    rest: &'g mut std::iter::Peekable<I>,
+    ctx: &'c FillContext<'c>,
     /// The band's rows, `band.0..band.1`.
     band: (i32, i32),
     rows: &'r mut BandRows<'b>,
 }
 
-impl Fill for SmallJob<'_, '_, '_> {
+impl<'g, 'c, I: Iterator<Item = &'c u32>> SmallGroup<'g, 'c, '_, '_, I> {
+    /// The set-up of the bin's next polygon if it is a small triangle that paints like `first` with the
+    /// loop for source `SRC` (any flat colour, or the same texture, sampler, colour and cutoff).
     #[inline(always)]
-    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let mut total = SpanCounts::default();
-        let draw = |y, run: &Run| {
-            let c = walk::<VIS, SRC>(run, paint, &mut self.rows.row(y));
-            total.shaded += c.shaded;
-            total.written += c.written;
-            total.rejected += c.rejected;
-        };
-        // A flat colour needs only the depth.
-        if SRC == FLAT {
-            self.tri.for_each_run::<1>(self.band, draw)
+    fn next_alike<const SRC: u8>(&mut self, first: &DrawPolygon) -> Option<(&'c DrawPolygon, &'c SmallTriangle)> {
+        let ctx = self.ctx;
+        let q = ctx.polys.get(**self.rest.peek()? as usize)?;
+        let alike = if SRC == FLAT {
+            q.texture.is_none()
         } else {
-            self.tri.for_each_run::<4>(self.band, draw)
+            (q.texture, q.sampler, q.alpha_cutoff, q.constant_color)
+                == (first.texture, first.sampler, first.alpha_cutoff, first.constant_color)
+        };
+        // A small triangle is set up only for a fast path, so with no texture it is flat.
+        let t = ctx.screens.small(q).filter(|_| alike)?;
+        self.rest.next();
+        Some((q, t))
+    }
+}
+
+impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
+    fn fill<const VIS: u8, const SRC: u8>(mut self, paint: &Paint<'_>) -> SpanCounts {
+        let mut total = SpanCounts::default();
+        let (first, mut tri) = self.first;
+        let mut paint = *paint;
+        loop {
+            let rows = &mut *self.rows;
+            let draw = |y, run: &Run| {
+                let c = walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
+                total.shaded += c.shaded;
+                total.written += c.written;
+                total.rejected += c.rejected;
+            };
+            // A flat colour needs only the depth.
+            if SRC == FLAT {
+                tri.for_each_run::<1>(self.band, draw)
+            } else {
+                tri.for_each_run::<4>(self.band, draw)
+            }
+            let Some((q, t)) = self.next_alike::<SRC>(first) else { break };
+            if SRC == FLAT {
+                paint = paint.with_flat(pack_rgb(q.constant_color.unwrap_or_default()));
+            }
+            tri = t;
         }
         total
     }

@@ -47,17 +47,17 @@ impl EdgeFn {
     /// (the row rule decides those).
     #[inline]
     fn new(p: &ScreenVertex, q: &ScreenVertex, area: i64, (cx, cy): (i32, i32)) -> Self {
-        let down = q.y.0 > p.y.0;
-        let (a, b) = if down { (p, q) } else { (q, p) };
-        let (dx, dy) = (b.x.0 - a.x.0, b.y.0 - a.y.0);
-        let f = (cx - a.x.0) * dy - dx * (cy - a.y.0);
+        let (dx, dy) = (q.x.0 - p.x.0, q.y.0 - p.y.0);
+        // F taken from p to q; from the upper end to the lower, as above, it is the same or its negative.
+        let f = (cx - p.x.0) * dy - dx * (cy - p.y.0);
+        let down = dy > 0;
         // With y down and a positive area the polygon's forward order runs down its right side. A centre is
         // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0.
         // Arithmetic rather than branches: which edges are left or right is random from one triangle to
         // the next, and mispredicted branches showed in profiles.
         let right = i32::from(down == (area > 0));
         let sloped = i32::from(dy != 0);
-        let sign = sloped * (1 - 2 * right);
+        let sign = sloped * (1 - 2 * right) * (2 * i32::from(down) - 1);
         let bias = 1 - sloped * right;
         let one = Fx28_4::ONE;
         Self { at_row: sign * f + bias, step_x: sign * dy * one, step_y: -sign * dx * one }
@@ -144,7 +144,9 @@ impl SmallTriangle {
         let (x0, y0) = (p0.x.to_f32(), p0.y.to_f32());
         let (e1x, e1y) = (p1.x.to_f32() - x0, p1.y.to_f32() - y0);
         let (e2x, e2y) = (p2.x.to_f32() - x0, p2.y.to_f32() - y0);
-        let inv_det = 1.0 / (e1x * e2y - e2x * e1y);
+        // The area in square pixels is `area / 256` exactly (every product is a whole number of 1/256ths
+        // below 2^24), the same value as `e1x * e2y - e2x * e1y`, known sooner.
+        let inv_det = 256.0 / area as f32;
         let ox = x_start as f32 + 0.5 - x0;
         let columns = x_end - x_start;
         let column_mask = u32::MAX >> (32 - columns);

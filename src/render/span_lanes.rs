@@ -77,9 +77,18 @@ pub(super) fn draw(
 
 /// A fast-path source resolved for the pixel loops: the texture (if any) and
 /// `(flat colour, tint, alpha mask)`.
+#[derive(Clone, Copy)]
 pub(super) struct Paint<'a> {
     tex: Option<(&'a Texture, Sampler)>,
     colors: (u32, [u32; 3], Option<(f32, f32)>),
+}
+
+impl Paint<'_> {
+    /// The same paint with flat colour `c` (for the next of a group of flat polygons drawn by one loop).
+    #[inline(always)]
+    pub(super) fn with_flat(&self, c: u32) -> Self {
+        Self { tex: self.tex, colors: (c, self.colors.1, self.colors.2) }
+    }
 }
 
 /// Work done by a loop monomorphised for one (visibility, source) pair; [`dispatch`] picks the pair.
