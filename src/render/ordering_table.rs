@@ -6,6 +6,14 @@
 //! are chained into one list by linking each non-empty bucket's end to the next non-empty bucket's start,
 //! far to near (claim 4) or near to far (claim 5). Drawing near to far reverses the order inside each bucket
 //! too, so it is exactly the reverse of the far-to-near list, as the patent's paragraph 88 allows.
+//!
+//! A frame's renderer does not follow the links: [`OrderingTable::sort`] gives the order the links would,
+//! as a counting sort of the buckets (each bucket's entries stay in submission order). Walking 20,000 links
+//! is 20,000 dependent loads at random places; counting, placing the buckets and writing each entry at its
+//! bucket's next slot are passes over arrays (measured on 20,000 polygons: 0.20 -> 0.09 ms). The linked
+//! table stays as the reference a test holds the sort to. It runs on one thread: split across two by bucket
+//! ranges (each thread scanning every entry for its own), it was slower in the frame (0.11 ms), as that
+//! scan's branch on the range is taken at random.
 
 /// Direction in which the buckets are chained.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,6 +48,12 @@ pub struct OrderingTable {
     scale: f32,
     mapping: BucketMapping,
     direction: Direction,
+    /// Entries per bucket, nearest first.
+    counts: Vec<u32>,
+    /// [`OrderingTable::sort`]'s scratch: each entry's place among the buckets in far-to-near order, and
+    /// each place's next slot in the order.
+    places: Vec<u32>,
+    next_slot: Vec<u32>,
 }
 
 impl OrderingTable {
@@ -59,6 +73,8 @@ impl OrderingTable {
         self.start.resize(buckets, NONE);
         self.end.clear();
         self.end.resize(buckets, NONE);
+        self.counts.clear();
+        self.counts.resize(buckets, 0);
         self.next.clear();
         self.head = NONE;
         self.direction = direction;
@@ -99,6 +115,7 @@ impl OrderingTable {
         let entry = self.next.len() as u32;
         self.next.push(NONE);
         let b = self.bucket_of(depth);
+        self.counts[b] += 1;
         if self.start[b] == NONE {
             self.start[b] = entry;
             self.end[b] = entry;
@@ -150,18 +167,52 @@ impl OrderingTable {
     /// How many entries each bucket holds (nearest first), for occupancy statistics.
     #[must_use]
     pub fn occupancy(&self) -> Vec<u32> {
-        let mut counts = vec![0u32; self.start.len()];
-        for (count, (&start, &end)) in counts.iter_mut().zip(self.start.iter().zip(&self.end)) {
-            let mut cur = start;
-            while cur != NONE {
-                *count += 1;
-                if cur == end {
-                    break;
-                }
-                cur = self.next[cur as usize];
+        self.counts.clone()
+    }
+
+    /// Registers `depths` (entry `i` at `depths[i]`) into the empty table and writes into `order` the entry
+    /// numbers in the order chaining the linked buckets would give ([`OrderingTable::chain`], then
+    /// [`OrderingTable::iter`]), as a counting sort: the links are not built.
+    pub fn sort(&mut self, depths: &[f32], order: &mut Vec<u32>) {
+        let (n, buckets) = (depths.len(), self.start.len());
+        order.clear();
+        if buckets == 0 {
+            // Never reset: one bucket, as `reset` would make at least.
+            order.extend(0..n as u32);
+        } else {
+            order.resize(n, 0);
+            // Each entry's place: its bucket counted from the far end; then where each place begins.
+            let mut places = std::mem::take(&mut self.places);
+            places.clear();
+            places.extend(depths.iter().map(|&d| (buckets - 1 - self.bucket_of(d)) as u32));
+            let mut next = std::mem::take(&mut self.next_slot);
+            next.clear();
+            next.resize(buckets, 0);
+            for &p in &places {
+                next[p as usize] += 1;
             }
+            let mut first = 0;
+            for (place, slot) in next.iter_mut().enumerate() {
+                let c = *slot;
+                self.counts[buckets - 1 - place] = c;
+                *slot = first;
+                first += c;
+            }
+            // Entries in submission order, each at its place's next slot.
+            for (entry, &p) in places.iter().enumerate() {
+                let slot = &mut next[p as usize];
+                if let Some(o) = order.get_mut(*slot as usize) {
+                    *o = entry as u32;
+                }
+                *slot += 1;
+            }
+            self.places = places;
+            self.next_slot = next;
         }
-        counts
+        // Near to far is exactly the far-to-near list reversed.
+        if self.direction == Direction::NearToFar {
+            order.reverse();
+        }
     }
 }
 
@@ -246,6 +297,48 @@ mod tests {
         // A non-positive near falls back to linear buckets.
         ot.reset(4, BucketMapping::Reciprocal, 0.0, 4.0, Direction::FarToNear);
         assert_eq!(ot.bucket_of(1.5), 1);
+    }
+
+    #[test]
+    fn the_counting_sort_gives_the_linked_order() {
+        let mut rng = crate::render::test_rng::Lcg(11);
+        let hostile = [f32::NAN, f32::INFINITY, -f32::INFINITY, -1e30, 1e30, 0.0];
+        let mut compared = 0;
+        let mut table = OrderingTable::new();
+        for case in 0..60 {
+            let n = [0, 1, 2, 7, 100, 3000][case % 6];
+            let buckets = [1, 3, 64, 1024, 5000][case % 5];
+            let mapping = if case % 3 == 0 { BucketMapping::Reciprocal } else { BucketMapping::Linear };
+            let depths: Vec<f32> = (0..n)
+                .map(|_| {
+                    // Few distinct depths in some cases, so buckets hold long runs.
+                    if rng.below(20) == 0 {
+                        hostile[rng.below(6) as usize]
+                    } else {
+                        rng.range(1, 2 + case as i32) as f32
+                    }
+                })
+                .collect();
+            for direction in [Direction::FarToNear, Direction::NearToFar] {
+                let mut linked = OrderingTable::new();
+                linked.reset(buckets, mapping, 1.0, 40.0, direction);
+                for &d in &depths {
+                    linked.register(d);
+                }
+                linked.chain();
+                let expected: Vec<u32> = linked.iter().collect();
+                // A reused table, as the renderer's is.
+                for _ in 0..2 {
+                    table.reset(buckets, mapping, 1.0, 40.0, direction);
+                    let mut order = vec![99];
+                    table.sort(&depths, &mut order);
+                    assert_eq!(order, expected, "case {case}, {direction:?}");
+                    assert_eq!(table.occupancy(), linked.occupancy(), "case {case}");
+                    compared += order.len();
+                }
+            }
+        }
+        assert!(compared > 20_000);
     }
 
     #[test]

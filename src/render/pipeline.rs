@@ -125,6 +125,8 @@ pub struct Renderer {
     bins: Vec<Vec<Vec<u32>>>,
     pool: Option<(usize, rayon::ThreadPool)>,
     table: OrderingTable,
+    /// The polygons' ordering keys, in order, for the ordering table.
+    keys: Vec<f32>,
     used_table: bool,
     lod_state: LodState,
 }
@@ -430,20 +432,19 @@ impl Renderer {
             }
             Method::BucketFar | Method::BucketNear | Method::ViewLists => {
                 let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
+                self.keys.clear();
                 for p in &self.main.polys {
                     if p.key.is_finite() {
                         near = near.min(p.key);
                         far = far.max(p.key);
                     }
+                    self.keys.push(p.key);
                 }
                 let direction =
                     if options.method == Method::BucketNear { Direction::NearToFar } else { Direction::FarToNear };
                 self.table.reset(options.buckets, options.mapping, near, far, direction);
-                for p in &self.main.polys {
-                    self.table.register(p.key);
-                }
-                self.table.chain();
-                self.order.extend(self.table.iter());
+                // The order the linked buckets would give (on one thread: see `OrderingTable::sort`).
+                self.table.sort(&self.keys, &mut self.order);
             }
         }
     }
