@@ -122,11 +122,7 @@ impl FillContext<'_> {
         };
         let mut rows = BandRows { y0, width: w, words, color, depth, coverage };
         let mut total = SpanCounts::default();
-        let mut add = |c: SpanCounts| {
-            total.shaded += c.shaded;
-            total.written += c.written;
-            total.rejected += c.rejected;
-        };
+        let mut add = |c: SpanCounts| total += c;
         let band_rows = (y0 as i32, (y0 + height) as i32);
         let bin = || bins.iter().filter_map(|piece| piece.get(index)).flatten();
         if self.visibility != Visibility::DepthTest {
@@ -242,15 +238,12 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
     fn fill<const VIS: u8, const SRC: u8>(mut self, paint: &Paint<'_>) -> SpanCounts {
         let mut total = SpanCounts::default();
         let (first, mut tri) = self.first;
+        // Set-up gave a textureless small triangle only the depth plane, which is all a flat colour reads.
+        debug_assert_eq!(SRC == FLAT, first.texture.is_none());
         let mut paint = *paint;
         loop {
             let rows = &mut *self.rows;
-            let draw = |y, run: &Run| {
-                let c = walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
-                total.shaded += c.shaded;
-                total.written += c.written;
-                total.rejected += c.rejected;
-            };
+            let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
             // A flat colour needs only the depth.
             if SRC == FLAT {
                 tri.for_each_run::<1>(self.band, draw)

@@ -89,11 +89,12 @@ mod tests {
         assert_eq!(Fx28_4::from_f32(-0.03), Some(Fx28_4(0)));
         assert_eq!(Fx28_4::from_f32(f32::NAN), None);
         assert_eq!(Fx28_4::from_f32(1e30), None);
-        // A coordinate exactly on a centre includes that pixel; just after it, the next one.
+        // The shift is the exact ceiling division, to the ends of the range.
         for n in (-4000..4000).chain([i32::MIN, i32::MIN + 7, i32::MAX - 7, i32::MAX]) {
             let exact = ceil_div(i64::from(n) - 8, 16);
             assert_eq!(i64::from(Fx28_4(n).first_centre_at_or_after()), exact, "raw {n}");
         }
+        // A coordinate exactly on a centre includes that pixel; just after it, the next one.
         assert_eq!(Fx28_4(8).first_centre_at_or_after(), 0);
         assert_eq!(Fx28_4(9).first_centre_at_or_after(), 1);
         assert_eq!(Fx28_4(7).first_centre_at_or_after(), 0);

@@ -170,10 +170,12 @@ impl OrderingTable {
         self.counts.clone()
     }
 
-    /// Registers `depths` (entry `i` at `depths[i]`) into the empty table and writes into `order` the entry
-    /// numbers in the order chaining the linked buckets would give ([`OrderingTable::chain`], then
-    /// [`OrderingTable::iter`]), as a counting sort: the links are not built.
+    /// Writes into `order` the entry numbers (entry `i` at `depths[i]`) in the order that registering
+    /// `depths` into this freshly reset table, chaining ([`OrderingTable::chain`]) and iterating
+    /// ([`OrderingTable::iter`]) would give, as a counting sort. Only the bucket counts are kept (for
+    /// [`OrderingTable::occupancy`]); no links are built, so use either this or `register`, not both.
     pub fn sort(&mut self, depths: &[f32], order: &mut Vec<u32>) {
+        debug_assert!(self.next.is_empty(), "sort on a table with registered entries");
         let (n, buckets) = (depths.len(), self.start.len());
         order.clear();
         if buckets == 0 {

@@ -62,11 +62,11 @@ pub enum RenderError {
 /// A polygon (or a piece of one) ready for the fill stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct DrawPolygon {
-    /// Its first screen vertex, in its batch.
+    /// Its first screen vertex in its batch, or for a small triangle its set-up's index there.
     pub(super) first: u32,
-    /// How many screen vertices it has.
+    /// How many corners it has.
     pub(super) count: u32,
-    /// The batch holding its screen vertices (see [`Screens`]).
+    /// The batch holding its screen vertices or small triangle (see [`Screens`]).
     pub(super) batch: u32,
     /// The rows whose centres it covers, `rows.0..rows.1` (before clipping to the frame).
     pub(super) rows: (i32, i32),
@@ -293,7 +293,8 @@ impl Renderer {
         Some(chosen)
     }
 
-    /// Cull, transform, clip, project, snap, back-face cull; fills `self.main.polys` and `self.main.screen`.
+    /// Cull, transform, clip, project, snap, back-face cull; fills `self.main.polys`, `self.main.screen` and
+    /// `self.main.small` (big objects' corners stay in `self.batches`).
     fn geometry(
         &mut self,
         (width, height, threads): (usize, usize, usize),
@@ -490,19 +491,14 @@ impl Renderer {
             words,
         };
         let bands = split_bands(frame, width, rows_per_band);
-        let add = |a: SpanCounts, b: SpanCounts| SpanCounts {
-            shaded: a.shaded + b.shaded,
-            written: a.written + b.written,
-            rejected: a.rejected + b.rejected,
-        };
         let bins = &self.bins;
         let jobs = bands.into_iter().enumerate();
         if threads == 1 {
-            return jobs.map(|(i, band)| ctx.fill_band(band, bins, i)).fold(SpanCounts::default(), add);
+            return jobs.map(|(i, band)| ctx.fill_band(band, bins, i)).fold(SpanCounts::default(), |a, b| a + b);
         }
         // Bands are handed out by work stealing, as the sky and the ground cost very different amounts.
         let jobs: Vec<_> = jobs.collect();
-        jobs.into_par_iter().map(|(i, band)| ctx.fill_band(band, bins, i)).reduce(SpanCounts::default, add)
+        jobs.into_par_iter().map(|(i, band)| ctx.fill_band(band, bins, i)).reduce(SpanCounts::default, |a, b| a + b)
     }
 }
 

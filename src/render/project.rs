@@ -58,7 +58,8 @@ impl Counts {
     }
 }
 
-/// Set-up output (screen vertices and the polygons indexing them) and the scratch buffers that make it.
+/// Set-up output (screen vertices, small triangles and the polygons indexing them) and the scratch buffers
+/// that make it.
 #[derive(Debug, Default)]
 pub(super) struct Batch {
     pub(super) screen: Vec<ScreenVertex>,
@@ -446,18 +447,17 @@ impl ObjectSetup<'_> {
             alpha_cutoff.is_some(),
             self.see_through,
         );
-        let corners = &out.screen[first..];
-        // A flat colour needs only the depth plane.
-        let small = match (fast, texture) {
+        // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
+        // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
+        let small = |corners: &[ScreenVertex], area: i64| match (fast, texture) {
             (false, _) => None,
             (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
             (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
         };
-        if let Some(t) = small {
+        if let Some(t) = small(&out.screen[first..], area) {
             out.screen.truncate(first);
-            let small = DrawPolygon { first: out.small.len() as u32, rows: t.rows(), small: true, ..base };
+            out.polys.push(DrawPolygon { first: out.small.len() as u32, rows: t.rows(), small: true, ..base });
             out.small.push(t);
-            out.polys.push(small);
         } else if is_y_monotone(&out.screen[first..]) {
             out.polys.push(DrawPolygon { rows: rows(&out.screen[first..]), ..base });
         } else {
@@ -468,10 +468,16 @@ impl ObjectSetup<'_> {
             triangulate(&out.piece, area.signum(), &mut out.tris);
             out.screen.truncate(first);
             for t in &out.tris {
+                let corners = t.map(|i| out.piece[i]);
+                if let Some(st) = small(&corners, signed_area2(&corners)) {
+                    let f = out.small.len() as u32;
+                    out.polys.push(DrawPolygon { first: f, count: 3, rows: st.rows(), small: true, ..base });
+                    out.small.push(st);
+                    continue;
+                }
                 let f = out.screen.len() as u32;
-                out.screen.extend(t.iter().map(|&i| out.piece[i]));
-                let rows = rows(&out.screen[f as usize..]);
-                out.polys.push(DrawPolygon { first: f, count: 3, rows, ..base });
+                out.screen.extend_from_slice(&corners);
+                out.polys.push(DrawPolygon { first: f, count: 3, rows: rows(&corners), ..base });
             }
         }
     }
@@ -484,6 +490,65 @@ mod tests {
     use super::*;
     use crate::render::test_rng::Lcg;
     use crate::render::{Camera, Filter, MeshBuilder, TextureMode, Vertex};
+
+    /// Sets up every polygon of `mesh`, seen by an orthographic camera that maps `x, y` to pixels of a
+    /// 320x240 frame, with flat shading on the fast path.
+    fn set_up_in_pixels(mesh: &crate::render::Mesh) -> Batch {
+        let camera = crate::render::Camera {
+            view: glam::Mat4::from_translation(Vec3::new(-160.0, -120.0, -10.0)),
+            projection: crate::render::Projection::Orthographic { xmag: 160.0, ymag: 120.0, znear: 1.0, zfar: 30.0 },
+        };
+        let transform = VertexTransform {
+            clip_from_model: camera.clip_from_view(320, 240) * camera.view,
+            depth_row: camera.view.row(2),
+            volume: ClipVolume::new(320, 240, true),
+            size: (320.0, 240.0),
+            perspective: false,
+        };
+        let vertices: Vec<_> = mesh.vertices().iter().map(|v| transform.vertex(v.position)).collect();
+        let setup = ObjectSetup {
+            mesh,
+            stored: None,
+            vertices: &vertices,
+            transform: &transform,
+            key: DepthKey::Avg,
+            perspective_attrs: false,
+            object_key: None,
+            textures: 0,
+            see_through: false,
+            fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
+            width: 320,
+        };
+        let mut out = Batch::default();
+        setup.run(0..mesh.polygons().len(), &mut out);
+        out
+    }
+
+    #[test]
+    fn the_small_pieces_of_a_split_polygon_are_small_triangles_and_big_ones_keep_their_corners() {
+        let mut b = MeshBuilder::new();
+        let m = b.material(Material { double_sided: true, ..Material::default() });
+        // Two chevrons (a V with a notch in its top: not y-monotone), one 6 pixels across and one 60: each
+        // is split into two triangles.
+        for (x, s) in [(20.0, 1.0), (100.0, 10.0)] {
+            let corners = [(0.0, 0.0), (3.0, 4.0), (6.0, 0.0), (3.0, 6.0)];
+            let idx: Vec<u32> = corners
+                .iter()
+                .map(|&(cx, cy)| {
+                    let position = Vec3::new(x + cx * s, 20.0 + cy * s, 0.0);
+                    b.vertex(Vertex { position, uv: Vec2::ZERO, color: Vec4::ONE })
+                })
+                .collect();
+            b.polygon(&idx, m);
+        }
+        let out = set_up_in_pixels(&b.build().unwrap());
+        assert_eq!(out.counts.split, 2);
+        let small: Vec<bool> = out.polys.iter().map(|p| p.small).collect();
+        assert_eq!(small, [true, true, false, false]);
+        assert_eq!(out.small.len(), 2);
+        // Only the big pieces' corners are kept.
+        assert_eq!(out.screen.len(), 6);
+    }
 
     #[test]
     fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {

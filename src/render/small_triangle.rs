@@ -144,8 +144,10 @@ impl SmallTriangle {
         let (x0, y0) = (p0.x.to_f32(), p0.y.to_f32());
         let (e1x, e1y) = (p1.x.to_f32() - x0, p1.y.to_f32() - y0);
         let (e2x, e2y) = (p2.x.to_f32() - x0, p2.y.to_f32() - y0);
-        // The area in square pixels is `area / 256` exactly (every product is a whole number of 1/256ths
-        // below 2^24), the same value as `e1x * e2y - e2x * e1y`, known sooner.
+        // The area in square pixels is `area / 256`. For corners within 2^20 pixels of the origin (every
+        // triangle that can draw a pixel in a frame smaller than that) it equals `e1x * e2y - e2x * e1y`
+        // bit for bit, every product being a whole number of 1/256ths below 2^24; it is known sooner, and
+        // beyond that range it is the exact one.
         let inv_det = 256.0 / area as f32;
         let ox = x_start as f32 + 0.5 - x0;
         let columns = x_end - x_start;
@@ -170,6 +172,9 @@ impl SmallTriangle {
     #[inline(always)]
     pub(super) fn for_each_run<const N: usize>(&self, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
         let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
+        if y_start >= y_end {
+            return;
+        }
         let mut edges = self.edges;
         // Exact integers: a band starting inside the box gets the values the rows above it would have
         // stepped to.

@@ -75,6 +75,22 @@ pub struct SpanCounts {
     pub rejected: u64,
 }
 
+impl std::ops::Add for SpanCounts {
+    type Output = Self;
+
+    /// The counts of two sets of spans together.
+    fn add(self, o: Self) -> Self {
+        Self { shaded: self.shaded + o.shaded, written: self.written + o.written, rejected: self.rejected + o.rejected }
+    }
+}
+
+impl std::ops::AddAssign for SpanCounts {
+    /// Adds another set of spans' counts.
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
 /// Packs RGBA in `0..=1` into `0x00RRGGBB`, rounding to nearest; NaN becomes 0.
 #[inline]
 #[must_use]
