@@ -45,8 +45,8 @@ impl EdgeFn {
     /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area`, with the
     /// function evaluated at raw centre `(cx, cy)`; a horizontal edge gives a function positive everywhere
     /// (the row rule decides those).
-    #[inline]
-    fn new(p: &ScreenVertex, q: &ScreenVertex, area: i64, (cx, cy): (i32, i32)) -> Self {
+    #[inline(always)]
+    fn new(p: &Corner, q: &Corner, area: i64, (cx, cy): (i32, i32)) -> Self {
         let (dx, dy) = (q.x.0 - p.x.0, q.y.0 - p.y.0);
         // F taken from p to q; from the upper end to the lower, as above, it is the same or its negative.
         let f = (cx - p.x.0) * dy - dx * (cy - p.y.0);
@@ -77,6 +77,27 @@ fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
         f2 += edges[2].step_x;
     }
     m
+}
+
+/// The first column and row whose centres a triangle with corners at `(x, y)` may cover and the first
+/// after them: `(col0, col1, row0, row1)`.
+#[inline(always)]
+fn bounds([(x0, y0), (x1, y1), (x2, y2)]: [(Fx28_4, Fx28_4); 3]) -> (i32, i32, i32, i32) {
+    let first = |a: i32| Fx28_4(a).first_centre_at_or_after();
+    let (x, y) = ([x0.0, x1.0, x2.0], [y0.0, y1.0, y2.0]);
+    let (min, max) = (|v: [i32; 3]| v[0].min(v[1]).min(v[2]), |v: [i32; 3]| v[0].max(v[1]).max(v[2]));
+    (first(min(x)), first(max(x)), first(min(y)), first(max(y)))
+}
+
+/// A corner of a small triangle: its snapped position and the four attributes this path interpolates
+/// (depth, `1/w`, `s/w`, `t/w`: the first four of a [`ScreenVertex`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Corner {
+    /// Screen position.
+    pub(super) x: Fx28_4,
+    pub(super) y: Fx28_4,
+    /// Depth, `1/w`, `s/w`, `t/w`.
+    pub(super) attrs: [f32; 4],
 }
 
 /// A small triangle set up once, at polygon set-up, for every band that draws it.
@@ -113,14 +134,30 @@ impl SmallTriangle {
     #[inline]
     pub(super) fn new<const N: usize>(v: &[ScreenVertex], area: i64, width: i32) -> Option<Self> {
         let [p0, p1, p2] = v else { return None };
-        let col0 = p0.x.min(p1.x).min(p2.x).first_centre_at_or_after();
-        let col1 = p0.x.max(p1.x).max(p2.x).first_centre_at_or_after();
-        let row0 = p0.y.min(p1.y).min(p2.y).first_centre_at_or_after();
-        let row1 = p0.y.max(p1.y).max(p2.y).first_centre_at_or_after();
+        debug_assert_eq!(area, signed_area2(v));
+        let corner =
+            |p: &ScreenVertex| Corner { x: p.x, y: p.y, attrs: [p.attrs[0], p.attrs[1], p.attrs[2], p.attrs[3]] };
+        Self::from_corners::<N>(&[corner(p0), corner(p1), corner(p2)], area, width)
+    }
+
+    /// Whether a triangle with corners at `(x, y)` has a bounding box this path takes (at most
+    /// [`MAX_SIDE`] pixel centres each way).
+    #[inline]
+    pub(super) fn fits(xy: [(Fx28_4, Fx28_4); 3]) -> bool {
+        let (col0, col1, row0, row1) = bounds(xy);
+        col1 - col0 <= MAX_SIDE && row1 - row0 <= MAX_SIDE
+    }
+
+    /// [`Self::new`] from the three corners' positions and first four attributes (depth, `1/w`, `s/w`,
+    /// `t/w`), for set-up that has them without building screen vertices; `area` is [`signed_area2`] of the
+    /// corners.
+    #[inline(always)]
+    pub(super) fn from_corners<const N: usize>(v: &[Corner; 3], area: i64, width: i32) -> Option<Self> {
+        let [p0, p1, p2] = v;
+        let (col0, col1, row0, row1) = bounds([(p0.x, p0.y), (p1.x, p1.y), (p2.x, p2.y)]);
         if col1 - col0 > MAX_SIDE || row1 - row0 > MAX_SIDE {
             return None;
         }
-        debug_assert_eq!(area, signed_area2(v));
         let (x_start, x_end) = (col0.max(0), col1.min(width));
         let empty = Self {
             edges: [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3],
