@@ -5,12 +5,13 @@
 
 use super::DrawList;
 use super::RenderOptions;
+use super::cpu::use_avx2;
 use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small_triangle::SmallTriangle;
+use super::small_triangle::{self, BandPixels, NarrowRows, SmallTriangle};
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared, pack_rgb};
-use super::span_lanes::{FLAT, Fill, Paint, Run, Source, dispatch, walk};
+use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
 /// The rows of one band and their colour.
 pub(super) struct Band<'a> {
@@ -177,6 +178,19 @@ impl FillContext<'_> {
     }
 }
 
+/// Draws a narrow flat small triangle ([`small_triangle::fill_flat_narrow`]), with AVX2 where the CPU has
+/// it; returns `(written, rejected)`.
+#[inline(always)]
+fn fill_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+    #[cfg(target_arch = "x86_64")]
+    if use_avx2() {
+        // SAFETY: `fill_flat_narrow` only needs the CPU to have AVX2, which was just detected.
+        #[allow(unsafe_code)]
+        return unsafe { super::small_avx2::fill_flat_narrow::<DEPTH>(r, color, px) };
+    }
+    small_triangle::fill_flat_narrow::<DEPTH>(r, color, px)
+}
+
 /// The colour, depth and coverage rows of the band being drawn.
 struct BandRows<'a> {
     y0: usize,
@@ -243,12 +257,24 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
         let mut paint = *paint;
         loop {
             let rows = &mut *self.rows;
-            let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
-            // A flat colour needs only the depth.
-            if SRC == FLAT {
-                tri.for_each_run::<1>(self.band, draw)
+            let narrow = if SRC == FLAT && VIS != COVERAGE { tri.narrow_rows(self.band) } else { None };
+            if let Some(r) = narrow {
+                let mut px =
+                    BandPixels { y0: rows.y0, width: rows.width, color: &mut *rows.color, depth: &mut *rows.depth };
+                let (written, rejected) = if VIS == DEPTH_TEST {
+                    fill_narrow::<true>(&r, paint.flat(), &mut px)
+                } else {
+                    fill_narrow::<false>(&r, paint.flat(), &mut px)
+                };
+                total += SpanCounts { shaded: written, written, rejected };
             } else {
-                tri.for_each_run::<4>(self.band, draw)
+                let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
+                // A flat colour needs only the depth.
+                if SRC == FLAT {
+                    tri.for_each_run::<1>(self.band, draw)
+                } else {
+                    tri.for_each_run::<4>(self.band, draw)
+                }
             }
             let Some((q, t)) = self.next_alike::<SRC>(first) else { break };
             if SRC == FLAT {

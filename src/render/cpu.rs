@@ -1,5 +1,5 @@
-//! Whether the AVX2 loops (the span chunks and the vertex transform) may run: detected at run time, and
-//! switched off by tests that compare them with their one-at-a-time references.
+//! Whether the AVX2 loops (the span chunks, the vertex transform and the narrow small triangles) may run:
+//! detected at run time, and switched off by tests that compare them with their one-at-a-time references.
 
 /// Whether the CPU has AVX2 (detected once; the detection caches its answer).
 #[inline]

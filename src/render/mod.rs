@@ -21,6 +21,8 @@ pub mod overlay;
 pub mod pipeline;
 mod project;
 pub mod scanline;
+#[cfg(target_arch = "x86_64")]
+mod small_avx2;
 mod small_triangle;
 pub mod span;
 #[cfg(target_arch = "x86_64")]

@@ -6,7 +6,8 @@
 //! bounding box is at most [`MAX_SIDE`] pixels each way, and whose shading takes a fast path, is set up once,
 //! at polygon set-up: three integer edge functions and the plane of its attributes (one division for the
 //! whole triangle). Each band's fill then draws its rows in one call of the pixel loop chosen for the polygon
-//! ([`super::span_lanes::dispatch`]).
+//! ([`super::span_lanes::dispatch`]). A flat triangle whose box is at most [`NARROW`] columns wide is drawn
+//! a row's four columns at a time instead ([`fill_flat_narrow`], and with AVX2 [`super::small_avx2`]).
 //!
 //! **Sub-pixel and fill rules** are the scanline walker's, decided with exact integers on the same
 //! [`Fx28_4`] grid: pixel `(x, y)` is sampled at its centre `(x + 0.5, y + 0.5)`, rows whose centre lies in
@@ -28,6 +29,9 @@ use super::span_lanes::Run;
 
 /// Largest bounding box side, in pixels (rows or columns whose centres it may cover), taken by this path.
 pub const MAX_SIDE: i32 = 16;
+
+/// Columns of a box drawn four lanes at a time by [`fill_flat_narrow`].
+pub const NARROW: usize = 4;
 
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
 /// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
@@ -244,6 +248,171 @@ impl SmallTriangle {
     }
 }
 
+/// The band's colour and depth buffers as one slice each, rows `y0..` of a frame `width` pixels wide, for
+/// [`fill_flat_narrow`].
+pub(super) struct BandPixels<'a> {
+    /// First frame row of the band.
+    pub(super) y0: usize,
+    pub(super) width: usize,
+    pub(super) color: &'a mut [u32],
+    /// Depths (larger is nearer), empty unless the band is depth tested.
+    pub(super) depth: &'a mut [f32],
+}
+
+impl SmallTriangle {
+    /// The triangle's rows in `band` when its box is at most [`NARROW`] columns wide, the case drawn four
+    /// columns at a time ([`fill_flat_narrow`]); `None` for a wider box or no rows in the band.
+    #[inline(always)]
+    pub(super) fn narrow_rows(&self, band: (i32, i32)) -> Option<NarrowRows> {
+        let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
+        if self.columns > NARROW as i32 || y_start >= y_end {
+            return None;
+        }
+        let skip = (y_start - self.rows.0).max(0);
+        let e = &self.edges;
+        Some(NarrowRows {
+            at_row: [
+                e[0].at_row + e[0].step_y * skip,
+                e[1].at_row + e[1].step_y * skip,
+                e[2].at_row + e[2].step_y * skip,
+            ],
+            step_x: [e[0].step_x, e[1].step_x, e[2].step_x],
+            step_y: [e[0].step_y, e[1].step_y, e[2].step_y],
+            column_mask: self.column_mask,
+            x_start: self.x_start as usize,
+            rows: (y_start, y_end),
+            depth: [self.a0[0], self.dadx[0], self.dady[0], self.y0],
+        })
+    }
+}
+
+/// A narrow small triangle's rows in one band: its edge functions at the box's first column on the band's
+/// first row, and its depth plane.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NarrowRows {
+    /// The three edge functions at the centre of pixel `(x_start, rows.0)`, and their change per column
+    /// and per row.
+    pub(super) at_row: [i32; 3],
+    pub(super) step_x: [i32; 3],
+    pub(super) step_y: [i32; 3],
+    /// Bits of the box's columns (at most [`NARROW`]).
+    pub(super) column_mask: u32,
+    /// First column of the box.
+    pub(super) x_start: usize,
+    /// The rows to draw, `rows.0..rows.1`.
+    pub(super) rows: (i32, i32),
+    /// Depth at column `x_start` on the line through the first vertex, its change per column and per
+    /// row, and that vertex's y.
+    depth: [f32; 4],
+}
+
+impl NarrowRows {
+    /// The depth at the centre of column `first` (of the box) on row `y`, exactly as
+    /// [`SmallTriangle::for_each_run`] gives a run starting there.
+    #[inline(always)]
+    pub(super) fn run_depth(&self, y: i32, first: u32) -> f32 {
+        let [a0, dadx, dady, y0] = self.depth;
+        let dy = y as f32 + 0.5 - y0;
+        a0 + (dady * dy + first as f32 * dadx)
+    }
+
+    /// The depth's change per column.
+    #[inline(always)]
+    pub(super) fn depth_step(&self) -> f32 {
+        self.depth[1]
+    }
+}
+
+/// Draws a narrow triangle's rows in colour `color`, depth-tested when `DEPTH` (strictly nearer wins, as in
+/// [`super::span_lanes::walk`]) or overwriting; returns `(written, rejected)`. The AVX2 version is
+/// [`super::small_avx2::fill_flat_narrow`], held to this one bit for bit.
+///
+/// Each row is its four box columns at once: coverage, depths, the test and the writes as four-lane
+/// selects, where the per-pixel loop spent more on a run of 1-3 pixels (its set-up and a call per row) than
+/// on the pixels. The depth of a pixel is computed as the per-pixel loop computes it, from the row's first
+/// covered pixel, so the frame is bit for bit the same.
+#[inline(always)]
+pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+    let (mut written, mut rejected) = (0u64, 0u64);
+    let edge = |i: usize| EdgeFn { at_row: r.at_row[i], step_x: r.step_x[i], step_y: r.step_y[i] };
+    let mut edges = [edge(0), edge(1), edge(2)];
+    let dd = r.depth_step();
+    for y in r.rows.0..r.rows.1 {
+        let m = row_mask::<{ NARROW as i32 }>(&edges) & r.column_mask;
+        for e in &mut edges {
+            e.at_row += e.step_y;
+        }
+        if m == 0 {
+            continue;
+        }
+        let first = m.trailing_zeros();
+        let d0 = r.run_depth(y, first);
+        let at = (y as usize - px.y0) * px.width + r.x_start;
+        let c = px.color.get_mut(at..at + NARROW).and_then(|s| <&mut [u32; NARROW]>::try_from(s).ok());
+        let d = px.depth.get_mut(at..at + NARROW).and_then(|s| <&mut [f32; NARROW]>::try_from(s).ok());
+        let (Some(c), true) = (c, !DEPTH || d.is_some()) else {
+            let (w, j) = fill_row_pixels::<DEPTH>(m, d0, dd, at, color, px);
+            written += w;
+            rejected += j;
+            continue;
+        };
+        let mut pass = [false; NARROW];
+        if let Some(d) = d.filter(|_| DEPTH) {
+            for (k, (old, ok)) in d.iter_mut().zip(&mut pass).enumerate() {
+                // Lanes left of the run get a negative offset; they are not covered.
+                let z = d0 + (k as f32 - first as f32) * dd;
+                *ok = (m >> k) & 1 != 0 && z > *old;
+                *old = if *ok { z } else { *old };
+            }
+        } else {
+            for (k, ok) in pass.iter_mut().enumerate() {
+                *ok = (m >> k) & 1 != 0;
+            }
+        }
+        let mut n = 0;
+        for (p, &ok) in c.iter_mut().zip(&pass) {
+            *p = if ok { color } else { *p };
+            n += u64::from(ok);
+        }
+        written += n;
+        rejected += u64::from(m.count_ones()) - n;
+    }
+    (written, rejected)
+}
+
+/// One row of a narrow triangle a pixel at a time (the columns `m` covers, from pixel `at` of the band's
+/// buffers, depth `d0` at the first): for a row whose four columns would run past the end of the buffers
+/// (the last row of the frame); returns `(written, rejected)`.
+#[inline(always)]
+pub(super) fn fill_row_pixels<const DEPTH: bool>(
+    m: u32,
+    d0: f32,
+    dd: f32,
+    at: usize,
+    color: u32,
+    px: &mut BandPixels<'_>,
+) -> (u64, u64) {
+    let (mut written, mut rejected) = (0u64, 0u64);
+    let first = m.trailing_zeros();
+    for k in first..u32::BITS - m.leading_zeros() {
+        let z = d0 + (k - first) as f32 * dd;
+        let i = at + k as usize;
+        let pass = !DEPTH || px.depth.get(i).is_some_and(|&old| z > old);
+        if !pass {
+            rejected += 1;
+            continue;
+        }
+        if let Some(p) = px.color.get_mut(i) {
+            *p = color;
+        }
+        if let Some(p) = px.depth.get_mut(i).filter(|_| DEPTH) {
+            *p = z;
+        }
+        written += 1;
+    }
+    (written, rejected)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -307,6 +476,58 @@ mod tests {
         assert!(SmallTriangle::new::<4>(&quad, signed_area2(&quad), 400).is_none());
         let flat = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(64, 0, 0.0)];
         assert_eq!(small_runs(&flat, (0, 100), 400), Some(vec![]));
+    }
+
+    #[test]
+    fn the_narrow_fill_draws_the_runs_as_the_pixel_loop_does_bit_for_bit() {
+        let mut rng = Lcg(5);
+        let (width, band) = (13usize, (2, 9));
+        let n = (band.1 - band.0) as usize * width;
+        let (mut narrow, mut pixels) = (0, 0);
+        for case in 0..5_000 {
+            let (x, y) = (rng.range(-20, 13 * 16 + 20), rng.range(0, 11 * 16));
+            let mut corner = || {
+                let mut v = sv(x + rng.range(-70, 70), y + rng.range(-70, 70), 0.0);
+                v.attrs[0] = if case % 4 == 0 { 0.5 } else { rng.unit() };
+                v
+            };
+            let v = [corner(), corner(), corner()];
+            let Some(t) = SmallTriangle::new::<1>(&v, signed_area2(&v), width as i32) else { continue };
+            let Some(r) = t.narrow_rows(band) else { continue };
+            let old: Vec<f32> = (0..n).map(|i| if i % 3 == 0 { 0.5 } else { rng.unit() }).collect();
+            for depth_test in [true, false] {
+                // The reference: each run a pixel at a time, depth `a0 + k * da` (as `span_lanes::walk`).
+                let (mut color, mut depth) = (vec![0u32; n], old.clone());
+                let mut counts = (0, 0);
+                t.for_each_run::<1>(band, |y, run| {
+                    for x in run.x0..run.x1 {
+                        let i = (y - band.0) as usize * width + x;
+                        let z = run.a0[0] + (x - run.x0) as f32 * run.da[0];
+                        if depth_test && z.partial_cmp(&depth[i]) != Some(std::cmp::Ordering::Greater) {
+                            counts.1 += 1;
+                            continue;
+                        }
+                        color[i] = 7;
+                        if depth_test {
+                            depth[i] = z;
+                        }
+                        counts.0 += 1;
+                    }
+                });
+                let (mut c2, mut d2) = (vec![0u32; n], old.clone());
+                let mut px = BandPixels { y0: band.0 as usize, width, color: &mut c2, depth: &mut d2 };
+                let got = if depth_test {
+                    fill_flat_narrow::<true>(&r, 7, &mut px)
+                } else {
+                    fill_flat_narrow::<false>(&r, 7, &mut px)
+                };
+                let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!((c2, bits(&d2), got), (color, bits(&depth), counts), "case {case}: {v:?}");
+                narrow += 1;
+                pixels += counts.0;
+            }
+        }
+        assert!(narrow > 2_000 && pixels > 5_000, "{narrow} triangles, {pixels} pixels");
     }
 
     #[test]

@@ -3,6 +3,8 @@
 //! This is the `d_*` half of the renderer (as Quake split it): it knows spans, textures and the buffers of one
 //! row, nothing of polygons, cameras or meshes.
 
+use glam::Vec4;
+
 use super::scanline::{ATTRS, Span, slot};
 use super::span_lanes::{self, Source};
 use super::texture::{Filter, Sampler, Texture};
@@ -95,8 +97,11 @@ impl std::ops::AddAssign for SpanCounts {
 #[inline]
 #[must_use]
 pub fn pack_rgb(c: [f32; 4]) -> u32 {
-    let ch = |v: f32| (v * 255.0 + 0.5).clamp(0.0, 255.0) as u32;
-    (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2])
+    // The channels four at a time (a flat small triangle's colour is packed per triangle, and the scalar
+    // clamps and saturating conversions were a tenth of that fill). The vector clamp sends NaN to 0, as
+    // the conversion of a NaN does.
+    let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0)).as_uvec4();
+    (v.x << 16) | (v.y << 8) | v.z
 }
 
 /// Texture coordinate and colour at one pixel: `[u, v, r, g, b, a]`.
@@ -297,5 +302,19 @@ mod tests {
     fn packing_rounds_and_clamps() {
         assert_eq!(pack_rgb([1.0, 0.5, 0.0, 1.0]), 0x00ff_8000);
         assert_eq!(pack_rgb([2.0, -1.0, f32::NAN, 1.0]), 0x00ff_0000);
+        // Against one channel at a time, around every level's rounding boundary and at the extremes.
+        let one = |v: f32| (v * 255.0 + 0.5).clamp(0.0, 255.0) as u32;
+        let mut values = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, -0.0, 0.0, 1.0, 2.0, -1e30];
+        for level in 0..=256 {
+            let b = (level as f32 - 0.5) / 255.0;
+            values.extend([b, f32::from_bits(b.to_bits() + 1), f32::from_bits(b.to_bits().wrapping_sub(1))]);
+        }
+        for &v in &values {
+            for (i, shift) in [16, 8, 0].into_iter().enumerate() {
+                let mut c = [0.25; 4];
+                c[i] = v;
+                assert_eq!((pack_rgb(c) >> shift) & 0xff, one(v), "{v:e} in channel {i}");
+            }
+        }
     }
 }

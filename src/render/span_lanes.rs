@@ -89,6 +89,12 @@ impl Paint<'_> {
     pub(super) fn with_flat(&self, c: u32) -> Self {
         Self { tex: self.tex, colors: (c, self.colors.1, self.colors.2) }
     }
+
+    /// The flat colour (for a flat source).
+    #[inline(always)]
+    pub(super) fn flat(&self) -> u32 {
+        self.colors.0
+    }
 }
 
 /// Work done by a loop monomorphised for one (visibility, source) pair; [`dispatch`] picks the pair.
