@@ -389,6 +389,7 @@ impl Renderer {
                 vertices: &self.setup_vertices,
                 transform: &transform,
                 key: options.key,
+                ordered: options.method != Method::ZBuffer,
                 perspective_attrs,
                 object_key,
                 textures: list.textures.len(),

@@ -277,6 +277,9 @@ pub(super) struct ObjectSetup<'a> {
     pub(super) transform: &'a VertexTransform,
     /// The ordering key rule.
     pub(super) key: DepthKey,
+    /// Whether the frame is drawn in an order made from the polygons' keys; the z-buffer's is not, and its
+    /// polygons all get key 0 (a small triangle's set-up then skips reading the corners' view depths).
+    pub(super) ordered: bool,
     /// Whether attributes are divided by `w` for perspective-correct interpolation.
     pub(super) perspective_attrs: bool,
     /// The key of every polygon when the object is drawn in a stored order.
@@ -291,6 +294,18 @@ pub(super) struct ObjectSetup<'a> {
     pub(super) width: i32,
 }
 
+/// What set-up needs to know of a material, worked out once for a run of polygons sharing it.
+#[derive(Clone, Copy, Debug)]
+struct MaterialSetup {
+    /// The material's index in the mesh.
+    index: u32,
+    /// Its texture, if the draw list has it.
+    texture: Option<u32>,
+    alpha_cutoff: Option<f32>,
+    /// Whether its polygons of one colour take the direct small-triangle path ([`ObjectSetup::set_up_small`]).
+    small: bool,
+}
+
 /// What gathering a polygon's corners gave: its ordering key and whether all corners share one colour.
 struct Gathered {
     key: f32,
@@ -301,10 +316,16 @@ impl ObjectSetup<'_> {
     /// Sets up polygons `range` (positions in the stored order, or polygon indices) into `out`.
     pub(super) fn run(&self, range: Range<usize>, out: &mut Batch) {
         let fallback = Material::default();
+        let mut cached: Option<MaterialSetup> = None;
         for k in range {
             let Some(poly) = self.mesh.polygons().get(self.stored.map_or(k, |o| o[k] as usize)) else { continue };
             let idx = self.mesh.polygon_indices(poly);
             let material = self.mesh.materials().get(poly.material as usize).unwrap_or(&fallback);
+            // Worked out once for each run of polygons sharing a material.
+            let m = match cached {
+                Some(m) if m.index == poly.material => m,
+                _ => *cached.insert(self.material_setup(poly.material, material)),
+            };
             let (mut finite, mut outside, mut cut, mut projected) = (true, u8::MAX, 0u8, true);
             for &i in idx {
                 let v = &self.vertices[i as usize];
@@ -321,7 +342,7 @@ impl ObjectSetup<'_> {
                 out.counts.outside += 1;
                 continue;
             }
-            if cut == 0 && projected && material.depth_bias == 0 && self.set_up_small(idx, material, out) {
+            if cut == 0 && projected && m.small && self.set_up_small(idx, material, &m, out) {
                 continue;
             }
             let first = out.screen.len();
@@ -343,6 +364,18 @@ impl ObjectSetup<'_> {
         }
     }
 
+    /// What set-up needs to know of material `index`.
+    fn material_setup(&self, index: u32, material: &Material) -> MaterialSetup {
+        let texture = material.texture.filter(|&t| t < self.textures).map(|t| t as u32);
+        let alpha_cutoff = match material.alpha_mode {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+        };
+        // A depth bias moves the corners' depths, which the direct path does not do.
+        let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
+        MaterialSetup { index, texture, alpha_cutoff, small: fast && material.depth_bias == 0 }
+    }
+
     /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
     /// (or culls it), giving exactly what [`Self::gather_inside`] and [`Self::finish`] give; `false`, with
     /// nothing written or counted, for any other polygon.
@@ -351,7 +384,7 @@ impl ObjectSetup<'_> {
     /// the small triangle's set-up, and then drops them; on the small-polygon scene that was a third of the
     /// set-up stage.
     #[inline]
-    fn set_up_small(&self, idx: &[u32], material: &Material, out: &mut Batch) -> bool {
+    fn set_up_small(&self, idx: &[u32], material: &Material, m: &MaterialSetup, out: &mut Batch) -> bool {
         // Arrays built element by element: `[T; N]::map` was not inlined here.
         let &[i0, i1, i2] = idx else { return false };
         let ids = [i0 as usize, i1 as usize, i2 as usize];
@@ -362,16 +395,15 @@ impl ObjectSetup<'_> {
         let mv = self.mesh.vertices();
         let verts = [&mv[ids[0]], &mv[ids[1]], &mv[ids[2]]];
         let color = |k: usize| (verts[k].color * material.base_color).to_array();
-        let colors = [color(0), color(1), color(2)];
-        let constant = colors[1] == colors[0] && colors[2] == colors[0];
-        let texture = material.texture.filter(|&t| t < self.textures).map(|t| t as u32);
-        let alpha_cutoff = match material.alpha_mode {
-            AlphaMode::Opaque => None,
-            AlphaMode::Mask { cutoff } => Some(cutoff),
-        };
-        if !self.fast_path.applies(texture.is_some(), constant, alpha_cutoff.is_some(), self.see_through) {
+        let color0 = color(0);
+        // Only a polygon of one colour has a fast path (`MaterialSetup::small`). Equal vertex colours give
+        // equal products (as `==` compares them); otherwise the products are compared, as `gather_inside`
+        // does.
+        let c = verts[0].color;
+        if (verts[1].color != c || verts[2].color != c) && (color(1) != color0 || color(2) != color0) {
             return false;
         }
+        let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
         let area = (0..3)
             .map(|k| {
                 let (p, q) = (s[k], s[(k + 1) % 3]);
@@ -401,6 +433,7 @@ impl ObjectSetup<'_> {
             return false;
         };
         let key = match self.object_key {
+            _ if !self.ordered => 0.0,
             Some(k) => k,
             None => {
                 let mut key = key_start(self.key);
@@ -420,7 +453,7 @@ impl ObjectSetup<'_> {
             texture,
             sampler: material.sampler,
             alpha_cutoff,
-            constant_color: Some(colors[0]),
+            constant_color: Some(color0),
             screen_door: self.see_through,
             small: true,
         });
@@ -498,6 +531,9 @@ impl ObjectSetup<'_> {
         // A stored order keeps the object's polygons together, placed by the object's depth.
         if let Some(k) = self.object_key {
             key = k;
+        }
+        if !self.ordered {
+            key = 0.0;
         }
         let area = signed_area2(&out.screen[first..]);
         if area == 0 {
@@ -600,6 +636,7 @@ mod tests {
             vertices: &vertices,
             transform: &transform,
             key: DepthKey::Avg,
+            ordered: true,
             perspective_attrs: false,
             object_key: None,
             textures: 0,
@@ -652,6 +689,8 @@ mod tests {
             base_color: Vec4::new(1.0, 1.0, 1.0, 0.75),
             ..Material::default()
         });
+        // Corners whose colours differ only in green, which this material's colour zeroes: one colour.
+        let no_green = b.material(Material { base_color: Vec4::new(1.0, 0.0, 1.0, 1.0), ..Material::default() });
         let materials = [biased, tinted, textured, masked, tinted, textured, masked];
         for i in 0..3000 {
             let corners = if i % 3 == 0 { 4 } else { 3 };
@@ -662,11 +701,15 @@ mod tests {
                     let r = 0.2 + rng.unit() * 3.0;
                     let position = centre + Vec3::new(a.cos() * r, a.sin() * r, rng.unit() - 0.5);
                     // One colour per polygon for some, per corner for others.
-                    let c = if i % 2 == 0 { Vec4::splat(0.5) } else { Vec4::new(rng.unit(), rng.unit(), 0.3, 1.0) };
+                    let c = match i % 2 {
+                        _ if i % 11 == 0 => Vec4::new(0.5, rng.unit(), 0.5, 1.0),
+                        0 => Vec4::splat(0.5),
+                        _ => Vec4::new(rng.unit(), rng.unit(), 0.3, 1.0),
+                    };
                     b.vertex(Vertex { position, uv: Vec2::new(rng.unit(), rng.unit()), color: c })
                 })
                 .collect();
-            b.polygon(&idx, materials[i % materials.len()]);
+            b.polygon(&idx, if i % 11 == 0 { no_green } else { materials[i % materials.len()] });
         }
         let mesh = b.build().unwrap();
         let (w, h) = (320.0, 240.0);
@@ -681,18 +724,20 @@ mod tests {
         let vertices: Vec<_> = mesh.vertices().iter().map(|v| transform.vertex(v.position)).collect();
         // With no textures in the draw list a textured material draws untextured.
         let cases = [
-            (DepthKey::Avg, 1, None),
-            (DepthKey::Min, 0, None),
-            (DepthKey::Max, 1, None),
-            (DepthKey::Avg, 1, Some(7.5)),
+            (DepthKey::Avg, 1, None, true),
+            (DepthKey::Min, 0, None, true),
+            (DepthKey::Max, 1, None, true),
+            (DepthKey::Avg, 1, Some(7.5), true),
+            (DepthKey::Max, 1, None, false),
         ];
-        for (key, textures, object_key) in cases {
+        for (key, textures, object_key, ordered) in cases {
             let setup = ObjectSetup {
                 mesh: &mesh,
                 stored: None,
                 vertices: &vertices,
                 transform: &transform,
                 key,
+                ordered,
                 perspective_attrs: true,
                 object_key,
                 textures,
