@@ -585,3 +585,65 @@ fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
         assert!(distinct.len() > 12, "{method}: {} colours", distinct.len());
     }
 }
+
+/// Flat small triangles lying on one another at one depth, narrow ones (a box of at most four columns,
+/// drawn four columns at a time) and wider ones (drawn a run at a time) in turn, all in one group: ties
+/// must keep the order each method promises, exactly as if each triangle were drawn alone onto the frame
+/// in turn. The z-buffer keeps the first (strictly nearer wins), the painter's bucket-far the last.
+#[test]
+fn overlapping_narrow_and_wide_small_triangles_keep_their_drawing_order() {
+    let (w, h) = (40usize, 24usize);
+    let camera = Camera {
+        view: Mat4::from_translation(Vec3::new(-(w as f32) * 0.5, -(h as f32) * 0.5, -100.0)),
+        projection: scanline_racer::render::Projection::Orthographic {
+            xmag: w as f32 * 0.5,
+            ymag: h as f32 * 0.5,
+            znear: 1.0,
+            zfar: 300.0,
+        },
+    };
+    let mut seed = 9u32;
+    let mut unit = move || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / 16_777_216.0
+    };
+    let tris: Vec<([Vec3; 3], Vec4)> = (0..60)
+        .map(|i| {
+            let size = if i % 3 == 0 { 6.5 } else { 2.0 + unit() };
+            let (x, y) = (4.0 + unit() * 28.0, 3.0 + unit() * 14.0);
+            let c = Vec4::new((i % 5) as f32 / 4.0, (i % 4) as f32 / 3.0, (1 + i / 20) as f32 / 3.0, 1.0);
+            ([Vec3::new(x, y, 0.0), Vec3::new(x + size, y + unit(), 0.0), Vec3::new(x + unit(), y + size, 0.0)], c)
+        })
+        .collect();
+    let mesh_of = |tris: &[([Vec3; 3], Vec4)]| {
+        let mut b = MeshBuilder::new();
+        let m = b.material(Material { double_sided: true, ..Material::default() });
+        for (corners, color) in tris {
+            let idx: Vec<u32> =
+                corners.iter().map(|&position| b.vertex(Vertex { position, uv: Vec2::ZERO, color: *color })).collect();
+            b.polygon(&idx, m);
+        }
+        b.build().unwrap()
+    };
+    for (method, first_wins) in [(Method::ZBuffer, true), (Method::BucketFar, false)] {
+        let o = opts(method);
+        let (frame, _) = render(&[mesh_of(&tris)], &[], &camera, w, h, &o);
+        let mut expected = vec![0u32; w * h];
+        let mut layers = vec![0u32; w * h];
+        for t in &tris {
+            let (alone, _) = render(&[mesh_of(std::slice::from_ref(t))], &[], &camera, w, h, &o);
+            for ((e, n), &a) in expected.iter_mut().zip(&mut layers).zip(&alone) {
+                if a != 0 {
+                    *n += 1;
+                    if !first_wins || *n == 1 {
+                        *e = a;
+                    }
+                }
+            }
+        }
+        assert_eq!(frame, expected, "{method}");
+        // The triangles do lie on one another.
+        let stacked = layers.iter().filter(|&&n| n >= 2).count();
+        assert!(stacked > 100, "{method}: only {stacked} pixels covered twice or more");
+    }
+}

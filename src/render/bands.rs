@@ -9,7 +9,7 @@ use super::cpu::use_avx2;
 use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small_triangle::{self, BandPixels, NarrowRows, SmallTriangle};
+use super::small_triangle::{self, BandPixels, SmallTriangle};
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared, pack_rgb};
 use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
@@ -178,19 +178,34 @@ impl FillContext<'_> {
     }
 }
 
-/// Draws a narrow flat small triangle ([`small_triangle::fill_flat_narrow`]), with AVX2 when `avx2` (from
-/// [`use_avx2`], asked once per group: the detection's cached answer cost 5% of the fill per triangle);
-/// returns `(written, rejected)`.
+/// [`small_triangle::fill_flat_run`] for `VIS` (depth-tested or overwriting), with AVX2 when `avx2` (from
+/// [`use_avx2`]).
 #[inline(always)]
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn fill_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>, avx2: bool) -> (u64, u64) {
+fn fill_flat_run<'t, const VIS: u8>(
+    start: (&'t SmallTriangle, u32),
+    next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    band: (i32, i32),
+    px: &mut BandPixels<'_>,
+    avx2: bool,
+) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
-        // SAFETY: `fill_flat_narrow` only needs the CPU to have AVX2, which was just detected.
+        // SAFETY: `fill_flat_run` only needs the CPU to have AVX2, which was detected (`use_avx2`).
         #[allow(unsafe_code)]
-        return unsafe { super::small_avx2::fill_flat_narrow::<DEPTH>(r, color, px) };
+        return unsafe {
+            if VIS == DEPTH_TEST {
+                super::small_avx2::fill_flat_run::<true>(start, next, band, px)
+            } else {
+                super::small_avx2::fill_flat_run::<false>(start, next, band, px)
+            }
+        };
     }
-    small_triangle::fill_flat_narrow::<DEPTH>(r, color, px)
+    if VIS == DEPTH_TEST {
+        small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<true>)
+    } else {
+        small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<false>)
+    }
 }
 
 /// The colour, depth and coverage rows of the band being drawn.
@@ -230,56 +245,71 @@ struct SmallGroup<'g, 'c, 'r, 'b, I: Iterator> {
     rows: &'r mut BandRows<'b>,
 }
 
-impl<'g, 'c, I: Iterator<Item = &'c u32>> SmallGroup<'g, 'c, '_, '_, I> {
-    /// The set-up of the bin's next polygon if it is a small triangle that paints like `first` with the
-    /// loop for source `SRC` (any flat colour, or the same texture, sampler, colour and cutoff).
-    #[inline(always)]
-    fn next_alike<const SRC: u8>(&mut self, first: &DrawPolygon) -> Option<(&'c DrawPolygon, &'c SmallTriangle)> {
-        let ctx = self.ctx;
-        let q = ctx.polys.get(**self.rest.peek()? as usize)?;
-        let alike = if SRC == FLAT {
-            q.texture.is_none()
-        } else {
-            (q.texture, q.sampler, q.alpha_cutoff, q.constant_color)
-                == (first.texture, first.sampler, first.alpha_cutoff, first.constant_color)
-        };
-        // A small triangle is set up only for a fast path, so with no texture it is flat.
-        let t = ctx.screens.small(q).filter(|_| alike)?;
-        self.rest.next();
-        Some((q, t))
+/// The set-up of the bin's next polygon (from `rest`) if it is a small triangle that paints like `first`
+/// with the loop for source `SRC` (any flat colour, or the same texture, sampler, colour and cutoff).
+#[inline(always)]
+fn next_alike<'c, const SRC: u8>(
+    rest: &mut std::iter::Peekable<impl Iterator<Item = &'c u32>>,
+    ctx: &'c FillContext<'c>,
+    first: &DrawPolygon,
+) -> Option<(&'c DrawPolygon, &'c SmallTriangle)> {
+    let q = ctx.polys.get(**rest.peek()? as usize)?;
+    let alike = if SRC == FLAT {
+        q.texture.is_none()
+    } else {
+        (q.texture, q.sampler, q.alpha_cutoff, q.constant_color)
+            == (first.texture, first.sampler, first.alpha_cutoff, first.constant_color)
+    };
+    // A small triangle is set up only for a fast path, so with no texture it is flat.
+    let t = ctx.screens.small(q).filter(|_| alike)?;
+    rest.next();
+    Some((q, t))
+}
+
+impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
+    /// Draws a group of flat small triangles, depth-tested or overwriting: runs of narrow ones by
+    /// [`small_triangle::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
+    fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        let SmallGroup { first: (first, tri), rest, ctx, band, rows } = self;
+        let mut total = SpanCounts::default();
+        // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
+        let avx2 = use_avx2();
+        let mut next =
+            || next_alike::<FLAT>(rest, ctx, first).map(|(q, t)| (t, pack_rgb(q.constant_color.unwrap_or_default())));
+        let mut current = Some((tri, paint.flat()));
+        while let Some(start) = current {
+            let mut px =
+                BandPixels { y0: rows.y0, width: rows.width, color: &mut *rows.color, depth: &mut *rows.depth };
+            let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, &mut px, avx2);
+            total += SpanCounts { shaded: written, written, rejected };
+            let Some((t, color)) = wide else { break };
+            let paint = paint.with_flat(color);
+            t.for_each_run::<1>(band, |y, run: &Run| total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y)));
+            current = next();
+        }
+        total
     }
 }
 
 impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
-    fn fill<const VIS: u8, const SRC: u8>(mut self, paint: &Paint<'_>) -> SpanCounts {
+    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        if SRC == FLAT && VIS != COVERAGE {
+            return self.fill_flat::<VIS>(paint);
+        }
         let mut total = SpanCounts::default();
-        let (first, mut tri) = self.first;
+        let SmallGroup { first: (first, mut tri), rest, ctx, band, rows } = self;
         // Set-up gave a textureless small triangle only the depth plane, which is all a flat colour reads.
         debug_assert_eq!(SRC == FLAT, first.texture.is_none());
         let mut paint = *paint;
-        let avx2 = use_avx2();
         loop {
-            let rows = &mut *self.rows;
-            let narrow = if SRC == FLAT && VIS != COVERAGE { tri.narrow_rows(self.band) } else { None };
-            if let Some(r) = narrow {
-                let mut px =
-                    BandPixels { y0: rows.y0, width: rows.width, color: &mut *rows.color, depth: &mut *rows.depth };
-                let (written, rejected) = if VIS == DEPTH_TEST {
-                    fill_narrow::<true>(&r, paint.flat(), &mut px, avx2)
-                } else {
-                    fill_narrow::<false>(&r, paint.flat(), &mut px, avx2)
-                };
-                total += SpanCounts { shaded: written, written, rejected };
+            let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
+            // A flat colour needs only the depth.
+            if SRC == FLAT {
+                tri.for_each_run::<1>(band, draw)
             } else {
-                let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
-                // A flat colour needs only the depth.
-                if SRC == FLAT {
-                    tri.for_each_run::<1>(self.band, draw)
-                } else {
-                    tri.for_each_run::<4>(self.band, draw)
-                }
+                tri.for_each_run::<4>(band, draw)
             }
-            let Some((q, t)) = self.next_alike::<SRC>(first) else { break };
+            let Some((q, t)) = next_alike::<SRC>(rest, ctx, first) else { break };
             if SRC == FLAT {
                 paint = paint.with_flat(pack_rgb(q.constant_color.unwrap_or_default()));
             }

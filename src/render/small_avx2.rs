@@ -12,7 +12,7 @@ use std::arch::x86_64::{
     _mm_mullo_epi32, _mm_set1_epi32, _mm_set1_ps, _mm_setr_epi32, _mm_setr_ps, _mm_setzero_si128, _mm_sub_ps,
 };
 
-use super::small_triangle::{BandPixels, NARROW, NarrowRows, fill_row_pixels};
+use super::small_triangle::{self, BandPixels, NARROW, NarrowRows, SmallTriangle, fill_row_pixels};
 
 /// Four values from the start of a slice (`None` when it is shorter).
 #[inline(always)]
@@ -29,10 +29,25 @@ fn store<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
     }
 }
 
+/// [`super::small_triangle::fill_flat_run`] with the AVX2 narrow fill.
+///
+/// # Safety
+/// Needs a CPU with AVX2 (the caller detects it).
+#[target_feature(enable = "avx2")]
+pub(super) fn fill_flat_run<'t, const DEPTH: bool>(
+    first: (&'t SmallTriangle, u32),
+    next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    band: (i32, i32),
+    px: &mut BandPixels<'_>,
+) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
+    small_triangle::fill_flat_run(first, next, band, px, |r, color, px| fill_flat_narrow::<DEPTH>(r, color, px))
+}
+
 /// [`super::small_triangle::fill_flat_narrow`] with AVX2; returns `(written, rejected)`.
 ///
 /// # Safety
 /// Needs a CPU with AVX2 (the caller detects it).
+#[inline]
 #[target_feature(enable = "avx2")]
 pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
@@ -94,7 +109,6 @@ mod tests {
     use super::*;
     use crate::render::fixed::Fx28_4;
     use crate::render::scanline::{ATTRS, ScreenVertex, signed_area2};
-    use crate::render::small_triangle::{self, SmallTriangle};
     use crate::render::test_rng::Lcg;
 
     /// What one version drew: the buffers and the counts.

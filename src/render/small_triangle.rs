@@ -380,6 +380,36 @@ pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px
     (written, rejected)
 }
 
+/// Draws flat small triangles in turn, `first` and then those `next` gives, each with its colour, while
+/// they are narrow, each with `draw` ([`fill_flat_narrow`] or its AVX2 version); returns `(written,
+/// rejected)` and the first triangle that is not narrow, which the caller draws a run at a time.
+///
+/// One loop for the run of triangles (rather than a call per triangle) lets the AVX2 version keep its
+/// constants in registers across triangles.
+#[inline(always)]
+pub(super) fn fill_flat_run<'t>(
+    first: (&'t SmallTriangle, u32),
+    mut next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    band: (i32, i32),
+    px: &mut BandPixels<'_>,
+    mut draw: impl FnMut(&NarrowRows, u32, &mut BandPixels<'_>) -> (u64, u64),
+) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
+    let (mut written, mut rejected) = (0, 0);
+    let mut current = Some(first);
+    while let Some((t, color)) = current {
+        if t.columns > NARROW as i32 {
+            return ((written, rejected), current);
+        }
+        if let Some(r) = t.narrow_rows(band) {
+            let (w, j) = draw(&r, color, px);
+            written += w;
+            rejected += j;
+        }
+        current = next();
+    }
+    ((written, rejected), None)
+}
+
 /// One row of a narrow triangle a pixel at a time (the columns `m` covers, from pixel `at` of the band's
 /// buffers, depth `d0` at the first): for a row whose four columns would run past the end of the buffers
 /// (the last row of the frame); returns `(written, rejected)`.
