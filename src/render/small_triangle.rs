@@ -46,25 +46,29 @@ struct EdgeFn {
 }
 
 impl EdgeFn {
-    /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area`, with the
-    /// function evaluated at raw centre `(cx, cy)`; a horizontal edge gives a function positive everywhere
-    /// (the row rule decides those).
+    /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area` (not 0),
+    /// with the function evaluated at raw centre `(cx, cy)`; a horizontal edge gives a function positive
+    /// everywhere (the row rule decides those).
     #[inline(always)]
     fn new(p: &Corner, q: &Corner, area: i64, (cx, cy): (i32, i32)) -> Self {
         let (dx, dy) = (q.x.0 - p.x.0, q.y.0 - p.y.0);
         // F taken from p to q; from the upper end to the lower, as above, it is the same or its negative.
         let f = (cx - p.x.0) * dy - dx * (cy - p.y.0);
-        let down = dy > 0;
         // With y down and a positive area the polygon's forward order runs down its right side. A centre is
-        // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0.
-        // Arithmetic rather than branches: which edges are left or right is random from one triangle to
-        // the next, and mispredicted branches showed in profiles.
-        let right = i32::from(down == (area > 0));
-        let sloped = i32::from(dy != 0);
-        let sign = sloped * (1 - 2 * right) * (2 * i32::from(down) - 1);
-        let bias = 1 - sloped * right;
+        // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0. Either
+        // way the F taken from p to q is negated exactly when the area is positive, and a right edge is one
+        // going down in a positive area or up in a negative one.
+        // Selects rather than branches or multiplications: which edges are left or right is random from one
+        // triangle to the next (mispredicted branches showed in profiles), and set-up is bound by its
+        // instruction count.
+        let flip = area > 0;
+        let right = (dy > 0) == flip;
+        let (f, dx, dy) = if flip { (-f, -dx, -dy) } else { (f, dx, dy) };
         let one = Fx28_4::ONE;
-        Self { at_row: sign * f + bias, step_x: sign * dy * one, step_y: -sign * dx * one }
+        if dy == 0 {
+            return Self { at_row: 1, step_x: 0, step_y: 0 };
+        }
+        Self { at_row: f + 1 - i32::from(right), step_x: dy * one, step_y: -dx * one }
     }
 }
 
