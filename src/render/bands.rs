@@ -9,7 +9,7 @@ use super::cpu::use_avx2;
 use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small_triangle::{self, BandPixels, SmallTriangle};
+use super::small_triangle::{self, BandPixels, SmallTriangle, TexPlanes};
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared, pack_rgb};
 use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
@@ -133,7 +133,7 @@ impl FillContext<'_> {
             let mut touched = 0i32;
             for &pi in bin() {
                 let Some(p) = self.polys.get(pi as usize) else { continue };
-                if let Some(t) = self.screens.small(p) {
+                if let Some((t, _)) = self.screens.small(p) {
                     touched ^= t.rows().0;
                 } else if let Some(v) = self.screens.of(p) {
                     touched ^= v.first().map_or(0, |v| v.y.0);
@@ -236,7 +236,7 @@ impl BandRows<'_> {
 /// chosen once for the group rather than per triangle.
 struct SmallGroup<'g, 'c, 'r, 'b, I: Iterator> {
     /// The group's first polygon and its set-up.
-    first: (&'c DrawPolygon, &'c SmallTriangle),
+    first: (&'c DrawPolygon, SmallSetUp<'c>),
     /// The rest of the bin; the group takes polygons from it while they paint like the first.
     rest: &'g mut std::iter::Peekable<I>,
     ctx: &'c FillContext<'c>,
@@ -245,6 +245,9 @@ struct SmallGroup<'g, 'c, 'r, 'b, I: Iterator> {
     rows: &'r mut BandRows<'b>,
 }
 
+/// A small triangle's set-up and its texture planes.
+type SmallSetUp<'c> = (&'c SmallTriangle, &'c TexPlanes);
+
 /// The set-up of the bin's next polygon (from `rest`) if it is a small triangle that paints like `first`
 /// with the loop for source `SRC` (any flat colour, or the same texture, sampler, colour and cutoff).
 #[inline(always)]
@@ -252,7 +255,7 @@ fn next_alike<'c, const SRC: u8>(
     rest: &mut std::iter::Peekable<impl Iterator<Item = &'c u32>>,
     ctx: &'c FillContext<'c>,
     first: &DrawPolygon,
-) -> Option<(&'c DrawPolygon, &'c SmallTriangle)> {
+) -> Option<(&'c DrawPolygon, SmallSetUp<'c>)> {
     let q = ctx.polys.get(**rest.peek()? as usize)?;
     let alike = if SRC == FLAT {
         q.texture.is_none()
@@ -270,12 +273,13 @@ impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
     /// Draws a group of flat small triangles, depth-tested or overwriting: runs of narrow ones by
     /// [`small_triangle::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
     fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let SmallGroup { first: (first, tri), rest, ctx, band, rows } = self;
+        let SmallGroup { first: (first, (tri, _)), rest, ctx, band, rows } = self;
         let mut total = SpanCounts::default();
         // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
         let avx2 = use_avx2();
-        let mut next =
-            || next_alike::<FLAT>(rest, ctx, first).map(|(q, t)| (t, pack_rgb(q.constant_color.unwrap_or_default())));
+        let mut next = || {
+            next_alike::<FLAT>(rest, ctx, first).map(|(q, (t, _))| (t, pack_rgb(q.constant_color.unwrap_or_default())))
+        };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
             let mut px =
@@ -284,7 +288,9 @@ impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
             total += SpanCounts { shaded: written, written, rejected };
             let Some((t, color)) = wide else { break };
             let paint = paint.with_flat(color);
-            t.for_each_run::<1>(band, |y, run: &Run| total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y)));
+            t.for_each_run::<1>(&TexPlanes::NONE, band, |y, run: &Run| {
+                total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y))
+            });
             current = next();
         }
         total
@@ -297,7 +303,7 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
             return self.fill_flat::<VIS>(paint);
         }
         let mut total = SpanCounts::default();
-        let SmallGroup { first: (first, mut tri), rest, ctx, band, rows } = self;
+        let SmallGroup { first: (first, (mut tri, mut planes)), rest, ctx, band, rows } = self;
         // Set-up gave a textureless small triangle only the depth plane, which is all a flat colour reads.
         debug_assert_eq!(SRC == FLAT, first.texture.is_none());
         let mut paint = *paint;
@@ -305,15 +311,15 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
             let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
             // A flat colour needs only the depth.
             if SRC == FLAT {
-                tri.for_each_run::<1>(band, draw)
+                tri.for_each_run::<1>(planes, band, draw)
             } else {
-                tri.for_each_run::<4>(band, draw)
+                tri.for_each_run::<4>(planes, band, draw)
             }
-            let Some((q, t)) = next_alike::<SRC>(rest, ctx, first) else { break };
+            let Some((q, (t, p))) = next_alike::<SRC>(rest, ctx, first) else { break };
             if SRC == FLAT {
                 paint = paint.with_flat(pack_rgb(q.constant_color.unwrap_or_default()));
             }
-            tri = t;
+            (tri, planes) = (t, p);
         }
         total
     }

@@ -15,7 +15,7 @@ use super::mesh::{AlphaMode, Material, Mesh};
 use super::monotone::triangulate;
 use super::pipeline::{DrawPolygon, slope_scaled_bias};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
-use super::small_triangle::{Corner, SmallTriangle};
+use super::small_triangle::{Corner, SmallTriangle, TexPlanes};
 use super::span::FastPathRule;
 use super::stats::Stats;
 use super::transform::VertexTransform;
@@ -63,8 +63,10 @@ impl Counts {
 #[derive(Debug, Default)]
 pub(super) struct Batch {
     pub(super) screen: Vec<ScreenVertex>,
-    /// Small triangles set up for the fast path, in place of their screen vertices.
+    /// Flat small triangles set up for the fast path, in place of their screen vertices.
     pub(super) small: Vec<SmallTriangle>,
+    /// Textured ones, with their texture planes.
+    pub(super) small_textured: Vec<(SmallTriangle, TexPlanes)>,
     pub(super) polys: Vec<DrawPolygon>,
     pub(super) counts: Counts,
     clip_in: Vec<ClipVertex>,
@@ -77,10 +79,22 @@ pub(super) struct Batch {
 }
 
 impl Batch {
+    /// Stores a small triangle's set-up (with its texture planes when `textured`); returns its index.
+    fn push_small(&mut self, (t, planes): (SmallTriangle, TexPlanes), textured: bool) -> u32 {
+        if textured {
+            self.small_textured.push((t, planes));
+            self.small_textured.len() as u32 - 1
+        } else {
+            self.small.push(t);
+            self.small.len() as u32 - 1
+        }
+    }
+
     /// Empties the output, keeping the allocations.
     pub(super) fn clear(&mut self) {
         self.screen.clear();
         self.small.clear();
+        self.small_textured.clear();
         self.polys.clear();
         self.counts = Counts::default();
     }
@@ -132,13 +146,19 @@ impl<'a> Screens<'a> {
         self.batch(p)?.screen.get(p.first as usize..(p.first + p.count) as usize)
     }
 
-    /// The set-up of small triangle `p` (`None` if `p` is not one).
+    /// The set-up of small triangle `p` and its texture planes ([`TexPlanes::NONE`] when it has no
+    /// texture); `None` if `p` is not one.
     #[inline]
-    pub(super) fn small(&self, p: &DrawPolygon) -> Option<&'a SmallTriangle> {
+    pub(super) fn small(&self, p: &DrawPolygon) -> Option<(&'a SmallTriangle, &'a TexPlanes)> {
         if !p.small {
             return None;
         }
-        self.batch(p)?.small.get(p.first as usize)
+        let b = self.batch(p)?;
+        if p.texture.is_some() {
+            b.small_textured.get(p.first as usize).map(|(t, planes)| (t, planes))
+        } else {
+            b.small.get(p.first as usize).map(|t| (t, &TexPlanes::NONE))
+        }
     }
 }
 
@@ -428,7 +448,7 @@ impl ObjectSetup<'_> {
             None => SmallTriangle::from_corners::<1>(&corners, area, self.width),
             Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.width),
         };
-        let Some(t) = t else {
+        let Some((t, planes)) = t else {
             debug_assert!(false, "a triangle that fits was not set up");
             return false;
         };
@@ -445,7 +465,7 @@ impl ObjectSetup<'_> {
         };
         out.counts.drawn += 1;
         out.polys.push(DrawPolygon {
-            first: out.small.len() as u32,
+            first: if texture.is_some() { out.small_textured.len() } else { out.small.len() } as u32,
             count: 3,
             batch: out.tag,
             rows: t.rows(),
@@ -457,7 +477,11 @@ impl ObjectSetup<'_> {
             screen_door: self.see_through,
             small: true,
         });
-        out.small.push(t);
+        if texture.is_some() {
+            out.small_textured.push((t, planes));
+        } else {
+            out.small.push(t);
+        }
         true
     }
 
@@ -580,8 +604,9 @@ impl ObjectSetup<'_> {
         };
         if let Some(t) = small(&out.screen[first..], area) {
             out.screen.truncate(first);
-            out.polys.push(DrawPolygon { first: out.small.len() as u32, rows: t.rows(), small: true, ..base });
-            out.small.push(t);
+            let rows = t.0.rows();
+            let first = out.push_small(t, texture.is_some());
+            out.polys.push(DrawPolygon { first, rows, small: true, ..base });
         } else if is_y_monotone(&out.screen[first..]) {
             out.polys.push(DrawPolygon { rows: rows(&out.screen[first..]), ..base });
         } else {
@@ -591,12 +616,12 @@ impl ObjectSetup<'_> {
             out.piece.extend_from_slice(&out.screen[first..]);
             triangulate(&out.piece, area.signum(), &mut out.tris);
             out.screen.truncate(first);
-            for t in &out.tris {
-                let corners = t.map(|i| out.piece[i]);
+            for k in 0..out.tris.len() {
+                let corners = out.tris[k].map(|i| out.piece[i]);
                 if let Some(st) = small(&corners, signed_area2(&corners)) {
-                    let f = out.small.len() as u32;
-                    out.polys.push(DrawPolygon { first: f, count: 3, rows: st.rows(), small: true, ..base });
-                    out.small.push(st);
+                    let rows = st.0.rows();
+                    let f = out.push_small(st, texture.is_some());
+                    out.polys.push(DrawPolygon { first: f, count: 3, rows, small: true, ..base });
                     continue;
                 }
                 let f = out.screen.len() as u32;
@@ -746,7 +771,7 @@ mod tests {
                 width: 320,
             };
             let (mut fast, mut slow) = (Batch::default(), Batch::default());
-            let (mut compared, mut small) = (0, 0);
+            let (mut compared, mut small, mut textured) = (0, 0, 0);
             for (k, poly) in mesh.polygons().iter().enumerate() {
                 let idx = mesh.polygon_indices(poly);
                 if idx.iter().any(|&i| !vertices[i as usize].projected) {
@@ -764,13 +789,16 @@ mod tests {
                 setup.finish(0, g, material, &mut slow);
                 assert_eq!(fast.screen, slow.screen, "polygon {k}");
                 assert_eq!(fast.small, slow.small, "polygon {k}");
+                assert_eq!(fast.small_textured, slow.small_textured, "polygon {k}");
                 assert_eq!(fast.polys, slow.polys, "polygon {k}");
                 assert_eq!(fast.counts, slow.counts, "polygon {k}");
                 compared += usize::from(!fast.polys.is_empty());
-                small += fast.small.len();
+                small += fast.small.len() + fast.small_textured.len();
+                textured += fast.small_textured.len();
             }
             assert!(compared > 1000, "only {compared} polygons drawn and compared");
             assert!(small > 300, "only {small} small triangles set up");
+            assert!(textures == 0 || textured > 100, "only {textured} textured small triangles set up");
         }
     }
 }
