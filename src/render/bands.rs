@@ -145,14 +145,14 @@ impl FillContext<'_> {
         while let Some(&pi) = polys.next() {
             let p = &self.polys[pi as usize];
             let shading = Shading {
-                texture: p.texture.and_then(|t| self.list.textures.get(t as usize)),
+                texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
                 sampler: p.sampler,
                 filter: self.options.filter,
                 mode: self.options.texture_mode,
-                alpha_cutoff: p.alpha_cutoff,
-                constant_color: p.constant_color,
+                alpha_cutoff: p.alpha_cutoff(),
+                constant_color: p.constant_color(),
                 visibility: self.visibility,
-                screen_door: p.screen_door,
+                screen_door: p.screen_door(),
             };
             let prepared = shading.prepare();
             if let Some(tri) = self.screens.small(p) {
@@ -257,12 +257,7 @@ fn next_alike<'c, const SRC: u8>(
     first: &DrawPolygon,
 ) -> Option<(&'c DrawPolygon, SmallSetUp<'c>)> {
     let q = ctx.polys.get(**rest.peek()? as usize)?;
-    let alike = if SRC == FLAT {
-        q.texture.is_none()
-    } else {
-        (q.texture, q.sampler, q.alpha_cutoff, q.constant_color)
-            == (first.texture, first.sampler, first.alpha_cutoff, first.constant_color)
-    };
+    let alike = if SRC == FLAT { q.texture().is_none() } else { q.paints_like(first) };
     // A small triangle is set up only for a fast path, so with no texture it is flat.
     let t = ctx.screens.small(q).filter(|_| alike)?;
     rest.next();
@@ -278,7 +273,8 @@ impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
         // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
         let avx2 = use_avx2();
         let mut next = || {
-            next_alike::<FLAT>(rest, ctx, first).map(|(q, (t, _))| (t, pack_rgb(q.constant_color.unwrap_or_default())))
+            next_alike::<FLAT>(rest, ctx, first)
+                .map(|(q, (t, _))| (t, pack_rgb(q.constant_color().unwrap_or_default())))
         };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
@@ -305,7 +301,7 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
         let mut total = SpanCounts::default();
         let SmallGroup { first: (first, (mut tri, mut planes)), rest, ctx, band, rows } = self;
         // Set-up gave a textureless small triangle only the depth plane, which is all a flat colour reads.
-        debug_assert_eq!(SRC == FLAT, first.texture.is_none());
+        debug_assert_eq!(SRC == FLAT, first.texture().is_none());
         let mut paint = *paint;
         loop {
             let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
@@ -317,7 +313,7 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
             }
             let Some((q, (t, p))) = next_alike::<SRC>(rest, ctx, first) else { break };
             if SRC == FLAT {
-                paint = paint.with_flat(pack_rgb(q.constant_color.unwrap_or_default()));
+                paint = paint.with_flat(pack_rgb(q.constant_color().unwrap_or_default()));
             }
             (tri, planes) = (t, p);
         }

@@ -13,7 +13,7 @@ use super::clip::{ClipResult, ClipVertex, ClipVolume, VIEW_DEPTH, VertexCodes, c
 use super::fixed::Fx28_4;
 use super::mesh::{AlphaMode, Material, Mesh};
 use super::monotone::triangulate;
-use super::pipeline::{DrawPolygon, slope_scaled_bias};
+use super::pipeline::{DrawPolygon, PolygonPaint, slope_scaled_bias};
 use super::scanline::{ATTRS, ScreenVertex, is_y_monotone, signed_area2, slot};
 use super::small_triangle::{Corner, SmallTriangle, TexPlanes};
 use super::span::FastPathRule;
@@ -68,6 +68,9 @@ pub(super) struct Batch {
     /// Textured ones, with their texture planes.
     pub(super) small_textured: Vec<(SmallTriangle, TexPlanes)>,
     pub(super) polys: Vec<DrawPolygon>,
+    /// The polygons' ordering keys, one each, when the frame is ordered by them (empty for the z-buffer:
+    /// see [`ObjectSetup::ordered`]).
+    pub(super) keys: Vec<f32>,
     pub(super) counts: Counts,
     clip_in: Vec<ClipVertex>,
     clip_out: Vec<ClipVertex>,
@@ -96,6 +99,7 @@ impl Batch {
         self.small.clear();
         self.small_textured.clear();
         self.polys.clear();
+        self.keys.clear();
         self.counts = Counts::default();
     }
 
@@ -110,6 +114,7 @@ impl Batch {
         self.counts.add_to(&mut stats);
         for b in others {
             self.polys.extend_from_slice(&b.polys);
+            self.keys.extend_from_slice(&b.keys);
             b.counts.add_to(&mut stats);
         }
         self.counts = Counts::from_stats(&stats);
@@ -140,7 +145,7 @@ impl<'a> Screens<'a> {
     /// of range).
     #[inline]
     pub(super) fn of(&self, p: &DrawPolygon) -> Option<&'a [ScreenVertex]> {
-        if p.small {
+        if p.small() {
             return None;
         }
         self.batch(p)?.screen.get(p.first as usize..(p.first + p.count) as usize)
@@ -150,11 +155,11 @@ impl<'a> Screens<'a> {
     /// texture); `None` if `p` is not one.
     #[inline]
     pub(super) fn small(&self, p: &DrawPolygon) -> Option<(&'a SmallTriangle, &'a TexPlanes)> {
-        if !p.small {
+        if !p.small() {
             return None;
         }
         let b = self.batch(p)?;
-        if p.texture.is_some() {
+        if p.texture().is_some() {
             b.small_textured.get(p.first as usize).map(|(t, planes)| (t, planes))
         } else {
             b.small.get(p.first as usize).map(|t| (t, &TexPlanes::NONE))
@@ -464,23 +469,17 @@ impl ObjectSetup<'_> {
             }
         };
         out.counts.drawn += 1;
-        out.polys.push(DrawPolygon {
-            first: if texture.is_some() { out.small_textured.len() } else { out.small.len() } as u32,
-            count: 3,
-            batch: out.tag,
-            rows: t.rows(),
-            key,
+        let paint = PolygonPaint {
             texture,
             sampler: material.sampler,
             alpha_cutoff,
             constant_color: Some(color0),
             screen_door: self.see_through,
-            small: true,
-        });
-        if texture.is_some() {
-            out.small_textured.push((t, planes));
-        } else {
-            out.small.push(t);
+        };
+        let first = out.push_small((t, planes), texture.is_some());
+        out.polys.push(DrawPolygon::new(first, 3, out.tag, t.rows(), true, &paint));
+        if self.ordered {
+            out.keys.push(key);
         }
         true
     }
@@ -576,18 +575,21 @@ impl ObjectSetup<'_> {
             AlphaMode::Opaque => None,
             AlphaMode::Mask { cutoff } => Some(cutoff),
         };
-        let base = DrawPolygon {
-            first: first as u32,
-            count: n as u32,
-            batch: out.tag,
-            rows: (0, 0),
-            key,
+        let paint = PolygonPaint {
             texture,
             sampler: material.sampler,
             alpha_cutoff,
             constant_color: g.constant_color,
             screen_door: self.see_through,
-            small: false,
+        };
+        let tag = out.tag;
+        // Each polygon (or piece) drawn, with its key when the frame is ordered by keys.
+        let ordered = self.ordered;
+        let push = |out: &mut Batch, first: u32, count: u32, rows: (i32, i32), small: bool| {
+            out.polys.push(DrawPolygon::new(first, count, tag, rows, small, &paint));
+            if ordered {
+                out.keys.push(key);
+            }
         };
         let fast = self.fast_path.applies(
             texture.is_some(),
@@ -605,10 +607,11 @@ impl ObjectSetup<'_> {
         if let Some(t) = small(&out.screen[first..], area) {
             out.screen.truncate(first);
             let rows = t.0.rows();
-            let first = out.push_small(t, texture.is_some());
-            out.polys.push(DrawPolygon { first, rows, small: true, ..base });
+            let f = out.push_small(t, texture.is_some());
+            push(out, f, n as u32, rows, true);
         } else if is_y_monotone(&out.screen[first..]) {
-            out.polys.push(DrawPolygon { rows: rows(&out.screen[first..]), ..base });
+            let rows = rows(&out.screen[first..]);
+            push(out, first as u32, n as u32, rows, false);
         } else {
             out.counts.split += 1;
             out.tris.clear();
@@ -621,12 +624,12 @@ impl ObjectSetup<'_> {
                 if let Some(st) = small(&corners, signed_area2(&corners)) {
                     let rows = st.0.rows();
                     let f = out.push_small(st, texture.is_some());
-                    out.polys.push(DrawPolygon { first: f, count: 3, rows, small: true, ..base });
+                    push(out, f, 3, rows, true);
                     continue;
                 }
                 let f = out.screen.len() as u32;
                 out.screen.extend_from_slice(&corners);
-                out.polys.push(DrawPolygon { first: f, count: 3, rows: rows(&corners), ..base });
+                push(out, f, 3, rows(&corners), false);
             }
         }
     }
@@ -693,7 +696,7 @@ mod tests {
         }
         let out = set_up_in_pixels(&b.build().unwrap());
         assert_eq!(out.counts.split, 2);
-        let small: Vec<bool> = out.polys.iter().map(|p| p.small).collect();
+        let small: Vec<bool> = out.polys.iter().map(|p| p.small()).collect();
         assert_eq!(small, [true, true, false, false]);
         assert_eq!(out.small.len(), 2);
         // Only the big pieces' corners are kept.
@@ -792,6 +795,8 @@ mod tests {
                 assert_eq!(fast.small_textured, slow.small_textured, "polygon {k}");
                 assert_eq!(fast.polys, slow.polys, "polygon {k}");
                 assert_eq!(fast.counts, slow.counts, "polygon {k}");
+                assert_eq!(fast.keys, slow.keys, "polygon {k}");
+                assert_eq!(fast.keys.len(), if ordered { fast.polys.len() } else { 0 }, "polygon {k}");
                 compared += usize::from(!fast.polys.is_empty());
                 small += fast.small.len() + fast.small_textured.len();
                 textured += fast.small_textured.len();
