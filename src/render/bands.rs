@@ -10,7 +10,7 @@ use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small_triangle::{self, BandPixels, SmallTriangle, TexPlanes};
-use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared, pack_rgb};
+use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
 use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
 /// The rows of one band and their colour.
@@ -272,10 +272,7 @@ impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
         let mut total = SpanCounts::default();
         // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
         let avx2 = use_avx2();
-        let mut next = || {
-            next_alike::<FLAT>(rest, ctx, first)
-                .map(|(q, (t, _))| (t, pack_rgb(q.constant_color().unwrap_or_default())))
-        };
+        let mut next = || next_alike::<FLAT>(rest, ctx, first).map(|(q, (t, _))| (t, q.flat_rgb()));
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
             let mut px =
@@ -313,7 +310,7 @@ impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
             }
             let Some((q, (t, p))) = next_alike::<SRC>(rest, ctx, first) else { break };
             if SRC == FLAT {
-                paint = paint.with_flat(pack_rgb(q.constant_color().unwrap_or_default()));
+                paint = paint.with_flat(q.flat_rgb());
             }
             (tri, planes) = (t, p);
         }

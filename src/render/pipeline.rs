@@ -25,7 +25,7 @@ use super::mesh::DEPTH_BIAS_STEP;
 use super::ordering_table::{Direction, OrderingTable};
 use super::project::{Batch, ObjectSetup, Screens, SetupVertex};
 use super::scanline::{ScreenVertex, slot};
-use super::span::{FastPathRule, SpanCounts, TextureMode, Visibility};
+use super::span::{FastPathRule, SpanCounts, TextureMode, Visibility, pack_rgb};
 use super::texture::Sampler;
 use super::transform::VertexTransform;
 use super::view_lists::model_direction;
@@ -75,7 +75,8 @@ pub(super) struct DrawPolygon {
     pub(super) batch: u32,
     /// The rows whose centres it covers, `rows.0..rows.1` (before clipping to the frame).
     pub(super) rows: (i32, i32),
-    /// The texture index, when [`HAS_TEXTURE`] is set.
+    /// The texture index when [`HAS_TEXTURE`] is set; otherwise, with [`HAS_COLOR`], the colour packed as
+    /// `0x00RRGGBB` ([`pack_rgb`]), which the fill of flat small triangles takes per triangle.
     texture: u32,
     /// The alpha cutoff, when [`HAS_CUTOFF`] is set.
     cutoff: f32,
@@ -126,7 +127,7 @@ impl DrawPolygon {
             count,
             batch,
             rows,
-            texture: paint.texture.unwrap_or(0),
+            texture: paint.texture.unwrap_or_else(|| paint.constant_color.map_or(0, pack_rgb)),
             cutoff: paint.alpha_cutoff.unwrap_or(0.0),
             color: paint.constant_color.unwrap_or([0.0; 4]),
             sampler: paint.sampler,
@@ -150,6 +151,12 @@ impl DrawPolygon {
     #[inline(always)]
     pub(super) fn constant_color(&self) -> Option<[f32; 4]> {
         (self.flags & HAS_COLOR != 0).then_some(self.color)
+    }
+
+    /// Its colour packed as `0x00RRGGBB`, for a polygon of one colour with no texture (0 otherwise).
+    #[inline(always)]
+    pub(super) fn flat_rgb(&self) -> u32 {
+        if self.flags & (HAS_TEXTURE | HAS_COLOR) == HAS_COLOR { self.texture } else { 0 }
     }
 
     /// Whether it is drawn with the screen door.
