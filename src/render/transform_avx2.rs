@@ -6,13 +6,13 @@
 //! rebuilt with compares), so the records are bit-identical to the one-vertex loop's.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _mm256_add_epi32, _mm256_add_ps,
-    _mm256_and_ps, _mm256_and_si256, _mm256_castps_si256, _mm256_cmp_ps, _mm256_cvtepi32_ps, _mm256_cvttps_epi32,
-    _mm256_div_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps,
-    _mm256_sub_epi32, _mm256_sub_ps, _mm256_xor_ps,
+    __m128, __m256, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _mm256_add_epi32, _mm256_add_ps,
+    _mm256_and_ps, _mm256_and_si256, _mm256_castps_si256, _mm256_castps256_ps128, _mm256_castsi256_ps, _mm256_cmp_ps,
+    _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_extractf128_ps, _mm256_mul_ps, _mm256_or_si256,
+    _mm256_set1_epi32, _mm256_set1_ps, _mm256_shuffle_ps, _mm256_slli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
+    _mm256_unpackhi_ps, _mm256_unpacklo_ps, _mm256_xor_ps,
 };
 
-use super::clip::VertexCodes;
 use super::fixed::Fx28_4;
 use super::mesh::Vertex;
 use super::project::SetupVertex;
@@ -98,23 +98,39 @@ pub(super) fn run(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -
         let projected =
             _mm256_and_ps(_mm256_and_ps(_mm256_and_ps(okx, oky), in_front), _mm256_and_ps(all_finite, cut_none));
         let depth = if t.perspective { q } else { _mm256_mul_ps(s(0.5), _mm256_sub_ps(s(1.0), _mm256_mul_ps(cz, q))) };
-        let f = |v: __m256| bytemuck::cast::<__m256, [f32; LANES]>(v);
-        let i = |v: __m256i| bytemuck::cast::<__m256i, [i32; LANES]>(v);
         // Zeros where the vertex did not project, as the one-vertex loop stores.
         let keep = _mm256_castps_si256(projected);
         let (fx, fy) = (_mm256_and_si256(fx, keep), _mm256_and_si256(fy, keep));
         let (depth, q) = (_mm256_and_ps(depth, projected), _mm256_and_ps(q, projected));
-        let (vd, depth, q) = (f(view_depth), f(depth), f(q));
-        let (fx, fy, outside, cut) = (i(fx), i(fy), i(outside), i(cut));
-        let (all_finite, projected) = (_mm256_movemask_ps(all_finite), _mm256_movemask_ps(projected));
-        for (l, o) in outs.iter_mut().enumerate() {
-            *o = SetupVertex {
-                screen: (Fx28_4(fx[l]), Fx28_4(fy[l]), depth[l], q[l]),
-                view_depth: vd[l],
-                codes: VertexCodes { outside: outside[l] as u8, cut: cut[l] as u8 },
-                finite: all_finite >> l & 1 != 0,
-                projected: projected >> l & 1 != 0,
-            };
+        // The record's last word: outside, cut, finite and projected, a byte each (little-endian).
+        let flag = |m: __m256, shift: i32| _mm256_and_si256(_mm256_castps_si256(m), _mm256_set1_epi32(1 << shift));
+        let packed = _mm256_or_si256(
+            _mm256_or_si256(outside, _mm256_slli_epi32::<8>(cut)),
+            _mm256_or_si256(flag(all_finite, 16), flag(projected, 24)),
+        );
+        // Eight records of six words from six vectors of eight lanes: the first four words of each record
+        // by a 4x4 transpose within each 128-bit half, the last two by interleaving.
+        let (a, b) = (_mm256_castsi256_ps(fx), _mm256_castsi256_ps(fy));
+        let (t0, t1) = (_mm256_unpacklo_ps(a, b), _mm256_unpackhi_ps(a, b));
+        let (t2, t3) = (_mm256_unpacklo_ps(depth, q), _mm256_unpackhi_ps(depth, q));
+        let heads = [
+            _mm256_shuffle_ps::<0x44>(t0, t2),
+            _mm256_shuffle_ps::<0xee>(t0, t2),
+            _mm256_shuffle_ps::<0x44>(t1, t3),
+            _mm256_shuffle_ps::<0xee>(t1, t3),
+        ];
+        let p = _mm256_castsi256_ps(packed);
+        let tails = [_mm256_unpacklo_ps(view_depth, p), _mm256_unpackhi_ps(view_depth, p)];
+        let words: &mut [u32] = bytemuck::cast_slice_mut(outs);
+        for (l, record) in words.chunks_exact_mut(6).enumerate() {
+            // Record l: its head in half l / 4 of heads[l % 4], its tail in half l / 4 of tails[l % 4 / 2],
+            // words (l % 2) * 2 .. + 2 of that half.
+            let half = |v: __m256| if l < 4 { _mm256_castps256_ps128(v) } else { _mm256_extractf128_ps::<1>(v) };
+            let head = bytemuck::cast::<__m128, [u32; 4]>(half(heads[l % 4]));
+            let tail = bytemuck::cast::<__m128, [u32; 4]>(half(tails[l % 4 / 2]));
+            let t = (l % 2) * 2;
+            record[..4].copy_from_slice(&head);
+            record[4..].copy_from_slice(&tail[t..t + 2]);
         }
     }
     n
