@@ -564,7 +564,9 @@ impl Renderer {
             Method::Sort | Method::BucketFar | Method::ViewLists => Visibility::Overwrite,
         };
         let words = width.div_ceil(64);
-        let rows_per_band = BAND_ROWS.min(height);
+        // About BAND_ROWS rows a band, in a number of bands that the threads share evenly.
+        let bands = height.div_ceil(BAND_ROWS).next_multiple_of(threads).max(1);
+        let rows_per_band = height.div_ceil(bands).max(1);
         // The order is binned in pieces, in parallel; a band then draws its bin of every piece, in order.
         let pieces = if threads > 1 && self.order.len() >= PARALLEL_POLYGONS { threads * 2 } else { 1 };
         self.bins.resize_with(pieces, Vec::new);
@@ -608,8 +610,11 @@ const PARALLEL_POLYGONS: usize = 1024;
 /// Objects with at least this many vertices are transformed on several threads.
 const PARALLEL_VERTICES: usize = 4096;
 
-/// Rows per band: small enough that a band's colour and depth rows stay in the core's cache while it is
-/// drawn and that bands balance across threads, large enough that few polygons are set up twice.
+/// Rows per band, about: small enough that a band's colour and depth rows stay in the core's cache while it
+/// is drawn and that bands balance across threads, large enough that few polygons are set up twice. The
+/// frame is cut into a multiple of the thread count of bands of about this height (480 rows on 2 threads:
+/// 16 bands of 30 rows, not 15 of 32, of which one thread drew 8: fill 0.286 -> 0.259 ms on the
+/// small-polygon scene). The band layout never changes a pixel (a test renders with 1 to 400 threads).
 const BAND_ROWS: usize = 32;
 
 /// The clip attributes layout is shared with [`super::clip`]; keep them in step.
