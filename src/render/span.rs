@@ -100,8 +100,15 @@ pub fn pack_rgb(c: [f32; 4]) -> u32 {
     // The channels four at a time (a flat small triangle's colour is packed per triangle, and the scalar
     // clamps and saturating conversions were a tenth of that fill). The vector clamp sends NaN to 0, as
     // the conversion of a NaN does.
-    let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0)).as_uvec4();
-    (v.x << 16) | (v.y << 8) | v.z
+    let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0));
+    // Truncation of values in 0..=255 without a conversion per channel: adding 2^23 rounds to the nearest
+    // integer (exactly, the spacing of floats there being 1), one less where that rounded up. The channels
+    // are then whole numbers below 256, so `r * 65536 + g * 256 + b` is exact in f32 (below 2^24) and one
+    // conversion packs them.
+    let magic = Vec4::splat(8_388_608.0);
+    let rounded = (v + magic) - magic;
+    let whole = rounded - Vec4::select(rounded.cmpgt(v), Vec4::ONE, Vec4::ZERO);
+    (whole.x * 65_536.0 + whole.y * 256.0 + whole.z) as u32
 }
 
 /// Texture coordinate and colour at one pixel: `[u, v, r, g, b, a]`.
@@ -309,6 +316,8 @@ mod tests {
             let b = (level as f32 - 0.5) / 255.0;
             values.extend([b, f32::from_bits(b.to_bits() + 1), f32::from_bits(b.to_bits().wrapping_sub(1))]);
         }
+        // And a dense sweep over -0.1..1.1.
+        values.extend((0..200_000).map(|i| -0.1 + i as f32 * (1.2 / 200_000.0)));
         for &v in &values {
             for (i, shift) in [16, 8, 0].into_iter().enumerate() {
                 let mut c = [0.25; 4];
