@@ -3,8 +3,8 @@
 //!
 //! With more than one thread the whole frame runs on a rayon pool kept between frames. Geometry (cull,
 //! transform, clip, snap, order) runs once per frame, a big object's polygons set up in pieces across the
-//! pool and appended in order (`project.rs`). The fill then runs in bands of 32 rows handed out by work
-//! stealing: the ordered polygons are binned once by band, and each band draws only its bin on its own rows
+//! pool and appended in order (`project.rs`). The fill then runs in bands of about 32 rows handed out by
+//! work stealing: the ordered polygons are binned once by band, and each band draws only its bin on its own rows
 //! ([`super::bands`]). Because edge positions are exact integers and attributes are evaluated per row from
 //! the polygon's vertices, a row's pixels do not depend on which band drew it: frames are bit-identical for
 //! every thread count.
@@ -67,7 +67,8 @@ pub enum RenderError {
 /// ([`super::project::Batch::keys`]), only for the methods that order by them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct DrawPolygon {
-    /// Its first screen vertex in its batch, or for a small triangle its set-up's index there.
+    /// Its first screen vertex in its batch, or for a small triangle its set-up's index there: in the batch's
+    /// textured small triangles when it has a texture ([`HAS_TEXTURE`]), else in its flat ones.
     pub(super) first: u32,
     /// How many corners it has.
     pub(super) count: u32,
@@ -97,8 +98,8 @@ const HAS_CUTOFF: u8 = 2;
 const HAS_COLOR: u8 = 4;
 /// It is drawn with the screen door (see-through).
 const SCREEN_DOOR: u8 = 8;
-/// It is a small triangle set up for the fast path: `first` indexes its batch's small triangles and it has
-/// no screen vertices.
+/// It is a small triangle set up for the fast path: `first` indexes its batch's small triangles (textured or
+/// flat, by [`HAS_TEXTURE`]) and it has no screen vertices.
 const SMALL: u8 = 16;
 
 /// How a polygon is painted: what [`DrawPolygon`] stores compactly.
@@ -564,7 +565,8 @@ impl Renderer {
             Method::Sort | Method::BucketFar | Method::ViewLists => Visibility::Overwrite,
         };
         let words = width.div_ceil(64);
-        // About BAND_ROWS rows a band, in a number of bands that the threads share evenly.
+        // About BAND_ROWS rows a band, and (when the height divides well) a number of bands the threads
+        // share evenly.
         let bands = height.div_ceil(BAND_ROWS).next_multiple_of(threads).max(1);
         let rows_per_band = height.div_ceil(bands).max(1);
         // The order is binned in pieces, in parallel; a band then draws its bin of every piece, in order.
@@ -612,7 +614,8 @@ const PARALLEL_VERTICES: usize = 4096;
 
 /// Rows per band, about: small enough that a band's colour and depth rows stay in the core's cache while it
 /// is drawn and that bands balance across threads, large enough that few polygons are set up twice. The
-/// frame is cut into a multiple of the thread count of bands of about this height (480 rows on 2 threads:
+/// band count is first rounded up to a multiple of the thread count, then the height is cut into bands of
+/// equal rows, which gives that many bands when the height divides well (480 rows on 2 threads:
 /// 16 bands of 30 rows, not 15 of 32, of which one thread drew 8: fill 0.286 -> 0.259 ms on the
 /// small-polygon scene). The band layout never changes a pixel (a test renders with 1 to 400 threads).
 const BAND_ROWS: usize = 32;

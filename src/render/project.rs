@@ -201,6 +201,17 @@ pub(super) struct SetupVertex {
     projected: u8,
 }
 
+// The AVX2 transform writes a record as six words in this order (`transform_avx2.rs`).
+const _: () = {
+    use std::mem::offset_of;
+    assert!(size_of::<SetupVertex>() == 24);
+    assert!(offset_of!(SetupVertex, x) == 0 && offset_of!(SetupVertex, y) == 4);
+    assert!(offset_of!(SetupVertex, depth) == 8 && offset_of!(SetupVertex, q) == 12);
+    assert!(offset_of!(SetupVertex, view_depth) == 16 && offset_of!(SetupVertex, outside) == 20);
+    assert!(offset_of!(SetupVertex, cut) == 21 && offset_of!(SetupVertex, finite) == 22);
+    assert!(offset_of!(SetupVertex, projected) == 23);
+};
+
 impl SetupVertex {
     /// Tests and projects a vertex at clip position `pos` with view depth `view_depth`.
     #[inline(always)]
@@ -460,10 +471,12 @@ impl ObjectSetup<'_> {
         let color = |k: usize| (verts[k].color * material.base_color).to_array();
         let color0 = color(0);
         // Only a polygon of one colour has a fast path (`MaterialSetup::small`). Equal vertex colours give
-        // equal products (as `==` compares them); otherwise the products are compared, as `gather_inside`
-        // does.
+        // equal products (as `==` compares them) unless a product is NaN (an infinite channel times 0), which
+        // `gather_inside` finds unequal to itself; otherwise the products are compared, as it does.
         let c = verts[0].color;
-        if (verts[1].color != c || verts[2].color != c) && (color(1) != color0 || color(2) != color0) {
+        #[allow(clippy::eq_op)] // NaN test
+        let same = verts[1].color == c && verts[2].color == c && color0 == color0;
+        if !same && (color(1) != color0 || color(2) != color0) {
             return false;
         }
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
@@ -741,6 +754,12 @@ mod tests {
         assert_eq!(out.screen.len(), 6);
     }
 
+    /// Screen vertices as bits, every NaN one value (a NaN colour's sign and payload depend on operand order).
+    fn screen_bits(v: &[ScreenVertex]) -> Vec<(i32, i32, [u32; ATTRS])> {
+        let b = |a: f32| if a.is_nan() { f32::NAN.to_bits() } else { a.to_bits() };
+        v.iter().map(|v| (v.x.0, v.y.0, v.attrs.map(b))).collect()
+    }
+
     #[test]
     fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {
         let mut rng = Lcg(3);
@@ -768,6 +787,8 @@ mod tests {
                     let position = centre + Vec3::new(a.cos() * r, a.sin() * r, rng.unit() - 0.5);
                     // One colour per polygon for some, per corner for others.
                     let c = match i % 2 {
+                        // An infinite channel times the material's 0: a NaN colour, so not one colour.
+                        _ if i % 22 == 0 => Vec4::new(0.5, f32::INFINITY, 0.5, 1.0),
                         _ if i % 11 == 0 => Vec4::new(0.5, rng.unit(), 0.5, 1.0),
                         0 => Vec4::splat(0.5),
                         _ => Vec4::new(rng.unit(), rng.unit(), 0.3, 1.0),
@@ -775,7 +796,8 @@ mod tests {
                     b.vertex(Vertex { position, uv: Vec2::new(rng.unit(), rng.unit()), color: c })
                 })
                 .collect();
-            b.polygon(&idx, if i % 11 == 0 { no_green } else { materials[i % materials.len()] });
+            // Pairs of polygons share a material, so a run of polygons reuses its material facts.
+            b.polygon(&idx, if i % 11 == 0 { no_green } else { materials[i / 2 % materials.len()] });
         }
         let mesh = b.build().unwrap();
         let (w, h) = (320.0, 240.0);
@@ -828,7 +850,7 @@ mod tests {
                     continue;
                 };
                 setup.finish(0, g, material, &mut slow);
-                assert_eq!(fast.screen, slow.screen, "polygon {k}");
+                assert_eq!(screen_bits(&fast.screen), screen_bits(&slow.screen), "polygon {k}");
                 assert_eq!(fast.small, slow.small, "polygon {k}");
                 assert_eq!(fast.small_textured, slow.small_textured, "polygon {k}");
                 assert_eq!(fast.polys, slow.polys, "polygon {k}");
@@ -840,6 +862,24 @@ mod tests {
                 textured += fast.small_textured.len();
             }
             assert!(compared > 1000, "only {compared} polygons drawn and compared");
+            // The whole mesh in one run against the clipper path polygon after polygon into one batch.
+            let (mut all_fast, mut all_slow) = (Batch::default(), Batch::default());
+            setup.run(0..mesh.polygons().len(), &mut all_fast);
+            for poly in mesh.polygons() {
+                let (idx, material) = (mesh.polygon_indices(poly), &mesh.materials()[poly.material as usize]);
+                let first = all_slow.screen.len();
+                match setup.gather_clipped(idx, material, &mut all_slow) {
+                    Some(g) => setup.finish(first, g, material, &mut all_slow),
+                    None => all_slow.screen.truncate(first),
+                }
+            }
+            assert_eq!(screen_bits(&all_fast.screen), screen_bits(&all_slow.screen));
+            assert_eq!(all_fast.small, all_slow.small);
+            assert_eq!(all_fast.small_textured, all_slow.small_textured);
+            assert_eq!(all_fast.polys, all_slow.polys);
+            assert_eq!(all_fast.keys, all_slow.keys);
+            assert_eq!(all_fast.counts, all_slow.counts);
+            assert!(all_fast.polys.len() > 1000);
             assert!(small > 300, "only {small} small triangles set up");
             assert!(textures == 0 || textured > 100, "only {textured} textured small triangles set up");
         }

@@ -456,7 +456,7 @@ pub(super) fn fill_flat_run<'t>(
 
 /// One row of a narrow triangle a pixel at a time (the columns `m` covers, from pixel `at` of the band's
 /// buffers, depth `d0` at the first): for a row whose four columns would run past the end of the buffers
-/// (the last row of the frame); returns `(written, rejected)`.
+/// (on a band's last row, near the right edge of the frame); returns `(written, rejected)`.
 #[inline(always)]
 pub(super) fn fill_row_pixels<const DEPTH: bool>(
     m: u32,
@@ -557,7 +557,7 @@ mod tests {
         let mut rng = Lcg(5);
         let (width, band) = (13usize, (2, 9));
         let n = (band.1 - band.0) as usize * width;
-        let (mut narrow, mut pixels) = (0, 0);
+        let (mut narrow, mut pixels, mut past_end) = (0, 0, 0);
         for case in 0..5_000 {
             let (x, y) = (rng.range(-20, 13 * 16 + 20), rng.range(0, 11 * 16));
             let mut corner = || {
@@ -586,6 +586,9 @@ mod tests {
                             depth[i] = z;
                         }
                         counts.0 += 1;
+                        // Drawn by the one-pixel fallback: four columns from the box's first would pass
+                        // the end of the buffers.
+                        past_end += usize::from(y == band.1 - 1 && r.x_start + NARROW > width);
                     }
                 });
                 let (mut c2, mut d2) = (vec![0u32; n], old.clone());
@@ -602,6 +605,7 @@ mod tests {
             }
         }
         assert!(narrow > 2_000 && pixels > 5_000, "{narrow} triangles, {pixels} pixels");
+        assert!(past_end > 100, "only {past_end} pixels drawn by the fallback");
     }
 
     #[test]

@@ -97,9 +97,9 @@ impl std::ops::AddAssign for SpanCounts {
 #[inline]
 #[must_use]
 pub fn pack_rgb(c: [f32; 4]) -> u32 {
-    // The channels four at a time (a flat small triangle's colour is packed per triangle, and the scalar
-    // clamps and saturating conversions were a tenth of that fill). The vector clamp sends NaN to 0, as
-    // the conversion of a NaN does.
+    // The channels four at a time (set-up packs every flat polygon's colour, a small triangle's among them,
+    // and four scalar clamps and saturating conversions showed in its profile). The vector clamp sends NaN
+    // to 0, as the conversion of a NaN does.
     let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0));
     // Truncation of values in 0..=255 without a conversion per channel: adding 2^23 rounds to the nearest
     // integer (exactly, the spacing of floats there being 1), one less where that rounded up. The channels
