@@ -468,15 +468,16 @@ impl ObjectSetup<'_> {
         }
         let mv = self.mesh.vertices();
         let verts = [&mv[ids[0]], &mv[ids[1]], &mv[ids[2]]];
-        let color = |k: usize| (verts[k].color * material.base_color).to_array();
-        let color0 = color(0);
+        let product = |k: usize| verts[k].color * material.base_color;
+        let p0 = product(0);
+        let color0 = p0.to_array();
         // Only a polygon of one colour has a fast path (`MaterialSetup::small`). Equal vertex colours give
         // equal products (as `==` compares them) unless a product is NaN (an infinite channel times 0), which
-        // `gather_inside` finds unequal to itself; otherwise the products are compared, as it does.
+        // `gather_inside` finds unequal to itself; otherwise the products are compared, as it does. (`&`, not
+        // `&&`: three compares are cheaper than the branches between them.)
         let c = verts[0].color;
-        #[allow(clippy::eq_op)] // NaN test
-        let same = verts[1].color == c && verts[2].color == c && color0 == color0;
-        if !same && (color(1) != color0 || color(2) != color0) {
+        let same = (verts[1].color == c) & (verts[2].color == c) & !p0.is_nan();
+        if !same && (product(1).to_array() != color0 || product(2).to_array() != color0) {
             return false;
         }
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
