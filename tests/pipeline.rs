@@ -518,13 +518,10 @@ fn see_through_instances_draw_a_checkerboard_in_every_method() {
     }
 }
 
-/// Small triangles that follow one another with different paints (flat colours, two textures, white and
-/// tinted, with and without a cutoff) are drawn by loops shared between neighbours that paint alike: every
-/// triangle must still get its own paint. The reference draws each triangle alone, where nothing is shared.
-#[test]
-fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
-    let (w, h) = (96usize, 40usize);
-    let camera = Camera {
+/// An orthographic camera whose x and y units are the pixels of a `w` x `h` frame, looking down -z from
+/// z = 100.
+fn pixel_camera(w: usize, h: usize) -> Camera {
+    Camera {
         view: Mat4::from_translation(Vec3::new(-(w as f32) * 0.5, -(h as f32) * 0.5, -100.0)),
         projection: scanline_racer::render::Projection::Orthographic {
             xmag: w as f32 * 0.5,
@@ -532,7 +529,16 @@ fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
             znear: 1.0,
             zfar: 300.0,
         },
-    };
+    }
+}
+
+/// Small triangles that follow one another with different paints (flat colours, two textures, white and
+/// tinted, with and without a cutoff) are drawn by loops shared between neighbours that paint alike: every
+/// triangle must still get its own paint. The reference draws each triangle alone, where nothing is shared.
+#[test]
+fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
+    let (w, h) = (96usize, 40usize);
+    let camera = pixel_camera(w, h);
     let stripes = |seed: u32| {
         let texels = (0..16u32).map(|i| 0xff00_0000 | (i * 0x0011_0d07).wrapping_mul(seed) & 0x00ff_ffff).collect();
         Texture::new(4, 4, texels).unwrap()
@@ -589,19 +595,13 @@ fn neighbouring_small_triangles_of_different_paints_each_keep_their_own() {
 /// Flat small triangles lying on one another at one depth, narrow ones (a box of at most four columns,
 /// drawn four columns at a time) and wider ones (drawn a run at a time) in turn, all in one group: ties
 /// must keep the order each method promises, exactly as if each triangle were drawn alone onto the frame
-/// in turn. The z-buffer keeps the first (strictly nearer wins), the painter's bucket-far the last.
+/// in turn. The z-buffer keeps the first (strictly nearer wins), the painter's bucket-far the last, and so
+/// does bucket-near: it draws each pixel once, in exactly the reverse of bucket-far's order, so its first
+/// drawn is the last submitted.
 #[test]
 fn overlapping_narrow_and_wide_small_triangles_keep_their_drawing_order() {
     let (w, h) = (40usize, 24usize);
-    let camera = Camera {
-        view: Mat4::from_translation(Vec3::new(-(w as f32) * 0.5, -(h as f32) * 0.5, -100.0)),
-        projection: scanline_racer::render::Projection::Orthographic {
-            xmag: w as f32 * 0.5,
-            ymag: h as f32 * 0.5,
-            znear: 1.0,
-            zfar: 300.0,
-        },
-    };
+    let camera = pixel_camera(w, h);
     let mut seed = 9u32;
     let mut unit = move || {
         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -625,7 +625,7 @@ fn overlapping_narrow_and_wide_small_triangles_keep_their_drawing_order() {
         }
         b.build().unwrap()
     };
-    for (method, first_wins) in [(Method::ZBuffer, true), (Method::BucketFar, false)] {
+    for (method, first_wins) in [(Method::ZBuffer, true), (Method::BucketFar, false), (Method::BucketNear, false)] {
         let o = opts(method);
         let (frame, _) = render(&[mesh_of(&tris)], &[], &camera, w, h, &o);
         let mut expected = vec![0u32; w * h];

@@ -9,9 +9,9 @@ use super::cpu::use_avx2;
 use super::pipeline::DrawPolygon;
 use super::project::Screens;
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small_triangle::{self, BandPixels, SmallTriangle, TexPlanes};
+use super::small_triangle::{self, BandPixels, NextFlat, SmallTriangle, TexPlanes};
 use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
-use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, Fill, Paint, Run, Source, dispatch, walk};
+use super::span_lanes::{FLAT, Fill, Paint, Run, Source, dispatch, walk};
 
 /// The rows of one band and their colour.
 pub(super) struct Band<'a> {
@@ -178,13 +178,13 @@ impl FillContext<'_> {
     }
 }
 
-/// [`small_triangle::fill_flat_run`] for `VIS` (depth-tested or overwriting), with AVX2 when `avx2` (from
-/// [`use_avx2`]).
+/// [`small_triangle::fill_flat_run`] for `VIS` (depth-tested, each pixel once, or overwriting), with AVX2
+/// when `avx2` (from [`use_avx2`]).
 #[inline(always)]
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
 fn fill_flat_run<'t, const VIS: u8>(
     start: (&'t SmallTriangle, u32),
-    next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    next: &mut impl NextFlat<'t>,
     band: (i32, i32),
     px: &mut BandPixels<'_>,
     avx2: bool,
@@ -193,19 +193,9 @@ fn fill_flat_run<'t, const VIS: u8>(
     if avx2 {
         // SAFETY: `fill_flat_run` only needs the CPU to have AVX2, which was detected (`use_avx2`).
         #[allow(unsafe_code)]
-        return unsafe {
-            if VIS == DEPTH_TEST {
-                super::small_avx2::fill_flat_run::<true>(start, next, band, px)
-            } else {
-                super::small_avx2::fill_flat_run::<false>(start, next, band, px)
-            }
-        };
+        return unsafe { super::small_avx2::fill_flat_run::<VIS>(start, next, band, px) };
     }
-    if VIS == DEPTH_TEST {
-        small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<true>)
-    } else {
-        small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<false>)
-    }
+    small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<VIS>)
 }
 
 /// The colour, depth and coverage rows of the band being drawn.
@@ -265,18 +255,24 @@ fn next_alike<'c, const SRC: u8>(
 }
 
 impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
-    /// Draws a group of flat small triangles, depth-tested or overwriting: runs of narrow ones by
+    /// Draws a group of flat small triangles (any visibility): runs of narrow ones by
     /// [`small_triangle::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
     fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
         let SmallGroup { first: (first, (tri, _)), rest, ctx, band, rows } = self;
         let mut total = SpanCounts::default();
         // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
         let avx2 = use_avx2();
-        let mut next = || next_alike::<FLAT>(rest, ctx, first).map(|(q, (t, _))| (t, q.flat_rgb()));
+        let mut next = AlikeFlat { rest, ctx, first };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
-            let mut px =
-                BandPixels { y0: rows.y0, width: rows.width, color: &mut *rows.color, depth: &mut *rows.depth };
+            let mut px = BandPixels {
+                y0: rows.y0,
+                width: rows.width,
+                color: &mut *rows.color,
+                depth: &mut *rows.depth,
+                coverage: &mut *rows.coverage,
+                words: rows.words,
+            };
             let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, &mut px, avx2);
             total += SpanCounts { shaded: written, written, rejected };
             let Some((t, color)) = wide else { break };
@@ -284,15 +280,29 @@ impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
             t.for_each_run::<1>(&TexPlanes::NONE, band, |y, run: &Run| {
                 total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y))
             });
-            current = next();
+            current = next.next_flat();
         }
         total
     }
 }
 
+/// The flat small triangles that follow `first` in a bin (see [`next_alike`]), with their colours.
+struct AlikeFlat<'g, 'c, I: Iterator> {
+    rest: &'g mut std::iter::Peekable<I>,
+    ctx: &'c FillContext<'c>,
+    first: &'c DrawPolygon,
+}
+
+impl<'c, I: Iterator<Item = &'c u32>> NextFlat<'c> for AlikeFlat<'_, 'c, I> {
+    #[inline(always)]
+    fn next_flat(&mut self) -> Option<(&'c SmallTriangle, u32)> {
+        next_alike::<FLAT>(self.rest, self.ctx, self.first).map(|(q, (t, _))| (t, q.flat_rgb()))
+    }
+}
+
 impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        if SRC == FLAT && VIS != COVERAGE {
+        if SRC == FLAT {
             return self.fill_flat::<VIS>(paint);
         }
         let mut total = SpanCounts::default();

@@ -12,7 +12,8 @@ use std::arch::x86_64::{
     _mm_mullo_epi32, _mm_set1_epi32, _mm_set1_ps, _mm_setr_epi32, _mm_setr_ps, _mm_setzero_si128, _mm_sub_ps,
 };
 
-use super::small_triangle::{self, BandPixels, NARROW, NarrowRows, SmallTriangle, fill_row_pixels};
+use super::small_triangle::{self, BandPixels, NARROW, NarrowRows, NextFlat, SmallTriangle, fill_row_pixels};
+use super::span_lanes::{COVERAGE, DEPTH_TEST};
 
 /// Four values from the start of a slice (`None` when it is shorter).
 #[inline(always)]
@@ -34,13 +35,13 @@ fn store<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
 /// # Safety
 /// Needs a CPU with AVX2 (the caller detects it).
 #[target_feature(enable = "avx2")]
-pub(super) fn fill_flat_run<'t, const DEPTH: bool>(
+pub(super) fn fill_flat_run<'t, const VIS: u8>(
     first: (&'t SmallTriangle, u32),
-    next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    next: &mut impl NextFlat<'t>,
     band: (i32, i32),
     px: &mut BandPixels<'_>,
 ) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
-    small_triangle::fill_flat_run(first, next, band, px, |r, color, px| fill_flat_narrow::<DEPTH>(r, color, px))
+    small_triangle::fill_flat_run(first, next, band, px, |r, color, px| fill_flat_narrow::<VIS>(r, color, px))
 }
 
 /// [`super::small_triangle::fill_flat_narrow`] with AVX2; returns `(written, rejected)`.
@@ -49,7 +50,7 @@ pub(super) fn fill_flat_run<'t, const DEPTH: bool>(
 /// Needs a CPU with AVX2 (the caller detects it).
 #[inline]
 #[target_feature(enable = "avx2")]
-pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
     let columns = _mm_setr_epi32(0, 1, 2, 3);
     // Column k's edge value is the row's value plus k steps; a column outside the box is masked off.
@@ -76,25 +77,33 @@ pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px
         }
         let first = m.trailing_zeros();
         let d0 = r.run_depth(y, first);
-        let at = (y as usize - px.y0) * px.width + r.x_start;
-        let (Some(c), Some(d)) =
-            (px.color.get(at..at + NARROW), if DEPTH { px.depth.get(at..at + NARROW) } else { Some(&[][..]) })
-        else {
-            let (w, j) = fill_row_pixels::<DEPTH>(m, d0, r.depth_step(), at, color, px);
+        let row = y as usize - px.y0;
+        let at = row * px.width + r.x_start;
+        let (Some(c), Some(d)) = (
+            px.color.get(at..at + NARROW),
+            if VIS == DEPTH_TEST { px.depth.get(at..at + NARROW) } else { Some(&[][..]) },
+        ) else {
+            let (w, j) = fill_row_pixels::<VIS>(m, d0, r.depth_step(), (row, r.x_start), color, px);
             written += w;
             rejected += j;
             continue;
         };
         let old_c: __m128i = load(c).unwrap_or(zero);
-        let pass = if DEPTH {
-            let old: __m128 = load(d).unwrap_or(_mm_set1_ps(0.0));
-            // d0 + (k - first) * dd, lane by lane; lanes left of the run are not covered.
-            let z = _mm_add_ps(_mm_set1_ps(d0), _mm_mul_ps(_mm_sub_ps(lanes, _mm_set1_ps(first as f32)), dd));
-            let pass = _mm_and_ps(_mm_cmp_ps::<_CMP_GT_OQ>(z, old), _mm_castsi128_ps(inside));
-            store(&mut px.depth[at..], _mm_blendv_ps(old, z, pass));
-            _mm_castps_si128(pass)
-        } else {
-            inside
+        let pass = match VIS {
+            DEPTH_TEST => {
+                let old: __m128 = load(d).unwrap_or(_mm_set1_ps(0.0));
+                // d0 + (k - first) * dd, lane by lane; lanes left of the run are not covered.
+                let z = _mm_add_ps(_mm_set1_ps(d0), _mm_mul_ps(_mm_sub_ps(lanes, _mm_set1_ps(first as f32)), dd));
+                let pass = _mm_and_ps(_mm_cmp_ps::<_CMP_GT_OQ>(z, old), _mm_castsi128_ps(inside));
+                store(&mut px.depth[at..], _mm_blendv_ps(old, z, pass));
+                _mm_castps_si128(pass)
+            }
+            // The covered pixels not yet drawn, as lanes.
+            COVERAGE => {
+                let claimed = px.claim(row, r.x_start, m);
+                _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(claimed as i32), bits), bits)
+            }
+            _ => inside,
         };
         store(&mut px.color[at..], _mm_blendv_epi8(old_c, fill, pass));
         let n = u64::from((_mm_movemask_ps(_mm_castsi128_ps(pass)) as u32).count_ones());
@@ -109,30 +118,30 @@ mod tests {
     use super::*;
     use crate::render::fixed::Fx28_4;
     use crate::render::scanline::{ATTRS, ScreenVertex, signed_area2};
+    use crate::render::span_lanes::OVERWRITE;
     use crate::render::test_rng::Lcg;
 
     /// What one version drew: the buffers and the counts.
-    type Drawn = (Vec<u32>, Vec<f32>, (u64, u64));
+    type Drawn = (Vec<u32>, Vec<f32>, Vec<u64>, (u64, u64));
 
-    fn draw(
-        r: &NarrowRows,
-        depth_test: bool,
-        avx2: bool,
-        y0: usize,
-        width: usize,
-        start: &(Vec<u32>, Vec<f32>),
-    ) -> Drawn {
-        let (mut color, mut depth) = start.clone();
-        let mut px = BandPixels { y0, width, color: &mut color, depth: &mut depth };
+    /// The band's colour, depth and coverage before drawing.
+    type Start = (Vec<u32>, Vec<f32>, Vec<u64>);
+
+    fn draw(r: &NarrowRows, vis: u8, avx2: bool, (y0, width, words): (usize, usize, usize), start: &Start) -> Drawn {
+        let (mut color, mut depth, mut coverage) = start.clone();
+        let mut px = BandPixels { y0, width, color: &mut color, depth: &mut depth, coverage: &mut coverage, words };
+        let c = 0x00ab_cdef;
         #[allow(unsafe_code)]
-        let counts = match (depth_test, avx2) {
-            (true, false) => small_triangle::fill_flat_narrow::<true>(r, 0x00ab_cdef, &mut px),
-            (false, false) => small_triangle::fill_flat_narrow::<false>(r, 0x00ab_cdef, &mut px),
-            // SAFETY: the test runs the AVX2 versions only when the CPU has AVX2.
-            (true, true) => unsafe { fill_flat_narrow::<true>(r, 0x00ab_cdef, &mut px) },
-            (false, true) => unsafe { fill_flat_narrow::<false>(r, 0x00ab_cdef, &mut px) },
+        // SAFETY: the test runs the AVX2 versions only when the CPU has AVX2.
+        let counts = match (vis, avx2) {
+            (DEPTH_TEST, false) => small_triangle::fill_flat_narrow::<DEPTH_TEST>(r, c, &mut px),
+            (COVERAGE, false) => small_triangle::fill_flat_narrow::<COVERAGE>(r, c, &mut px),
+            (_, false) => small_triangle::fill_flat_narrow::<OVERWRITE>(r, c, &mut px),
+            (DEPTH_TEST, true) => unsafe { fill_flat_narrow::<DEPTH_TEST>(r, c, &mut px) },
+            (COVERAGE, true) => unsafe { fill_flat_narrow::<COVERAGE>(r, c, &mut px) },
+            (_, true) => unsafe { fill_flat_narrow::<OVERWRITE>(r, c, &mut px) },
         };
-        (color, depth, counts)
+        (color, depth, coverage, counts)
     }
 
     #[test]
@@ -178,15 +187,19 @@ mod tests {
                     _ => rng.unit() * 2.0 - 0.5,
                 })
                 .collect();
-            let start = ((0..n as u32).collect(), depth);
-            for depth_test in [true, false] {
-                let portable = draw(&r, depth_test, false, y0, width, &start);
-                let fast = draw(&r, depth_test, true, y0, width, &start);
-                let bits = |d: &Drawn| (d.0.clone(), d.1.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), d.2);
-                assert_eq!(bits(&fast), bits(&portable), "case {case}, depth test {depth_test}, {v:?}");
+            // Random 'already drawn' bits, one word a row (the frame is 23 pixels wide).
+            let coverage: Vec<u64> =
+                (0..n / width).map(|_| u64::from(rng.next()) << 8 ^ u64::from(rng.next())).collect();
+            let start = ((0..n as u32).collect(), depth, coverage);
+            for vis in [DEPTH_TEST, OVERWRITE, COVERAGE] {
+                let portable = draw(&r, vis, false, (y0, width, 1), &start);
+                let fast = draw(&r, vis, true, (y0, width, 1), &start);
+                let bits =
+                    |d: &Drawn| (d.0.clone(), d.1.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), d.2.clone(), d.3);
+                assert_eq!(bits(&fast), bits(&portable), "case {case}, visibility {vis}, {v:?}");
                 compared += 1;
-                written += portable.2.0;
-                rejected += portable.2.1;
+                written += portable.3.0;
+                rejected += portable.3.1;
             }
             at_end += usize::from(r.rows.1 == band.1 && r.x_start + NARROW > width);
         }

@@ -25,7 +25,7 @@
 
 use super::fixed::Fx28_4;
 use super::scanline::{ScreenVertex, signed_area2};
-use super::span_lanes::Run;
+use super::span_lanes::{COVERAGE, DEPTH_TEST, Run, cover_bits, coverage_byte};
 
 /// Largest bounding box side, in pixels (rows or columns whose centres it may cover), taken by this path.
 pub const MAX_SIDE: i32 = 16;
@@ -301,6 +301,22 @@ pub(super) struct BandPixels<'a> {
     pub(super) color: &'a mut [u32],
     /// Depths (larger is nearer), empty unless the band is depth tested.
     pub(super) depth: &'a mut [f32],
+    /// 'Already drawn' bits, `words` words a row, empty unless the band draws each pixel once.
+    pub(super) coverage: &'a mut [u64],
+    pub(super) words: usize,
+}
+
+impl BandPixels<'_> {
+    /// The pixels of the four columns from `x_start` that `m` covers on band row `row` and that are not yet
+    /// drawn, which are marked drawn now ([`COVERAGE`]: each pixel drawn once); pixels whose coverage word
+    /// is missing count as drawn, as in the per-pixel loop.
+    #[inline(always)]
+    pub(super) fn claim(&mut self, row: usize, x_start: usize, m: u32) -> u32 {
+        let words = self.coverage.get_mut(row * self.words..(row + 1) * self.words).unwrap_or(&mut []);
+        let pass = m & !u32::from(coverage_byte(words, x_start));
+        cover_bits(words, x_start, pass as u8);
+        pass
+    }
 }
 
 impl SmallTriangle {
@@ -367,16 +383,16 @@ impl NarrowRows {
     }
 }
 
-/// Draws a narrow triangle's rows in colour `color`, depth-tested when `DEPTH` (strictly nearer wins, as in
-/// [`super::span_lanes::walk`]) or overwriting; returns `(written, rejected)`. The AVX2 version is
-/// [`super::small_avx2::fill_flat_narrow`], held to this one bit for bit.
+/// Draws a narrow triangle's rows in colour `color` with visibility `VIS` (depth-tested: strictly nearer
+/// wins; each pixel once; or overwriting, as in [`super::span_lanes::walk`]); returns `(written,
+/// rejected)`. The AVX2 version is [`super::small_avx2::fill_flat_narrow`], held to this one bit for bit.
 ///
 /// Each row is its four box columns at once: coverage, depths, the test and the writes as four-lane
 /// selects, where the per-pixel loop spent more on a run of 1-3 pixels (its set-up and a call per row) than
 /// on the pixels. The depth of a pixel is computed as the per-pixel loop computes it, from the row's first
 /// covered pixel, so the frame is bit for bit the same.
 #[inline(always)]
-pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
     let edge = |i: usize| EdgeFn { at_row: r.at_row[i], step_x: r.step_x[i], step_y: r.step_y[i] };
     let mut edges = [edge(0), edge(1), edge(2)];
@@ -391,30 +407,36 @@ pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px
         }
         let first = m.trailing_zeros();
         let d0 = r.run_depth(y, first);
-        let at = (y as usize - px.y0) * px.width + r.x_start;
-        let c = px.color.get_mut(at..at + NARROW).and_then(|s| <&mut [u32; NARROW]>::try_from(s).ok());
-        let d = px.depth.get_mut(at..at + NARROW).and_then(|s| <&mut [f32; NARROW]>::try_from(s).ok());
-        let (Some(c), true) = (c, !DEPTH || d.is_some()) else {
-            let (w, j) = fill_row_pixels::<DEPTH>(m, d0, dd, at, color, px);
+        let row = y as usize - px.y0;
+        let at = row * px.width + r.x_start;
+        let lanes = at + NARROW <= px.color.len() && (VIS != DEPTH_TEST || at + NARROW <= px.depth.len());
+        if !lanes {
+            let (w, j) = fill_row_pixels::<VIS>(m, d0, dd, (row, r.x_start), color, px);
             written += w;
             rejected += j;
             continue;
-        };
+        }
         let mut pass = [false; NARROW];
-        if let Some(d) = d.filter(|_| DEPTH) {
-            for (k, (old, ok)) in d.iter_mut().zip(&mut pass).enumerate() {
-                // Lanes left of the run get a negative offset; they are not covered.
-                let z = d0 + (k as f32 - first as f32) * dd;
-                *ok = (m >> k) & 1 != 0 && z > *old;
-                *old = if *ok { z } else { *old };
+        match VIS {
+            DEPTH_TEST => {
+                if let Some(d) = px.depth.get_mut(at..at + NARROW) {
+                    for (k, (old, ok)) in d.iter_mut().zip(&mut pass).enumerate() {
+                        // Lanes left of the run get a negative offset; they are not covered.
+                        let z = d0 + (k as f32 - first as f32) * dd;
+                        *ok = (m >> k) & 1 != 0 && z > *old;
+                        *old = if *ok { z } else { *old };
+                    }
+                }
             }
-        } else {
-            for (k, ok) in pass.iter_mut().enumerate() {
-                *ok = (m >> k) & 1 != 0;
+            _ => {
+                let bits = if VIS == COVERAGE { px.claim(row, r.x_start, m) } else { m };
+                for (k, ok) in pass.iter_mut().enumerate() {
+                    *ok = (bits >> k) & 1 != 0;
+                }
             }
         }
         let mut n = 0;
-        for (p, &ok) in c.iter_mut().zip(&pass) {
+        for (p, &ok) in px.color.get_mut(at..at + NARROW).unwrap_or(&mut []).iter_mut().zip(&pass) {
             *p = if ok { color } else { *p };
             n += u64::from(ok);
         }
@@ -433,7 +455,7 @@ pub(super) fn fill_flat_narrow<const DEPTH: bool>(r: &NarrowRows, color: u32, px
 #[inline(always)]
 pub(super) fn fill_flat_run<'t>(
     first: (&'t SmallTriangle, u32),
-    mut next: impl FnMut() -> Option<(&'t SmallTriangle, u32)>,
+    next: &mut impl NextFlat<'t>,
     band: (i32, i32),
     px: &mut BandPixels<'_>,
     mut draw: impl FnMut(&NarrowRows, u32, &mut BandPixels<'_>) -> (u64, u64),
@@ -449,29 +471,46 @@ pub(super) fn fill_flat_run<'t>(
             written += w;
             rejected += j;
         }
-        current = next();
+        current = next.next_flat();
     }
     ((written, rejected), None)
 }
 
-/// One row of a narrow triangle a pixel at a time (the columns `m` covers, from pixel `at` of the band's
-/// buffers, depth `d0` at the first): for a row whose four columns would run past the end of the buffers
-/// (on a band's last row, near the right edge of the frame); returns `(written, rejected)`.
+/// Where [`fill_flat_run`] takes its triangles from: the next flat small triangle of the group and its
+/// colour, `None` at the group's end.
+///
+/// A trait rather than a closure so that its method can be marked `inline(always)`: passed as a closure,
+/// the group's iteration became a call per triangle inside the AVX2 function once that grew (fill 0.48 ->
+/// 0.53 ms on the small-polygon scene).
+pub(super) trait NextFlat<'t> {
+    /// The next triangle and its colour.
+    fn next_flat(&mut self) -> Option<(&'t SmallTriangle, u32)>;
+}
+
+/// One row of a narrow triangle a pixel at a time (the columns `m` covers on band row `row` from column
+/// `x_start`, depth `d0` at the first), with visibility `VIS`: for a row whose four columns would run past
+/// the end of the buffers (on a band's last row, near the right edge of the frame); returns `(written,
+/// rejected)`.
 #[inline(always)]
-pub(super) fn fill_row_pixels<const DEPTH: bool>(
+pub(super) fn fill_row_pixels<const VIS: u8>(
     m: u32,
     d0: f32,
     dd: f32,
-    at: usize,
+    (row, x_start): (usize, usize),
     color: u32,
     px: &mut BandPixels<'_>,
 ) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
     let first = m.trailing_zeros();
+    let at = row * px.width + x_start;
     for k in first..u32::BITS - m.leading_zeros() {
         let z = d0 + (k - first) as f32 * dd;
         let i = at + k as usize;
-        let pass = !DEPTH || px.depth.get(i).is_some_and(|&old| z > old);
+        let pass = match VIS {
+            DEPTH_TEST => px.depth.get(i).is_some_and(|&old| z > old),
+            COVERAGE => px.claim(row, x_start + k as usize, 1) != 0,
+            _ => true,
+        };
         if !pass {
             rejected += 1;
             continue;
@@ -479,7 +518,7 @@ pub(super) fn fill_row_pixels<const DEPTH: bool>(
         if let Some(p) = px.color.get_mut(i) {
             *p = color;
         }
-        if let Some(p) = px.depth.get_mut(i).filter(|_| DEPTH) {
+        if let Some(p) = px.depth.get_mut(i).filter(|_| VIS == DEPTH_TEST) {
             *p = z;
         }
         written += 1;
@@ -491,6 +530,7 @@ pub(super) fn fill_row_pixels<const DEPTH: bool>(
 mod tests {
     use super::*;
     use crate::render::scanline::{Span, fill_spans};
+    use crate::render::span_lanes::OVERWRITE;
     use crate::render::test_rng::Lcg;
 
     fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {
@@ -569,37 +609,54 @@ mod tests {
             let Some((t, _)) = SmallTriangle::new::<1>(&v, signed_area2(&v), width as i32) else { continue };
             let Some(r) = t.narrow_rows(band) else { continue };
             let old: Vec<f32> = (0..n).map(|i| if i % 3 == 0 { 0.5 } else { rng.unit() }).collect();
-            for depth_test in [true, false] {
+            // 'Already drawn' bits, one word a row (13 pixels).
+            let drawn: Vec<u64> = (0..n / width).map(|_| u64::from(rng.next() & 0x1fff)).collect();
+            for vis in [DEPTH_TEST, OVERWRITE, COVERAGE] {
                 // The reference: each run a pixel at a time, depth `a0 + k * da` (as `span_lanes::walk`).
-                let (mut color, mut depth) = (vec![0u32; n], old.clone());
+                let (mut color, mut depth, mut cover) = (vec![0u32; n], old.clone(), drawn.clone());
                 let mut counts = (0, 0);
                 t.for_each_run::<1>(&TexPlanes::NONE, band, |y, run| {
                     for x in run.x0..run.x1 {
-                        let i = (y - band.0) as usize * width + x;
+                        let (row, bit) = ((y - band.0) as usize, 1u64 << x);
+                        let i = row * width + x;
                         let z = run.a0[0] + (x - run.x0) as f32 * run.da[0];
-                        if depth_test && z.partial_cmp(&depth[i]) != Some(std::cmp::Ordering::Greater) {
+                        let pass = match vis {
+                            DEPTH_TEST => z.partial_cmp(&depth[i]) == Some(std::cmp::Ordering::Greater),
+                            COVERAGE => cover[row] & bit == 0,
+                            _ => true,
+                        };
+                        if !pass {
                             counts.1 += 1;
                             continue;
                         }
                         color[i] = 7;
-                        if depth_test {
+                        if vis == DEPTH_TEST {
                             depth[i] = z;
                         }
+                        cover[row] |= if vis == COVERAGE { bit } else { 0 };
                         counts.0 += 1;
                         // Drawn by the one-pixel fallback: four columns from the box's first would pass
                         // the end of the buffers.
                         past_end += usize::from(y == band.1 - 1 && r.x_start + NARROW > width);
                     }
                 });
-                let (mut c2, mut d2) = (vec![0u32; n], old.clone());
-                let mut px = BandPixels { y0: band.0 as usize, width, color: &mut c2, depth: &mut d2 };
-                let got = if depth_test {
-                    fill_flat_narrow::<true>(&r, 7, &mut px)
-                } else {
-                    fill_flat_narrow::<false>(&r, 7, &mut px)
+                let (mut c2, mut d2, mut w2) = (vec![0u32; n], old.clone(), drawn.clone());
+                let mut px = BandPixels {
+                    y0: band.0 as usize,
+                    width,
+                    color: &mut c2,
+                    depth: &mut d2,
+                    coverage: &mut w2,
+                    words: 1,
+                };
+                let got = match vis {
+                    DEPTH_TEST => fill_flat_narrow::<DEPTH_TEST>(&r, 7, &mut px),
+                    COVERAGE => fill_flat_narrow::<COVERAGE>(&r, 7, &mut px),
+                    _ => fill_flat_narrow::<OVERWRITE>(&r, 7, &mut px),
                 };
                 let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-                assert_eq!((c2, bits(&d2), got), (color, bits(&depth), counts), "case {case}: {v:?}");
+                let (mine, reference) = ((c2, bits(&d2), w2, got), (color, bits(&depth), cover, counts));
+                assert_eq!(mine, reference, "case {case}, visibility {vis}: {v:?}");
                 narrow += 1;
                 pixels += counts.0;
             }
