@@ -647,3 +647,69 @@ fn overlapping_narrow_and_wide_small_triangles_keep_their_drawing_order() {
         assert!(stacked > 100, "{method}: only {stacked} pixels covered twice or more");
     }
 }
+
+/// A grid of `cells` x `cells` squares (two triangles each) over `x0..x1` x `y0..y1` at depth 0, one colour.
+fn grid(cells: usize, (x0, x1): (f32, f32), (y0, y1): (f32, f32), color: Vec4) -> scanline_racer::render::Mesh {
+    let mut b = MeshBuilder::new();
+    let m = b.material(Material { double_sided: true, ..Material::default() });
+    let at = |i: usize, j: usize| {
+        let (u, v) = (i as f32 / cells as f32, j as f32 / cells as f32);
+        Vec3::new(x0 + (x1 - x0) * u, y0 + (y1 - y0) * v, 0.0)
+    };
+    for j in 0..cells {
+        for i in 0..cells {
+            let idx: Vec<u32> = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+                .into_iter()
+                .map(|position| b.vertex(Vertex { position, uv: Vec2::ZERO, color }))
+                .collect();
+            b.polygon(&[idx[0], idx[1], idx[2]], m);
+            b.polygon(&[idx[0], idx[2], idx[3]], m);
+        }
+    }
+    b.build().unwrap()
+}
+
+/// Small objects (set up on one thread) and big ones (set up in pieces on the pool, whose polygons the
+/// z-buffer draws from where their pieces left them) in turn, all lying on one another at one depth:
+/// every method must keep the submission order across them (the z-buffer's first drawn wins a tie, the
+/// painter's last), for every thread count, exactly as if each object were drawn alone in turn.
+#[test]
+fn small_and_big_objects_in_turn_keep_the_submission_order_for_every_thread_count() {
+    let (w, h) = (64usize, 48usize);
+    let camera = pixel_camera(w, h);
+    let c = |r: f32, g: f32, b: f32| Vec4::new(r, g, b, 1.0);
+    let meshes = [
+        grid(2, (4.0, 30.0), (4.0, 30.0), c(1.0, 0.0, 0.0)),
+        grid(24, (10.0, 50.0), (8.0, 40.0), c(0.0, 1.0, 0.0)),
+        grid(2, (20.0, 44.0), (16.0, 36.0), c(0.0, 0.0, 1.0)),
+        grid(23, (30.0, 60.0), (2.0, 44.0), c(1.0, 1.0, 0.0)),
+        grid(3, (0.0, 64.0), (20.0, 28.0), c(0.0, 1.0, 1.0)),
+    ];
+    assert!(meshes[1].polygons().len() >= 1024 && meshes[3].polygons().len() >= 1024);
+    assert!(meshes[0].polygons().len() < 1024 && meshes[2].polygons().len() < 1024);
+    for (method, first_wins) in [(Method::ZBuffer, true), (Method::BucketFar, false), (Method::BucketNear, false)] {
+        let mut expected = vec![0u32; w * h];
+        let mut layers = vec![0u32; w * h];
+        for m in &meshes {
+            let (alone, _) = render(std::slice::from_ref(m), &[], &camera, w, h, &opts(method));
+            for ((e, n), &a) in expected.iter_mut().zip(&mut layers).zip(&alone) {
+                if a != 0 {
+                    *n += 1;
+                    if !first_wins || *n == 1 {
+                        *e = a;
+                    }
+                }
+            }
+        }
+        // Every object is partly on top of another and partly under one.
+        assert!(layers.iter().filter(|&&n| n >= 3).count() > 100, "{method}: too few stacked pixels");
+        let mut one: Option<u64> = None;
+        for threads in [1usize, 2, 3, 5] {
+            let (frame, stats) = render(&meshes, &[], &camera, w, h, &RenderOptions { threads, ..opts(method) });
+            assert!(frame == expected, "{method}: {threads} threads do not keep the submission order");
+            let filled = *one.get_or_insert(stats.pieces_filled);
+            assert_eq!(stats.pieces_filled, filled, "{method}: {threads} threads");
+            assert!(filled >= 2 * 1024, "{method}: {filled} pieces filled");
+        }
+    }
+}

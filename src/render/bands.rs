@@ -50,9 +50,22 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
+/// A stretch of the drawing order: its polygons, and for each band the indices (into `polys`) of those
+/// touching it, in order.
+///
+/// The z-buffer's order is the submission order, so a big object's set-up pieces bin their own polygons
+/// as they finish, on the set-up's threads, and the fill reads the polygons where set-up left them; the
+/// painter's orders bin pieces of their sorted order over the frame's polygon list.
+#[derive(Clone, Copy)]
+pub(super) struct BinnedRun<'a> {
+    pub(super) polys: &'a [DrawPolygon],
+    pub(super) bins: &'a [Vec<u32>],
+}
+
 /// Read-only state shared by the fill workers.
 pub(super) struct FillContext<'a> {
-    pub(super) polys: &'a [DrawPolygon],
+    /// The drawing order: its runs in turn.
+    pub(super) runs: &'a [BinnedRun<'a>],
     pub(super) background: Option<u32>,
     pub(super) screens: Screens<'a>,
     pub(super) list: &'a DrawList<'a>,
@@ -62,10 +75,11 @@ pub(super) struct FillContext<'a> {
     pub(super) words: usize,
 }
 
-/// Puts each polygon of `order` (in order) into the bin of every band of `rows_per_band` rows it touches.
+/// Puts each polygon of `order` (indices into `polys`, in order) into the bin of every band of
+/// `rows_per_band` rows it touches.
 pub(super) fn bin(
     polys: &[DrawPolygon],
-    order: &[u32],
+    order: impl Iterator<Item = u32>,
     (height, rows_per_band): (usize, usize),
     bins: &mut Vec<Vec<u32>>,
 ) {
@@ -74,7 +88,7 @@ pub(super) fn bin(
     bins.resize_with(count, Vec::new);
     bins.truncate(count);
     bins.iter_mut().for_each(Vec::clear);
-    for &pi in order {
+    for pi in order {
         let Some(p) = polys.get(pi as usize) else { continue };
         // The rows were found at set-up, where the vertices were at hand: here they would be a cache miss.
         let first = p.rows.0.max(0) as usize;
@@ -89,19 +103,12 @@ pub(super) fn bin(
 }
 
 impl FillContext<'_> {
-    /// Clears a band's buffers and draws its bin, band `index` of each piece of `bins` in turn; returns the
-    /// pixel counts.
-    pub(super) fn fill_band(&self, band: Band<'_>, bins: &[Vec<Vec<u32>>], index: usize) -> SpanCounts {
-        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, bins, index, scratch))
+    /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
+    pub(super) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
+        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
     }
 
-    fn fill_band_with(
-        &self,
-        band: Band<'_>,
-        bins: &[Vec<Vec<u32>>],
-        index: usize,
-        scratch: &mut Scratch,
-    ) -> SpanCounts {
+    fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color } = band;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
@@ -125,14 +132,18 @@ impl FillContext<'_> {
         let mut total = SpanCounts::default();
         let mut add = |c: SpanCounts| total += c;
         let band_rows = (y0 as i32, (y0 + height) as i32);
-        let bin = || bins.iter().filter_map(|piece| piece.get(index)).flatten();
+        let bin = || {
+            self.runs.iter().flat_map(move |run| {
+                let bin = run.bins.get(index).map_or(&[][..], Vec::as_slice);
+                bin.iter().filter_map(|&pi| run.polys.get(pi as usize))
+            })
+        };
         if self.visibility != Visibility::DepthTest {
             // Painter's orders visit the polygons in depth order, at random places in memory: reading one
             // corner of each first, with nothing waiting on the loads, lets their cache misses overlap,
             // where the drawing loop below would wait for them one at a time.
             let mut touched = 0i32;
-            for &pi in bin() {
-                let Some(p) = self.polys.get(pi as usize) else { continue };
+            for p in bin() {
                 if let Some((t, _)) = self.screens.small(p) {
                     touched ^= t.rows().0;
                 } else if let Some(v) = self.screens.of(p) {
@@ -142,8 +153,7 @@ impl FillContext<'_> {
             std::hint::black_box(touched);
         }
         let mut polys = bin().peekable();
-        while let Some(&pi) = polys.next() {
-            let p = &self.polys[pi as usize];
+        while let Some(p) = polys.next() {
             let shading = Shading {
                 texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
                 sampler: p.sampler,
@@ -242,11 +252,11 @@ type SmallSetUp<'c> = (&'c SmallTriangle, &'c TexPlanes);
 /// with the loop for source `SRC` (any flat colour, or the same texture, sampler, colour and cutoff).
 #[inline(always)]
 fn next_alike<'c, const SRC: u8>(
-    rest: &mut std::iter::Peekable<impl Iterator<Item = &'c u32>>,
+    rest: &mut std::iter::Peekable<impl Iterator<Item = &'c DrawPolygon>>,
     ctx: &'c FillContext<'c>,
     first: &DrawPolygon,
 ) -> Option<(&'c DrawPolygon, SmallSetUp<'c>)> {
-    let q = ctx.polys.get(**rest.peek()? as usize)?;
+    let q: &'c DrawPolygon = rest.peek()?;
     let alike = if SRC == FLAT { q.texture().is_none() } else { q.paints_like(first) };
     // A small triangle is set up only for a fast path, so with no texture it is flat.
     let t = ctx.screens.small(q).filter(|_| alike)?;
@@ -254,7 +264,7 @@ fn next_alike<'c, const SRC: u8>(
     Some((q, t))
 }
 
-impl<'c, I: Iterator<Item = &'c u32>> SmallGroup<'_, 'c, '_, '_, I> {
+impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
     /// Draws a group of flat small triangles (any visibility): runs of narrow ones by
     /// [`small_triangle::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
     fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
@@ -293,14 +303,14 @@ struct AlikeFlat<'g, 'c, I: Iterator> {
     first: &'c DrawPolygon,
 }
 
-impl<'c, I: Iterator<Item = &'c u32>> NextFlat<'c> for AlikeFlat<'_, 'c, I> {
+impl<'c, I: Iterator<Item = &'c DrawPolygon>> NextFlat<'c> for AlikeFlat<'_, 'c, I> {
     #[inline(always)]
     fn next_flat(&mut self) -> Option<(&'c SmallTriangle, u32)> {
         next_alike::<FLAT>(self.rest, self.ctx, self.first).map(|(q, (t, _))| (t, q.flat_rgb()))
     }
 }
 
-impl<'c, I: Iterator<Item = &'c u32>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
+impl<'c, I: Iterator<Item = &'c DrawPolygon>> Fill for SmallGroup<'_, 'c, '_, '_, I> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
         if SRC == FLAT {
             return self.fill_flat::<VIS>(paint);
