@@ -62,6 +62,39 @@ pub(super) struct BinnedRun<'a> {
     pub(super) bins: &'a [Vec<u32>],
 }
 
+/// The polygons of one band's bin in every run, in turn.
+///
+/// A hand-written state machine: the fill's group loops peek it after every small triangle, and the
+/// nested iterator adaptors it replaces cost the fill 2.5% on the small-polygon scene.
+struct BinIter<'a> {
+    /// The runs still to visit.
+    runs: &'a [BinnedRun<'a>],
+    band: usize,
+    /// The current run's polygons, and what is left of its bin for the band.
+    polys: &'a [DrawPolygon],
+    indices: std::slice::Iter<'a, u32>,
+}
+
+impl<'a> Iterator for BinIter<'a> {
+    type Item = &'a DrawPolygon;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<&'a DrawPolygon> {
+        loop {
+            if let Some(&pi) = self.indices.next() {
+                match self.polys.get(pi as usize) {
+                    Some(p) => return Some(p),
+                    None => continue,
+                }
+            }
+            let (run, rest) = self.runs.split_first()?;
+            self.runs = rest;
+            self.polys = run.polys;
+            self.indices = run.bins.get(self.band).map_or(&[][..], Vec::as_slice).iter();
+        }
+    }
+}
+
 /// Read-only state shared by the fill workers.
 pub(super) struct FillContext<'a> {
     /// The drawing order: its runs in turn.
@@ -132,12 +165,7 @@ impl FillContext<'_> {
         let mut total = SpanCounts::default();
         let mut add = |c: SpanCounts| total += c;
         let band_rows = (y0 as i32, (y0 + height) as i32);
-        let bin = || {
-            self.runs.iter().flat_map(move |run| {
-                let bin = run.bins.get(index).map_or(&[][..], Vec::as_slice);
-                bin.iter().filter_map(|&pi| run.polys.get(pi as usize))
-            })
-        };
+        let bin = || BinIter { runs: self.runs, band: index, polys: &[], indices: [].iter() };
         if self.visibility != Visibility::DepthTest {
             // Painter's orders visit the polygons in depth order, at random places in memory: reading one
             // corner of each first, with nothing waiting on the loads, lets their cache misses overlap,
