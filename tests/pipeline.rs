@@ -670,9 +670,11 @@ fn grid(cells: usize, (x0, x1): (f32, f32), (y0, y1): (f32, f32), color: Vec4) -
 }
 
 /// Small objects (set up on one thread) and big ones (set up in pieces on the pool, whose polygons the
-/// z-buffer draws from where their pieces left them) in turn, all lying on one another at one depth:
-/// every method must keep the submission order across them (the z-buffer's first drawn wins a tie, the
-/// painter's last), for every thread count, exactly as if each object were drawn alone in turn.
+/// z-buffer draws from where their pieces left them) in turn, all lying on one another at one depth, with
+/// a big one off screen (culled) between them and enough small ones together for the fill to bin them in
+/// several pieces: every method must keep the submission order across them (the z-buffer's first drawn
+/// wins a tie, the painter's last), for every thread count, exactly as if each object were drawn alone in
+/// turn, and one renderer going from method to method and thread count to thread count must too.
 #[test]
 fn small_and_big_objects_in_turn_keep_the_submission_order_for_every_thread_count() {
     let (w, h) = (64usize, 48usize);
@@ -682,17 +684,24 @@ fn small_and_big_objects_in_turn_keep_the_submission_order_for_every_thread_coun
         grid(2, (4.0, 30.0), (4.0, 30.0), c(1.0, 0.0, 0.0)),
         grid(24, (10.0, 50.0), (8.0, 40.0), c(0.0, 1.0, 0.0)),
         grid(2, (20.0, 44.0), (16.0, 36.0), c(0.0, 0.0, 1.0)),
+        grid(24, (1000.0, 1040.0), (8.0, 40.0), c(1.0, 0.0, 1.0)),
+        grid(22, (2.0, 26.0), (30.0, 46.0), c(0.5, 0.0, 0.0)),
+        grid(22, (14.0, 40.0), (26.0, 47.0), c(0.0, 0.5, 0.0)),
         grid(23, (30.0, 60.0), (2.0, 44.0), c(1.0, 1.0, 0.0)),
         grid(3, (0.0, 64.0), (20.0, 28.0), c(0.0, 1.0, 1.0)),
     ];
-    assert!(meshes[1].polygons().len() >= 1024 && meshes[3].polygons().len() >= 1024);
-    assert!(meshes[0].polygons().len() < 1024 && meshes[2].polygons().len() < 1024);
-    for (method, first_wins) in [(Method::ZBuffer, true), (Method::BucketFar, false), (Method::BucketNear, false)] {
-        let mut expected = vec![0u32; w * h];
+    let big = meshes.iter().filter(|m| m.polygons().len() >= 1024).count();
+    assert_eq!(big, 3, "three objects big enough to be set up in pieces");
+    let small_polygons: usize = meshes.iter().map(|m| m.polygons().len()).filter(|&n| n < 1024).sum();
+    assert!(small_polygons >= 1024, "the small objects together are binned in several pieces");
+    let methods = [(Method::ZBuffer, true), (Method::BucketFar, false), (Method::BucketNear, false)];
+    let mut expected = Vec::new();
+    for (method, first_wins) in methods {
+        let mut e = vec![0u32; w * h];
         let mut layers = vec![0u32; w * h];
         for m in &meshes {
             let (alone, _) = render(std::slice::from_ref(m), &[], &camera, w, h, &opts(method));
-            for ((e, n), &a) in expected.iter_mut().zip(&mut layers).zip(&alone) {
+            for ((e, n), &a) in e.iter_mut().zip(&mut layers).zip(&alone) {
                 if a != 0 {
                     *n += 1;
                     if !first_wins || *n == 1 {
@@ -701,15 +710,26 @@ fn small_and_big_objects_in_turn_keep_the_submission_order_for_every_thread_coun
                 }
             }
         }
-        // Every object is partly on top of another and partly under one.
+        // Every object on screen is partly on top of another and partly under one.
         assert!(layers.iter().filter(|&&n| n >= 3).count() > 100, "{method}: too few stacked pixels");
-        let mut one: Option<u64> = None;
-        for threads in [1usize, 2, 3, 5] {
-            let (frame, stats) = render(&meshes, &[], &camera, w, h, &RenderOptions { threads, ..opts(method) });
-            assert!(frame == expected, "{method}: {threads} threads do not keep the submission order");
-            let filled = *one.get_or_insert(stats.pieces_filled);
-            assert_eq!(stats.pieces_filled, filled, "{method}: {threads} threads");
-            assert!(filled >= 2 * 1024, "{method}: {filled} pieces filled");
+        expected.push(e);
+    }
+    let instances: Vec<Instance> = (0..meshes.len()).map(|m| Instance::new(m, Mat4::IDENTITY)).collect();
+    let list = DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &[], view_lists: None };
+    let mut reused = Renderer::new();
+    let mut filled: Option<u64> = None;
+    for threads in [1usize, 2, 3, 5] {
+        for (k, (method, _)) in methods.into_iter().enumerate() {
+            let o = RenderOptions { threads, ..opts(method) };
+            for r in [&mut Renderer::new(), &mut reused] {
+                let mut frame = vec![0u32; w * h];
+                let stats = r.render(&mut frame, w, h, &camera, &list, &o).unwrap();
+                assert!(frame == expected[k], "{method}: {threads} threads do not keep the submission order");
+                assert_eq!(stats.objects_culled, 1, "{method}: {threads} threads");
+                let filled = *filled.get_or_insert(stats.pieces_filled);
+                assert_eq!(stats.pieces_filled, filled, "{method}: {threads} threads");
+                assert!(filled >= 2 * 1024 + 1024, "{method}: {filled} pieces filled");
+            }
         }
     }
 }

@@ -530,8 +530,9 @@ impl Renderer {
                 width: width as i32,
             };
             if threads > 1 && count >= PARALLEL_POLYGONS {
-                // Pieces of the polygon list set up in parallel, then appended in order: the result is the
-                // same as one pass, for any thread count.
+                // Pieces of the polygon list set up in parallel, then appended in order (the painter's
+                // orders) or drawn from where they are in order (the z-buffer): the result is the same as
+                // one pass, for any thread count.
                 let pieces = threads * 4;
                 let first = batches_used;
                 batches_used += pieces;

@@ -75,7 +75,7 @@ pub(super) struct Batch {
     pub(super) keys: Vec<f32>,
     pub(super) counts: Counts,
     /// For each band, the indices of its polygons touching the band, when it binned them itself (the
-    /// z-buffer's set-up pieces: see [`super::bands::BinnedRun`]).
+    /// z-buffer's set-up pieces: see [`super::bands::BinnedRun`]); unused in the main batch.
     pub(super) bins: Vec<Vec<u32>>,
     clip_in: Vec<ClipVertex>,
     clip_out: Vec<ClipVertex>,
