@@ -216,7 +216,8 @@ pub(super) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
     }
 }
 
-/// A reusable renderer: holds scratch buffers so frames after the first allocate nothing new.
+/// A reusable renderer: holds scratch buffers so frames after the first allocate nothing per polygon or
+/// per pixel (only the fill's short lists of bands and runs, a few dozen entries, are made each frame).
 #[derive(Debug, Default)]
 pub struct Renderer {
     setup_vertices: Vec<SetupVertex>,
