@@ -7,7 +7,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::time::Instant;
+mod timing;
 
 use scanline_racer::input::replay::Replay;
 use scanline_racer::render::{Method, RenderOptions, Renderer};
@@ -33,24 +33,9 @@ fn main() {
     let mut frame = vec![0u32; w * h];
     let mut r = Renderer::new();
     let o = RenderOptions { method, threads, ..RenderOptions::default() };
-    let mut best = f64::INFINITY;
-    let mut stages = [f64::INFINITY; 4];
-    for _ in 0..rounds {
-        let mut times: Vec<f64> = (0..40)
-            .map(|_| {
-                let t = Instant::now();
-                let s = r.render(&mut frame, w, h, &camera, &list, &o).unwrap();
-                let ms = t.elapsed().as_secs_f64() * 1e3;
-                for (b, v) in stages.iter_mut().zip([s.ms_transform, s.ms_clip, s.ms_order, s.ms_fill]) {
-                    *b = b.min(v);
-                }
-                ms
-            })
-            .collect();
-        times.sort_by(f64::total_cmp);
-        best = best.min(times[times.len() / 2]);
-    }
-    let hash = frame.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &p| (h ^ u64::from(p)).wrapping_mul(0x100_0000_01b3));
+    let timing::Timing { best, stages } =
+        timing::best_of(rounds, || r.render(&mut frame, w, h, &camera, &list, &o).unwrap());
+    let hash = timing::frame_hash(&frame);
     let [tr, cl, or, fi] = stages;
     println!(
         "{} {threads}t tick {tick} {w}x{h}: {best:.3} ms (best stages: transform {tr:.3}, clip {cl:.3}, order {or:.3}, fill {fi:.3} ms), frame {hash:016x}",
