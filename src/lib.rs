@@ -12,3 +12,4 @@ pub mod input;
 pub mod measure;
 pub mod render;
 pub mod shell;
+pub mod userfile;

@@ -144,9 +144,9 @@ pub fn channel_diff(a: u32, b: u32) -> u32 {
     (0..3).map(|s| ((a >> (8 * s)) & 0xff).abs_diff((b >> (8 * s)) & 0xff)).max().unwrap_or(0)
 }
 
-/// Path to the shared glTF samples beside the repository.
+/// Path to the public glTF sample models vendored into the repository (licences in their `LICENSES.md`).
 pub fn samples() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/gltf-samples")
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/samples")
 }
 
 /// The circuit's centre line from the shipped assets.

@@ -1,0 +1,230 @@
+//! Reading and writing the user's files safely: regular files only, within a byte budget, and replacing a
+//! file only through a new file renamed over it.
+//!
+//! Why: opening a FIFO for reading blocks until a writer appears, and `/dev/zero` or a character device
+//! never ends, so every file the program reads (scenes, buffers, images, traces, settings, the centre line)
+//! goes through [`open_regular`] / [`read_regular`], which look at what the path is before opening it and
+//! read no more than the caller's budget. Writes that replace a file go through [`replace_atomically`], which
+//! writes a sibling temporary file and renames it over the target (following a symbolic link to the file it
+//! names), so a crash or a full disk never leaves a half-written file where the user's was.
+
+use std::fs::File;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// Why a user's file could not be read or written; every variant names the path.
+#[derive(Debug, Error)]
+pub enum UserFileError {
+    /// The path does not exist or cannot be examined or opened.
+    #[error("{path}: {reason}")]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// The operating system's reason.
+        reason: String,
+    },
+    /// The path names something that is not a regular file (a folder, a FIFO, a device, a socket).
+    #[error("{path}: is {kind}, not a regular file")]
+    NotRegular {
+        /// The path.
+        path: PathBuf,
+        /// What it is instead ("a folder", "a FIFO", ...).
+        kind: &'static str,
+    },
+    /// The file is larger than the reader's budget.
+    #[error("{path}: {size} bytes is over the {limit}-byte limit for {what}")]
+    TooBig {
+        /// The path.
+        path: PathBuf,
+        /// Its size in bytes (or the bytes read before the budget ran out).
+        size: u64,
+        /// The budget in bytes.
+        limit: u64,
+        /// What kind of file the budget is for ("a glTF file", "a settings file", ...).
+        what: &'static str,
+    },
+}
+
+impl UserFileError {
+    /// Whether the error means the path does not exist.
+    #[must_use]
+    pub fn is_not_found(&self) -> bool {
+        matches!(self, Self::Io { reason, .. } if reason == NOT_FOUND)
+    }
+}
+
+const NOT_FOUND: &str = "no such file";
+
+fn io(path: &Path, e: &std::io::Error) -> UserFileError {
+    let reason = if e.kind() == std::io::ErrorKind::NotFound { NOT_FOUND.to_string() } else { e.to_string() };
+    UserFileError::Io { path: path.to_path_buf(), reason }
+}
+
+/// What a file type is, in words, for messages.
+fn kind_of(ft: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if ft.is_fifo() {
+            return "a FIFO";
+        }
+        if ft.is_char_device() || ft.is_block_device() {
+            return "a device";
+        }
+        if ft.is_socket() {
+            return "a socket";
+        }
+    }
+    if ft.is_dir() { "a folder" } else { "not a regular file" }
+}
+
+/// Checks that `path` (after following links) is a regular file of at most `limit` bytes; returns its size.
+pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64, UserFileError> {
+    let meta = std::fs::metadata(path).map_err(|e| io(path, &e))?;
+    if !meta.is_file() {
+        return Err(UserFileError::NotRegular { path: path.to_path_buf(), kind: kind_of(meta.file_type()) });
+    }
+    if meta.len() > limit {
+        return Err(UserFileError::TooBig { path: path.to_path_buf(), size: meta.len(), limit, what });
+    }
+    Ok(meta.len())
+}
+
+/// Opens `path` for reading if it is a regular file of at most `limit` bytes (checked before opening, so a
+/// FIFO never blocks, and again on the open file); the reader stops at `limit` bytes whatever happens to
+/// the file meanwhile.
+pub fn open_regular(path: &Path, limit: u64, what: &'static str) -> Result<std::io::Take<File>, UserFileError> {
+    check_regular(path, limit, what)?;
+    let file = File::open(path).map_err(|e| io(path, &e))?;
+    let meta = file.metadata().map_err(|e| io(path, &e))?;
+    if !meta.is_file() {
+        return Err(UserFileError::NotRegular { path: path.to_path_buf(), kind: kind_of(meta.file_type()) });
+    }
+    Ok(file.take(limit))
+}
+
+/// Reads a whole regular file of at most `limit` bytes.
+pub fn read_regular(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, UserFileError> {
+    let size = check_regular(path, limit, what)?;
+    let mut reader = open_regular(path, limit, what)?;
+    let mut out = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
+    reader.read_to_end(&mut out).map_err(|e| io(path, &e))?;
+    // A file that grew past the budget after the check: one byte more tells.
+    let mut probe = [0u8; 1];
+    if out.len() as u64 == limit && reader.into_inner().read(&mut probe).map_err(|e| io(path, &e))? > 0 {
+        return Err(UserFileError::TooBig { path: path.to_path_buf(), size: limit + 1, limit, what });
+    }
+    Ok(out)
+}
+
+/// Reads a whole regular UTF-8 text file of at most `limit` bytes.
+pub fn read_regular_text(path: &Path, limit: u64, what: &'static str) -> Result<String, UserFileError> {
+    let bytes = read_regular(path, limit, what)?;
+    String::from_utf8(bytes)
+        .map_err(|e| UserFileError::Io { path: path.to_path_buf(), reason: format!("not UTF-8 text ({e})") })
+}
+
+/// The file a write to `path` should replace: the target of a symbolic link (so that a linked settings file
+/// stays a link), else `path` itself.
+#[must_use]
+pub fn write_target(path: &Path) -> PathBuf {
+    match std::fs::read_link(path) {
+        Ok(target) if target.is_absolute() => target,
+        Ok(target) => path.parent().map_or(target.clone(), |dir| dir.join(&target)),
+        Err(_) => path.to_path_buf(),
+    }
+}
+
+/// A sibling of `target` that no other writer uses: `.NAME.PID.N.tmp` in the same folder, so that the
+/// final rename stays within one file system.
+#[must_use]
+pub fn temp_sibling(target: &Path) -> PathBuf {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static NEXT: AtomicU32 = AtomicU32::new(0);
+    let name = target.file_name().map_or_else(|| "file".into(), |n| n.to_string_lossy().into_owned());
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let tmp = format!(".{name}.{}.{n}.tmp", std::process::id());
+    target.parent().filter(|d| !d.as_os_str().is_empty()).map_or_else(|| PathBuf::from(&tmp), |d| d.join(&tmp))
+}
+
+/// Replaces `path` (or the file its symbolic link names) with `bytes`: writes a temporary sibling, flushes
+/// it, and renames it over the target, so the old file stays whole until the new one is.
+pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError> {
+    let target = write_target(path);
+    if let Ok(meta) = std::fs::metadata(&target)
+        && !meta.is_file()
+    {
+        return Err(UserFileError::NotRegular { path: target, kind: kind_of(meta.file_type()) });
+    }
+    let tmp = temp_sibling(&target);
+    let result = (|| {
+        let mut f = File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, &target)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(&target, &e)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("userfile-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn refuses_folders_devices_and_big_files() {
+        let d = dir("refuse");
+        assert!(matches!(read_regular(&d, 10, "a test"), Err(UserFileError::NotRegular { kind: "a folder", .. })));
+        #[cfg(unix)]
+        assert!(matches!(
+            read_regular(Path::new("/dev/zero"), 10, "a test"),
+            Err(UserFileError::NotRegular { kind: "a device", .. })
+        ));
+        let f = d.join("big");
+        std::fs::write(&f, [1u8; 11]).unwrap();
+        let e = read_regular(&f, 10, "a test").unwrap_err();
+        assert_eq!(e.to_string(), format!("{}: 11 bytes is over the 10-byte limit for a test", f.display()));
+        assert_eq!(read_regular(&f, 11, "a test").unwrap(), [1u8; 11]);
+        assert!(read_regular(&d.join("missing"), 10, "a test").unwrap_err().is_not_found());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_refused_without_blocking() {
+        let d = dir("fifo");
+        let p = d.join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&p).status().map(|s| s.success()).unwrap_or(false);
+        assert!(made, "mkfifo failed");
+        assert!(matches!(read_regular(&p, 10, "a test"), Err(UserFileError::NotRegular { kind: "a FIFO", .. })));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn replacing_keeps_a_link_a_link() {
+        let d = dir("link");
+        let real = d.join("real.json");
+        std::fs::write(&real, "old").unwrap();
+        let link = d.join("link.json");
+        std::os::unix::fs::symlink("real.json", &link).unwrap();
+        replace_atomically(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        let leftovers: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .filter_map(Result::ok)
+            .filter(|e| e.path().extension() == Some("tmp".as_ref()))
+            .collect();
+        assert!(leftovers.is_empty());
+    }
+}
