@@ -150,7 +150,7 @@ fn selection_by_projected_size_at_known_distances_and_resolutions() {
     );
     let radius = scene.meshes[set.meshes[0]].bounds().radius;
     // Projected height of the bounding sphere: radius * cot(fov / 2) * height / distance.
-    let cot = 1.0 / (0.4f32).tan();
+    let cot = 1.0 / libm::tanf(0.4f32);
     let distance_for = |px: f32, height: usize| radius * cot * height as f32 / px;
     for height in [240usize, 720, 1440] {
         for (px, expect) in [
@@ -188,8 +188,8 @@ fn a_slow_approach_and_retreat_switch_once_each_way() {
     let steps: Vec<f32> = (0..800)
         .map(|i| {
             let t = if i < 400 { i as f32 / 400.0 } else { (800 - i) as f32 / 400.0 };
-            let d = 200.0 * (5.0f32 / 200.0).powf(t);
-            d * (1.0 + 0.04 * (i as f32 * 1.3).sin())
+            let d = 200.0 * libm::powf(5.0f32 / 200.0, t);
+            d * (1.0 + 0.04 * libm::sinf(i as f32 * 1.3))
         })
         .collect();
     for d in steps {
@@ -261,7 +261,7 @@ fn the_circuit_is_closed_crosses_itself_and_has_straights_corners_hills_and_bank
     let heading: Vec<f64> = (0..n)
         .map(|i| {
             let (a, b) = (s[i].0, s[(i + 1) % n].0);
-            (b[2] - a[2]).atan2(b[0] - a[0])
+            libm::atan2(b[2] - a[2], b[0] - a[0])
         })
         .collect();
     let turn = |i: usize| {

@@ -146,7 +146,7 @@ fn non_monotone_polygon_renders_like_its_triangulation() {
         .map(|i| {
             let a = i as f32 * std::f32::consts::PI / 5.0 + 0.3;
             let r = if i % 2 == 0 { 40.0 } else { 15.0 };
-            Vec2::new(64.0 + r * a.cos(), 64.0 + r * a.sin())
+            Vec2::new(64.0 + r * libm::cosf(a), 64.0 + r * libm::sinf(a))
         })
         .collect();
     for (name, outline) in [("U", &u), ("star", &star)] {
@@ -183,7 +183,7 @@ fn convex_polygons_of_any_vertex_count_are_filled_whole() {
         let outline: Vec<Vec2> = (0..n)
             .map(|i| {
                 let a = i as f32 / n as f32 * std::f32::consts::TAU + 0.1;
-                Vec2::new(64.3 + 50.0 * a.cos(), 63.7 + 45.0 * a.sin())
+                Vec2::new(64.3 + 50.0 * libm::cosf(a), 63.7 + 45.0 * libm::sinf(a))
             })
             .collect();
         let mut b = MeshBuilder::new();

@@ -123,12 +123,14 @@ fn foreign_versions_and_files_are_refused_with_both_versions_named() {
     let e = replay(&p).unwrap_err();
     assert!(e.contains("version 2") && e.contains("version 1"), "{e}");
     let mut sim7 = bytes.clone();
-    let key = b"\"sim_version\":1";
+    let key = format!("\"sim_version\":{}", scanline_racer::input::trace::SIM_VERSION).into_bytes();
+    let key = key.as_slice();
     let pos = sim7.windows(key.len()).position(|w| w == key).expect("sim_version in the header");
     sim7[pos + key.len() - 1] = b'7';
     std::fs::write(&p, &sim7).unwrap();
     let e = replay(&p).unwrap_err();
-    assert!(e.contains("simulation version 7") && e.contains("version 1"), "{e}");
+    let this = format!("version {}", scanline_racer::input::trace::SIM_VERSION);
+    assert!(e.contains("simulation version 7") && e.contains(&this), "{e}");
     std::fs::write(&p, b"PNG\x89 not a trace at all").unwrap();
     assert!(replay(&p).unwrap_err().contains("magic"));
     let mut huge = bytes.clone();

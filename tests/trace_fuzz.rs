@@ -168,9 +168,10 @@ proptest! {
         track in any::<u64>(), junk in "[ -~]{0,40}", depth in 0usize..300,
     ) {
         let json = format!(
-            "{}{{\"sim_version\":1,\"game_version\":\"{}\",\"track_length_mm\":{track},\"cars\":{cars},\
+            "{}{{\"sim_version\":{sim},\"game_version\":\"{}\",\"track_length_mm\":{track},\"cars\":{cars},\
              \"laps\":{laps},\"seed\":0,\"tick_hz\":{hz},\"checksum_every\":{every}}}{}",
-            "[".repeat(depth), junk.replace(['"', '\\'], ""), "]".repeat(depth)
+            "[".repeat(depth), junk.replace(['"', '\\'], ""), "]".repeat(depth),
+            sim = scanline_racer::input::trace::SIM_VERSION,
         );
         let mut rest = (json.len() as u32).to_le_bytes().to_vec();
         rest.extend_from_slice(json.as_bytes());

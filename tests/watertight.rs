@@ -41,7 +41,7 @@ fn random_fan(rng: &mut Rng, w: i64, h: i64) -> Vec<[(i64, i64); 3]> {
         .iter()
         .map(|a| {
             let r = max_r * (0.2 + 0.8 * rng.unit() as f64);
-            (c.0 + (r * a.cos()).round() as i64, c.1 + (r * a.sin()).round() as i64)
+            (c.0 + (r * libm::cos(*a)).round() as i64, c.1 + (r * libm::sin(*a)).round() as i64)
         })
         .collect();
     (0..n).map(|i| [c, rim[i], rim[(i + 1) % n]]).collect()
@@ -144,7 +144,7 @@ fn slivers_thinner_than_a_pixel_tile_without_gaps() {
     let rim: Vec<(i64, i64)> = (0..200)
         .map(|i| {
             let a = i as f64 / 200.0 * std::f64::consts::TAU;
-            (c.0 + (400.0 * a.cos()).round() as i64, c.1 + (400.0 * a.sin()).round() as i64)
+            (c.0 + (400.0 * libm::cos(a)).round() as i64, c.1 + (400.0 * libm::sin(a)).round() as i64)
         })
         .collect();
     let tris: Vec<_> = (0..200).map(|i| [c, rim[i], rim[(i + 1) % 200]]).collect();

@@ -112,7 +112,7 @@ mod tests {
         let hex: Vec<Vertex> = (0..6)
             .map(|i| {
                 let a = i as f32 * std::f32::consts::TAU / 6.0;
-                v(a.cos(), a.sin(), a.cos(), a.sin())
+                v(libm::cosf(a), libm::sinf(a), libm::cosf(a), libm::sinf(a))
             })
             .collect();
         let fan: Vec<[u32; 3]> = (1..5).map(|k| [0, k, k + 1]).collect();

@@ -120,9 +120,9 @@ impl LoadedScene {
             None => (Vec3::ZERO, 1.0),
         };
         let yfov = 0.8f32;
-        let half_x = ((0.5 * yfov).tan() * aspect.clamp(0.05, 20.0)).atan();
+        let half_x = libm::atanf(libm::tanf(0.5 * yfov) * aspect.clamp(0.05, 20.0));
         let half = half_x.min(0.5 * yfov);
-        let dist = radius / half.sin() * 1.02;
+        let dist = radius / libm::sinf(half) * 1.02;
         let eye = center + Vec3::new(0.55, 0.45, 1.0).normalize() * dist;
         let znear = ((dist - radius) * 0.9).max(dist * 1e-3);
         Camera::look_at(eye, center, yfov, znear, Some(dist + radius * 1.1))

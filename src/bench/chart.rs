@@ -143,7 +143,7 @@ pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, String> {
 /// most about a dozen.
 fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let mut v = vec![];
-    let mut p = 10f64.powf(lo.max(1e-9).log10().floor());
+    let mut p = libm::pow(10f64, libm::log10(lo.max(1e-9)).floor());
     while p <= hi && v.len() < 200 {
         for m in [1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0] {
             let t = m * p;

@@ -72,7 +72,7 @@ pub fn drive(driver: &Driver, idx: usize, cars: &[Car], track: &Track, params: &
     let (aim, _) = track.point_at(s + look, lateral.clamp(-half, half));
     let to = flat(aim) - me.pos;
     let fwd = me.forward();
-    let err = fwd.perp_dot(to.normalize_or(fwd)).asin();
+    let err = libm::asinf(fwd.perp_dot(to.normalize_or(fwd)));
     // perp_dot > 0 means the target is to the right (x right, z towards the viewer, y up).
     let steer = (err * 2.2).clamp(-1.0, 1.0);
     let (throttle, brake) = if speed < target - 1.0 {

@@ -88,13 +88,13 @@ impl Car {
         let (p, dir) = track.point_at(s, lateral);
         let pos = flat(p);
         let loc = track.locate(pos, track.index_at(s));
-        Self { pos, yaw: dir.x.atan2(-dir.y), vel: Vec2::ZERO, loc, on_grass: false, steer_angle: 0.0 }
+        Self { pos, yaw: libm::atan2f(dir.x, -dir.y), vel: Vec2::ZERO, loc, on_grass: false, steer_angle: 0.0 }
     }
 
     /// Unit vector the car points along.
     #[must_use]
     pub fn forward(&self) -> Vec2 {
-        Vec2::new(self.yaw.sin(), -self.yaw.cos())
+        Vec2::new(libm::sinf(self.yaw), -libm::cosf(self.yaw))
     }
 
     /// Forward speed (m/s, negative when reversing).
@@ -127,7 +127,7 @@ impl Car {
         let lock = p.steer_lock / (1.0 + (v_f.abs() / p.steer_fade).powi(2));
         self.steer_angle = c.steer * lock;
         let grip = if self.on_grass { p.grip * p.grass_grip } else { p.grip };
-        let mut yaw_rate = v_f * self.steer_angle.tan() / p.wheelbase;
+        let mut yaw_rate = v_f * libm::tanf(self.steer_angle) / p.wheelbase;
         if v_f.abs() > 1.0 {
             let max_rate = grip / v_f.abs();
             yaw_rate = yaw_rate.clamp(-max_rate * 1.15, max_rate * 1.15);

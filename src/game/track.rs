@@ -162,7 +162,7 @@ impl Track {
                     index: i,
                     s,
                     lateral,
-                    height: centre_h + lateral * bank.sin(),
+                    height: centre_h + lateral * libm::sinf(bank),
                     width: a.width + (b.width - a.width) * t,
                     barrier: [a.barrier[0].min(b.barrier[0]), a.barrier[1].min(b.barrier[1])],
                 },
@@ -194,7 +194,7 @@ impl Track {
         let right = Vec2::new(-dir.y, dir.x);
         let c = a.pos + (b.pos - a.pos) * t;
         let bank = a.bank + (b.bank - a.bank) * t;
-        (Vec3::new(c.x + right.x * lateral, c.y + lateral * bank.sin(), c.z + right.y * lateral), dir)
+        (Vec3::new(c.x + right.x * lateral, c.y + lateral * libm::sinf(bank), c.z + right.y * lateral), dir)
     }
 
     /// Signed curvature (1/m, positive turning right) around lap distance `s`, over a 20 m chord.
@@ -202,7 +202,7 @@ impl Track {
     pub fn curvature_at(&self, s: f32) -> f32 {
         let (_, d0) = self.point_at(s - 10.0, 0.0);
         let (_, d1) = self.point_at(s + 10.0, 0.0);
-        d0.perp_dot(d1).asin() / 20.0
+        libm::asinf(d0.perp_dot(d1)) / 20.0
     }
 }
 
@@ -221,7 +221,7 @@ mod tests {
         let pts: Vec<(Vec3, f32, f32)> = (0..200)
             .map(|i| {
                 let a = i as f32 / 200.0 * std::f32::consts::TAU;
-                (Vec3::new(100.0 * a.cos(), 0.0, -100.0 * a.sin()), 0.0, 12.0)
+                (Vec3::new(100.0 * libm::cosf(a), 0.0, -100.0 * libm::sinf(a)), 0.0, 12.0)
             })
             .collect();
         Track::new(&pts).unwrap()
@@ -269,14 +269,14 @@ pub(crate) mod tests_support {
         }
         for i in 0..60 {
             let a = i as f32 / 60.0 * std::f32::consts::PI;
-            push(Vec3::new(100.0 - 100.0 * a.cos(), 0.0, -2000.0 - 100.0 * a.sin()));
+            push(Vec3::new(100.0 - 100.0 * libm::cosf(a), 0.0, -2000.0 - 100.0 * libm::sinf(a)));
         }
         for i in 0..400 {
             push(Vec3::new(200.0, 0.0, -2000.0 + 5.0 * i as f32));
         }
         for i in 0..60 {
             let a = i as f32 / 60.0 * std::f32::consts::PI;
-            push(Vec3::new(100.0 + 100.0 * a.cos(), 0.0, 100.0 * a.sin()));
+            push(Vec3::new(100.0 + 100.0 * libm::cosf(a), 0.0, 100.0 * libm::sinf(a)));
         }
         Track::new(&pts).unwrap_or_else(|e| panic!("{e}"))
     }

@@ -24,7 +24,7 @@ pub fn shape_stick(x: f32, y: f32, deadzone: f32, curve: f32) -> (f32, f32) {
         return (0.0, 0.0);
     }
     let dz = deadzone.clamp(0.0, 0.95);
-    let t = ((r.min(1.0) - dz) / (1.0 - dz)).clamp(0.0, 1.0).powf(curve.clamp(0.2, 5.0));
+    let t = libm::powf(((r.min(1.0) - dz) / (1.0 - dz)).clamp(0.0, 1.0), curve.clamp(0.2, 5.0));
     (x / r * t, y / r * t)
 }
 

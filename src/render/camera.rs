@@ -62,7 +62,7 @@ impl Camera {
             Projection::Perspective { yfov, aspect, znear, zfar } => {
                 let aspect = aspect.filter(|a| a.is_finite() && *a > 0.0).unwrap_or(frame_aspect);
                 // The glTF specification's matrices, written out so hostile values give NaN, never a panic.
-                let f = 1.0 / (0.5 * yfov).tan();
+                let f = 1.0 / libm::tanf(0.5 * yfov);
                 let (c22, c32) = match zfar {
                     Some(zfar) => ((zfar + znear) / (znear - zfar), 2.0 * zfar * znear / (znear - zfar)),
                     None => (-1.0, -2.0 * znear),

@@ -179,8 +179,8 @@ mod tests {
         let sizes: Vec<f32> = (0..2000)
             .map(|i| {
                 let t = if i < 1000 { i as f32 / 1000.0 } else { (2000 - i) as f32 / 1000.0 };
-                let base = 10.0 * (20.0f32).powf(t);
-                base * (1.0 + 0.05 * ((i as f32) * 0.7).sin())
+                let base = 10.0 * libm::powf(20.0f32, t);
+                base * (1.0 + 0.05 * libm::sinf((i as f32) * 0.7))
             })
             .collect();
         for size in sizes {

@@ -405,7 +405,7 @@ impl Renderer {
                 } else {
                     radius * y_scale_px
                 };
-                let size = size * options.lod_bias.exp2();
+                let size = size * libm::exp2f(options.lod_bias);
                 choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, self.lod_state.previous(index))
             }
         };

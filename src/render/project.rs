@@ -795,7 +795,7 @@ mod tests {
                 .map(|k| {
                     let a = k as f32 / corners as f32 * std::f32::consts::TAU;
                     let r = 0.2 + rng.unit() * 3.0;
-                    let position = centre + Vec3::new(a.cos() * r, a.sin() * r, rng.unit() - 0.5);
+                    let position = centre + Vec3::new(libm::cosf(a) * r, libm::sinf(a) * r, rng.unit() - 0.5);
                     // One colour per polygon for some, per corner for others.
                     let c = match i % 2 {
                         // An infinite channel times the material's 0: a NaN colour, so not one colour.

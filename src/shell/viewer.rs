@@ -36,12 +36,12 @@ pub struct Viewer {
 fn pose_of(camera: &Camera) -> (Vec3, f32, f32) {
     let eye = camera.view.inverse();
     let forward = -eye.z_axis.truncate().normalize_or(Vec3::NEG_Z);
-    (eye.w_axis.truncate(), forward.x.atan2(-forward.z), forward.y.clamp(-1.0, 1.0).asin())
+    (eye.w_axis.truncate(), libm::atan2f(forward.x, -forward.z), libm::asinf(forward.y.clamp(-1.0, 1.0)))
 }
 
 /// The view matrix of an eye at `position` with `yaw` and `pitch`, no roll.
 fn view_of(position: Vec3, yaw: f32, pitch: f32) -> Mat4 {
-    let dir = Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos());
+    let dir = Vec3::new(libm::sinf(yaw) * libm::cosf(pitch), libm::sinf(pitch), -libm::cosf(yaw) * libm::cosf(pitch));
     let view = glam::camera::rh::view::look_to_mat4(position, dir, Vec3::Y);
     if view.is_finite() { view } else { Mat4::IDENTITY }
 }
@@ -83,7 +83,7 @@ impl Content for Viewer {
         if h.right {
             self.yaw += turn;
         }
-        let ahead = Vec3::new(self.yaw.sin(), 0.0, -self.yaw.cos());
+        let ahead = Vec3::new(libm::sinf(self.yaw), 0.0, -libm::cosf(self.yaw));
         let mut motion = Vec3::ZERO;
         for (on, dir) in [(h.forward, ahead), (h.back, -ahead), (h.up, Vec3::Y), (h.down, Vec3::NEG_Y)] {
             if on {

@@ -254,6 +254,6 @@ impl Doc {
 
 /// A node transform as glTF JSON (translation and a rotation about +Y).
 pub fn placed(translation: Vec3, yaw: f32) -> Value {
-    let (s, c) = (0.5 * yaw).sin_cos();
+    let (s, c) = libm::sincosf(0.5 * yaw);
     json!({"translation": [round(translation.x), round(translation.y), round(translation.z)], "rotation": [0.0, round(s), 0.0, round(c)]})
 }

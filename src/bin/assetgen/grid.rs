@@ -204,7 +204,7 @@ pub fn generate(out: &Path, cars: &[CarInfo], track: &TrackInfo) -> std::io::Res
     for (car, (pos, yaw)) in cars.iter().zip(&track.grid) {
         let doc = read_json(&out.join(format!("cars/{}.gltf", car.name)))?;
         // Cars face -Z in their own space; a slot's yaw turns the forward direction (sin yaw, 0, -cos yaw).
-        let (s, c) = (-0.5 * yaw).sin_cos();
+        let (s, c) = libm::sincosf(-0.5 * yaw);
         let r6 = |v: f32| (f64::from(v) * 1e6).round() / 1e6;
         let t = json!({"name": format!("{} on grid", car.name), "translation": [r6(pos.x), r6(pos.y), r6(pos.z)], "rotation": [0.0, r6(s), 0.0, r6(c)]});
         m.add(doc, "cars/", Some(t), false);
@@ -212,7 +212,7 @@ pub fn generate(out: &Path, cars: &[CarInfo], track: &TrackInfo) -> std::io::Res
     let last_car = cars.len().min(track.grid.len()).checked_sub(1).and_then(|i| track.grid.get(i));
     if let Some((pos, yaw)) = last_car {
         // Behind the last car, above, looking up the grid: every car from near to far.
-        let fwd = Vec3::new(yaw.sin(), 0.0, -yaw.cos());
+        let fwd = Vec3::new(libm::sinf(*yaw), 0.0, -libm::cosf(*yaw));
         m.camera("grid behind", *pos - fwd * 9.0 + Vec3::Y * 2.5, *pos + fwd * 40.0);
         // Low at the side of the front row, looking back down the grid: the cars' faces and numbers.
         if let Some((front, _)) = track.grid.first() {

@@ -93,7 +93,11 @@ fn loft(prim: &mut Primitive, frame: &Frame, sections: &[(f32, Vec<Vec2>)], open
 /// Body height along the length (0 = nose, 1 = tail).
 pub(super) fn body_profile(d: &Design, t: f32) -> f32 {
     let nose = d.nose * d.body_height;
-    if t < 0.3 { nose + (d.body_height - nose) * (t / 0.3).powf(0.7) } else { d.body_height * (1.0 - 0.08 * (t - 0.3)) }
+    if t < 0.3 {
+        nose + (d.body_height - nose) * libm::powf(t / 0.3, 0.7)
+    } else {
+        d.body_height * (1.0 - 0.08 * (t - 0.3))
+    }
 }
 
 /// The body's cross-section at `t`: eight points counter-clockwise seen from +Z.
@@ -132,7 +136,7 @@ fn wheel(prim: &mut Primitive, center: Vec3) {
         (0..N)
             .map(|i| {
                 let a = i as f32 / N as f32 * std::f32::consts::TAU;
-                Vec3::new(x, center.y + WHEEL_RADIUS * a.cos(), center.z + WHEEL_RADIUS * a.sin())
+                Vec3::new(x, center.y + WHEEL_RADIUS * libm::cosf(a), center.z + WHEEL_RADIUS * libm::sinf(a))
             })
             .collect()
     };

@@ -42,9 +42,9 @@ impl Sample {
     fn new(s: f32, (pos, dir): (Vec2, Vec2), (kappa, kappa_raw): (f32, f32), h: f32, bank: f32) -> Sample {
         let fwd = Vec3::new(dir.x, 0.0, dir.y);
         let right = Vec3::new(-dir.y, 0.0, dir.x);
-        let lat = right * bank.cos() + Vec3::Y * bank.sin();
+        let lat = right * libm::cosf(bank) + Vec3::Y * libm::sinf(bank);
         // The roll pivots about the lower edge, so that edge stays at the lift above the ground.
-        let p = Vec3::new(pos.x, h + ROAD_LIFT + HALF_WIDTH * bank.sin().abs(), pos.y);
+        let p = Vec3::new(pos.x, h + ROAD_LIFT + HALF_WIDTH * libm::sinf(bank).abs(), pos.y);
         let extra = 10.0 * ((kappa.abs() - 0.006) * 80.0).clamp(0.0, 1.0);
         let outside = usize::from(kappa > 0.0);
         let mut bo = [BARRIER_OFFSET; 2];

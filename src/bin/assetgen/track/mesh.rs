@@ -20,7 +20,7 @@ pub(super) fn world_uvs(pts: &[Vec3], metres: f32) -> Vec<Vec2> {
 ///
 /// [`placed`]: crate::gltf_out::placed
 pub(super) fn node_yaw(d: Vec3) -> f32 {
-    (-d.x).atan2(-d.z)
+    libm::atan2f(-d.x, -d.z)
 }
 
 /// Newell's normal of a polygon (counter-clockwise gives the right-hand normal).

@@ -35,8 +35,8 @@ impl Plan {
             let p = pt(i);
             let a = (p - pt(i + n - 1)).normalize_or_zero();
             let b = (pt(i + 1) - p).normalize_or_zero();
-            let turn = left(a).dot(b).atan2(a.dot(b));
-            fillets.push((p, a, b, turn, c.2 * (turn.abs() / 2.0).tan(), c.2));
+            let turn = libm::atan2f(left(a).dot(b), a.dot(b));
+            fillets.push((p, a, b, turn, c.2 * libm::tanf(turn.abs() / 2.0), c.2));
         }
         let mut segs = vec![];
         let mut s = 0.0;
@@ -68,7 +68,11 @@ impl Plan {
             Piece::Line { p0, d } => (p0 + d * u, d, 0.0),
             Piece::Arc { p0, d, side, r, sign } => {
                 let th = u / r;
-                (p0 + (d * th.sin() + side * (1.0 - th.cos())) * r, d * th.cos() + side * th.sin(), sign / r)
+                (
+                    p0 + (d * libm::sinf(th) + side * (1.0 - libm::cosf(th))) * r,
+                    d * libm::cosf(th) + side * libm::sinf(th),
+                    sign / r,
+                )
             }
         }
     }

@@ -183,7 +183,7 @@ pub(super) fn grid_slots(c: &Circuit) -> Vec<(Vec3, f32)> {
         .map(|k| {
             let f = c.at(c.length - 8.0 - 8.0 * k as f32);
             let lat = if k % 2 == 0 { -2.8 } else { 2.8 };
-            (f.p + f.lat * lat, f.fwd.x.atan2(-f.fwd.z))
+            (f.p + f.lat * lat, libm::atan2f(f.fwd.x, -f.fwd.z))
         })
         .collect()
 }
@@ -214,8 +214,8 @@ pub(super) fn start_mesh(scene: &mut Scene, m: &Mats, c: &Circuit, grid: &[(Vec3
         WHITE,
     );
     for &(p, yaw) in grid {
-        let fwd = Vec3::new(yaw.sin(), 0.0, -yaw.cos());
-        let right = Vec3::new(yaw.cos(), 0.0, yaw.sin());
+        let fwd = Vec3::new(libm::sinf(yaw), 0.0, -libm::cosf(yaw));
+        let right = Vec3::new(libm::cosf(yaw), 0.0, libm::sinf(yaw));
         let centre = p + fwd * 2.6 + lift;
         let (x, z) = (right * 1.4, fwd * 0.15);
         let pts = [centre - x - z, centre + x - z, centre + x + z, centre - x + z];

@@ -213,7 +213,7 @@ pub(super) fn trees(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
         let count = rng.int(8, 16);
         for _ in 0..count * 2 {
             let (a, r) = (rng.range(0.0, std::f32::consts::TAU), 70.0 * rng.unit().sqrt());
-            candidates.push(centre + Vec2::new(a.cos(), a.sin()) * r);
+            candidates.push(centre + Vec2::new(libm::cosf(a), libm::sinf(a)) * r);
         }
     }
     for _ in 0..70 {

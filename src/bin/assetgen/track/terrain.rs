@@ -30,7 +30,7 @@ impl Terrain {
                 let p = origin + Vec2::new(i as f32, j as f32) * TILE;
                 let d = coarse.iter().map(|q| q.distance_squared(p)).fold(f32::INFINITY, f32::min).sqrt();
                 let away = smoothstep(260.0, 700.0, d);
-                let roll = 7.0 + 6.0 * (p.x / 170.0 + 1.0).sin() * (p.y / 210.0).cos();
+                let roll = 7.0 + 6.0 * libm::sinf(p.x / 170.0 + 1.0) * libm::cosf(p.y / 210.0);
                 let rise = 30.0 * smoothstep(1300.0, 2100.0, p.distance(centre));
                 heights.push(away * (roll + rise));
             }
@@ -106,7 +106,7 @@ pub(super) fn hills_meshes(scene: &mut Scene, m: &Mats, t: &Terrain) {
     let ridge: Vec<(f32, f32)> = (0..K).map(|_| (rng.range(2280.0, 2420.0), rng.range(110.0, 250.0))).collect();
     let ring = |k: usize, r: f32| {
         let a = (k % K) as f32 / K as f32 * std::f32::consts::TAU;
-        t.centre + Vec2::new(a.cos(), a.sin()) * r
+        t.centre + Vec2::new(libm::cosf(a), libm::sinf(a)) * r
     };
     let at = |p: Vec2, y: f32| Vec3::new(p.x, y, p.y);
     let green = Vec3::new(0.34, 0.50, 0.30);

@@ -30,7 +30,7 @@ pub(super) fn views(c: &Circuit, grid: &[(Vec3, f32)], stands: &[(Vec3, Vec3)]) 
     });
     v.push(("hairpin".to_string(), hairpin_eye, apex.p));
     if let Some(&(pole, yaw)) = grid.first() {
-        let fwd = Vec3::new(yaw.sin(), 0.0, -yaw.cos());
+        let fwd = Vec3::new(libm::sinf(yaw), 0.0, -libm::cosf(yaw));
         v.push(("onboard".to_string(), pole + Vec3::Y * 1.1, pole + fwd * 60.0 + Vec3::Y * 0.8));
     }
     let (entry, apex8) = (c.at(c.apex[8] - 110.0), c.at(c.apex[8] - 30.0));
