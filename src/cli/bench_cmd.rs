@@ -66,7 +66,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
                 vec![(320, 240), (640, 480), (1280, 720), (1920, 1080)],
             )
         };
-    let frames = collect_frames(&scene, &trace, frames).map_err(|e| CliError::Replay(e.to_string()))?;
+    let frames = collect_frames(&scene, &trace, frames)?;
     if frames.is_empty() {
         return Err(CliError::Replay(format!("{}: no racing frames to measure", trace.display())));
     }

@@ -39,10 +39,9 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     }
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
-    let mut replay =
-        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
+    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     while replay.world.tick < args.tick {
-        if !replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+        if !replay.advance()? {
             return Err(CliError::Replay(format!(
                 "{}: the trace ends at tick {}, before tick {}",
                 args.trace.display(),

@@ -50,6 +50,9 @@ pub enum CliError {
     /// The scene could not be loaded.
     #[error(transparent)]
     Asset(#[from] crate::asset::AssetError),
+    /// The race's circuit, cars or centre line could not be loaded.
+    #[error(transparent)]
+    RaceScene(#[from] crate::shell::race_scene::RaceSceneError),
     /// The renderer refused the frame.
     #[error("render: {0}")]
     Render(#[from] crate::render::RenderError),
@@ -82,6 +85,9 @@ pub enum CliError {
     /// A trace could not be replayed (unreadable, corrupt, another version, or diverging).
     #[error("{0}")]
     Replay(String),
+    /// A trace could not be opened or replayed.
+    #[error(transparent)]
+    Trace(#[from] crate::input::replay::ReplayError),
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),

@@ -134,8 +134,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             let scene = RaceScene::load(&dir)?;
             let ghost = match &args.ghost {
                 Some(p) => Some(
-                    best_lap_of_trace(p, scene.track.clone(), FIELD)
-                        .map_err(|e| CliError::Replay(e.to_string()))?
+                    best_lap_of_trace(p, scene.track.clone(), FIELD)?
                         .ok_or_else(|| CliError::Replay(format!("{}: no complete lap to race against", p.display())))?,
                 ),
                 None => None,

@@ -65,8 +65,7 @@ pub struct ReplaySummary {
 pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Result<ReplaySummary, CliError> {
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
-    let mut replay =
-        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
+    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     if let Some(d) = &args.frames {
         std::fs::create_dir_all(d)
             .map_err(|e| CliError::Write { path: d.display().to_string(), reason: e.to_string() })?;
@@ -76,7 +75,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
-    while replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+    while replay.advance()? {
         let world = &replay.world;
         progress(world.tick);
         if let Some(d) = &args.frames

@@ -26,6 +26,9 @@ pub const FORMAT_VERSION: u16 = 1;
 pub const SIM_VERSION: u32 = 1;
 /// Largest header accepted.
 const MAX_HEADER: u32 = 64 * 1024;
+/// Largest trace file read: 256 MiB, about 14 hours of racing at 120 ticks a second (a three-lap race is
+/// under 200 KB). Reading stops there whatever the file does meanwhile.
+pub const MAX_TRACE_BYTES: u64 = 256 * 1024 * 1024;
 
 const TAG_CONTROLS: u8 = 1;
 const TAG_CHECKSUM: u8 = 2;
@@ -68,6 +71,9 @@ pub enum Record {
 /// Why a trace could not be written or read.
 #[derive(Debug, Error)]
 pub enum TraceError {
+    /// The path is not a regular file (a folder, a FIFO, a device), is too big, or cannot be opened.
+    #[error(transparent)]
+    File(#[from] crate::userfile::UserFileError),
     /// The file could not be opened, read or written.
     #[error("{path}: {reason}")]
     Io {
@@ -197,11 +203,11 @@ pub struct TraceReader {
 }
 
 impl TraceReader {
-    /// Opens `path` and reads and checks its header.
+    /// Opens `path` and reads and checks its header; only a regular file is opened (a folder, a FIFO or a
+    /// device is refused at once, without blocking), and at most [`MAX_TRACE_BYTES`] of it are read.
     pub fn open(path: &Path) -> Result<(Header, Self), TraceError> {
-        let name = path.display().to_string();
-        let file = File::open(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
-        Self::from_reader(&name, Box::new(file))
+        let file = crate::userfile::open_regular(path, MAX_TRACE_BYTES, "a trace")?;
+        Self::from_reader(&path.display().to_string(), Box::new(file))
     }
 
     /// Reads and checks the header of a trace coming from `input`; `name` stands for it in messages. Nothing

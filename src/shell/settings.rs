@@ -67,19 +67,11 @@ impl Settings {
     #[must_use]
     pub fn load(path: &Path) -> (Self, Option<String>) {
         let shown = path.display();
-        let text = match std::fs::metadata(path) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return (Self::default(), None),
-            Err(e) => return (Self::default(), Some(format!("settings {shown}: {e}; defaults used"))),
-            Ok(m) if m.len() > MAX_BYTES => {
-                return (
-                    Self::default(),
-                    Some(format!("settings {shown}: {} bytes is too big; defaults used", m.len())),
-                );
-            }
-            Ok(_) => match std::fs::read_to_string(path) {
-                Ok(t) => t,
-                Err(e) => return (Self::default(), Some(format!("settings {shown}: {e}; defaults used"))),
-            },
+        // Only a regular file within the budget is read: a FIFO would block, /dev/zero would never end.
+        let text = match crate::userfile::read_regular_text(path, MAX_BYTES, "a settings file") {
+            Ok(t) => t,
+            Err(e) if e.is_not_found() => return (Self::default(), None),
+            Err(e) => return (Self::default(), Some(format!("settings {e}; defaults used"))),
         };
         match serde_json::from_str::<Settings>(&text) {
             Ok(s) => {
@@ -156,7 +148,7 @@ mod tests {
         }
         let p = tmp("big.json");
         std::fs::write(&p, vec![b' '; 100_000]).unwrap();
-        assert!(Settings::load(&p).1.unwrap().contains("too big"));
+        assert!(Settings::load(&p).1.unwrap().contains("over the 65536-byte limit"));
     }
 
     #[test]

@@ -14,7 +14,7 @@ use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::bindings::{Action, Bindings};
 use crate::input::ghost::{GhostLap, LapRecorder};
-use crate::input::replay::{TraceSource, lap_mm, step_recorded};
+use crate::input::replay::{ReplayError, TraceSource, lap_mm, step_recorded};
 use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
 use crate::render::{RenderOptions, Renderer};
 
@@ -270,25 +270,26 @@ impl Race {
 
     /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, `[` and `]` halve and
     /// double the speed (1/4x to 16x), R restarts.
-    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ShellError> {
+    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ReplayError> {
         let mut race = Self::new(scene, options, 3, false);
-        race.start_replay(path).map_err(ShellError::Window)?;
+        race.start_replay(path)?;
         Ok(race)
     }
 
-    /// Switches to replaying the trace at `path` from its start; the message says what is wrong otherwise.
-    fn start_replay(&mut self, path: &std::path::Path) -> Result<(), String> {
-        let source = TraceSource::open(path).map_err(|e| e.to_string())?;
+    /// Switches to replaying the trace at `path` from its start; refuses a file that is not a trace of
+    /// this track and field.
+    fn start_replay(&mut self, path: &std::path::Path) -> Result<(), ReplayError> {
+        let source = TraceSource::open(path)?;
         if source.header.cars as usize != FIELD {
-            return Err(format!(
-                "{}: recorded with {} cars, this build races {FIELD}",
-                path.display(),
-                source.header.cars
-            ));
+            return Err(ReplayError::Cars {
+                path: path.display().to_string(),
+                found: source.header.cars,
+                expected: FIELD,
+            });
         }
         self.laps = source.header.laps;
         self.restart();
-        source.check_track(&self.world).map_err(|e| e.to_string())?;
+        source.check_track(&self.world)?;
         self.source = Some(source);
         self.replay_path = Some(path.to_path_buf());
         self.screen = Screen::Race;
@@ -513,7 +514,7 @@ impl Content for Race {
                 if let Some(path) = self.replay_path.clone()
                     && let Err(e) = self.start_replay(&path)
                 {
-                    self.notice = Some(e);
+                    self.notice = Some(e.to_string());
                 }
             }
             (KeyCode::KeyN, _) if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
@@ -606,7 +607,7 @@ impl Content for Race {
                             if ui.button("Replay a file").clicked() {
                                 let path = std::path::PathBuf::from(self.replay_input.trim());
                                 if let Err(e) = self.start_replay(&path) {
-                                    self.notice = Some(e);
+                                    self.notice = Some(e.to_string());
                                 }
                             }
                         });
