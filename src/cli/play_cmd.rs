@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, values};
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::best_lap_of_trace;
 use crate::input::trace::TraceWriter;
@@ -21,18 +21,18 @@ const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
 /// Arguments of `play`.
 #[derive(Debug, Args)]
 pub struct PlayArgs {
-    /// Window width in pixels.
-    #[arg(long, default_value_t = 1280)]
+    /// Window width in pixels (1 to 16384).
+    #[arg(long, default_value_t = 1280, value_parser = values::window_side())]
     pub width: u32,
-    /// Window height in pixels.
-    #[arg(long, default_value_t = 720)]
+    /// Window height in pixels (1 to 16384).
+    #[arg(long, default_value_t = 720, value_parser = values::window_side())]
     pub height: u32,
     /// Start in fullscreen (F11 or F toggles).
     #[arg(long)]
     pub fullscreen: bool,
-    /// Window pixels per rendered pixel (1 = native; 2-4 for the retro look; '-' and '=' change it).
-    /// Default: the settings file's, else 1.
-    #[arg(long)]
+    /// Window pixels per rendered pixel, 1 to 8 (1 = native; 2-4 for the retro look; '-' and '=' change
+    /// it). Default: the settings file's, else 1.
+    #[arg(long, value_parser = values::scale())]
     pub scale: Option<u32>,
     /// The settings file (keys, gamepad, scale), read at start and written when Settings change. Default:
     /// $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
@@ -63,8 +63,8 @@ pub struct PlayArgs {
     /// Start racing at once instead of showing the main menu.
     #[arg(long)]
     pub no_menu: bool,
-    /// Laps in the race.
-    #[arg(long, default_value_t = 3)]
+    /// Laps in the race (1 to 99).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=values::MAX_LAPS))]
     pub laps: u32,
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
@@ -99,20 +99,6 @@ impl Default for PlayArgs {
 
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 16384",
-            args.width, args.height
-        )));
-    }
-    if !(1..=99).contains(&args.laps) {
-        return Err(CliError::BadArgument(format!("--laps {}: expected 1 to 99", args.laps)));
-    }
-    if let Some(scale) = args.scale
-        && !(1..=16).contains(&scale)
-    {
-        return Err(CliError::BadArgument(format!("--scale {scale}: expected 1 to 16")));
-    }
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
     let window = WindowConfig {
         size: (args.width, args.height),

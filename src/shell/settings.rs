@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::input::bindings::Bindings;
 use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
+use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
 /// Largest settings file read (a hand-edited file never comes near it).
 const MAX_BYTES: u64 = 64 * 1024;
@@ -26,7 +27,7 @@ pub struct Settings {
     pub deadzone: f32,
     /// Gamepad steering response exponent, 1 (linear) to 3.
     pub curve: f32,
-    /// Window pixels per rendered pixel, 1 to 4.
+    /// Window pixels per rendered pixel, 1 to [`MAX_SCALE`].
     pub scale: u32,
     /// Whether the ghost car (the best lap) is drawn.
     pub ghost: bool,
@@ -53,9 +54,9 @@ impl Settings {
             notes.push(format!("curve {} out of 1-3: {} used", self.curve, d.curve));
             self.curve = d.curve;
         }
-        if !(1..=4).contains(&self.scale) {
-            notes.push(format!("scale {} out of 1-4: 1 used", self.scale));
-            self.scale = 1;
+        if !(MIN_SCALE..=MAX_SCALE).contains(&self.scale) {
+            notes.push(format!("scale {} out of {MIN_SCALE}-{MAX_SCALE}: {MIN_SCALE} used", self.scale));
+            self.scale = MIN_SCALE;
         }
         let (keys, key_notes) = self.keys.repaired();
         self.keys = keys;

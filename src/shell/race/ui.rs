@@ -6,6 +6,7 @@ use crate::game::rules::{Phase, format_ticks};
 use crate::input::bindings::{Action, Bindings};
 use crate::render::{Method, TextureMode};
 use crate::shell::race_scene::View;
+use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
 impl Race {
     /// Rendering and view settings (from the main and pause menus).
@@ -69,7 +70,12 @@ impl Race {
                 ui.label(format!("Saved to {}", path.display()));
             }
             let mut scale = self.scale.0;
-            if ui.add(egui::Slider::new(&mut scale, 1..=4).text("window pixels per rendered pixel ('-' '=')")).changed()
+            if ui
+                .add(
+                    egui::Slider::new(&mut scale, MIN_SCALE..=MAX_SCALE)
+                        .text("window pixels per rendered pixel ('-' '=')"),
+                )
+                .changed()
             {
                 self.scale.1 = Some(scale);
             }

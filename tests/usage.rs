@@ -1,0 +1,106 @@
+//! Bad usage exits 2 with clap's usage error, for every command and every flag with a range; output folders
+//! that cannot hold the output are refused in one line before any long work; the pixel scale has one range
+//! shared by the flag and the settings file.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::*;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("usage");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// The game run from the repository with no display and a settings file of the test's own.
+fn run(args: &[&str], secs: u64) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
+    c.args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env("SCANLINE_RACER_SETTINGS", tmp("no-settings.json"));
+    run_bounded(&mut c, secs, &args.join(" "))
+}
+
+#[test]
+fn out_of_range_values_are_usage_errors_in_every_command() {
+    let trace = "assets/replays/demo-race.trace";
+    let scene = "tests/scenes/courtyard.gltf";
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", scene, "--width", "0"], "--width"),
+        (&["render", scene, "--height", "16385"], "--height"),
+        (&["render", scene, "--repeat", "0"], "--repeat"),
+        (&["render", scene, "--buckets", "0"], "--buckets"),
+        (&["render", scene, "--background", "256,0,0"], "--background"),
+        (&["render", scene, "--background", "1,2"], "--background"),
+        (&["render", scene, "--lod-bias", "NaN"], "--lod-bias"),
+        (&["play", "--width", "0"], "--width"),
+        (&["play", "--height", "20000"], "--height"),
+        (&["play", "--laps", "0"], "--laps"),
+        (&["play", "--laps", "100"], "--laps"),
+        (&["play", "--scale", "0"], "--scale"),
+        (&["play", "--scale", "9"], "--scale"),
+        (&["play", "--scale", "17"], "--scale"),
+        (&["replay", trace, "--headless", "--width", "0"], "--width"),
+        (&["replay", trace, "--headless", "--height", "0"], "--height"),
+        (&["replay", trace, "--headless", "--every", "0"], "--every"),
+        (&["export-frame", trace, "--tick", "5", "--out", "x.glb", "--width", "0"], "--width"),
+        (&["export-frame", trace, "--tick", "5", "--out", "x.glb", "--height", "0"], "--height"),
+        (&["bench", "--width", "0"], "--width"),
+        (&["bench", "--height", "8193"], "--height"),
+        (&["bench", "--frames", "0"], "--frames"),
+        (&["bench", "--repeats", "0"], "--repeats"),
+    ];
+    for (args, flag) in cases {
+        let o = run(args, 20);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        let first = err.lines().next().unwrap_or_default();
+        assert!(first.starts_with("error: invalid value") && first.contains(flag), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    assert!(!Path::new(env!("CARGO_MANIFEST_DIR")).join("x.glb").exists(), "nothing was written");
+}
+
+#[test]
+fn an_output_folder_that_is_a_file_is_refused_in_one_line_saying_what_to_do() {
+    let file = tmp("a-file");
+    std::fs::write(&file, b"mine").unwrap();
+    let f = file.to_str().unwrap();
+    let o = run(&["replay", "assets/replays/demo-race.trace", "--headless", "--frames", f], 20);
+    assert_one_line(&o, &["--frames", f, "is a file, not a folder", "name a folder"]);
+    let o = run(&["bench", "--quick", "--out", f], 20);
+    assert_one_line(&o, &["--out", f, "is a file, not a folder", "name a folder"]);
+    assert_eq!(std::fs::read(&file).unwrap(), b"mine", "the file is left as it was");
+}
+
+#[test]
+fn an_unwritable_bench_folder_fails_before_the_sweep() {
+    // A folder under a file can never be made; the full sweep (minutes) must not run first.
+    let file = tmp("not-a-folder");
+    std::fs::write(&file, b"mine").unwrap();
+    let out = file.join("bench");
+    let o = run(&["bench", "--out", out.to_str().unwrap()], 20);
+    assert_one_line(&o, &["--out", out.to_str().unwrap(), "cannot write into this folder"]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("configurations"), "the sweep did not start");
+}
+
+#[test]
+fn the_settings_file_accepts_every_scale_the_flag_accepts() {
+    for (scale, warned) in [(8, false), (1, false), (9, true), (0, true)] {
+        let settings = tmp(&format!("scale-{scale}.json"));
+        std::fs::write(&settings, format!("{{\"scale\": {scale}}}")).unwrap();
+        let o = run(&["play", "--settings", settings.to_str().unwrap()], 20);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert_eq!(err.contains(&format!("scale {scale} out of 1-8")), warned, "{err}");
+        // Without a warning the one line is that there is no display to open the window on.
+        assert_eq!(err.lines().count(), if warned { 2 } else { 1 }, "{err}");
+    }
+}
