@@ -132,9 +132,10 @@ fn degenerate_centre_lines_are_refused_naming_the_sample() {
     repeated[41] = repeated[40];
     let mut far = circle(100, 200.0);
     far[7] = (1e30, 5.0);
-    let cases: Vec<(&str, Vec<(f64, f64)>, &[&str])> = vec![
+    type Case<'a> = (&'a str, Vec<(f64, f64)>, &'a [&'a str]);
+    let cases: Vec<Case> = vec![
         ("identical", vec![(10.0, 20.0); 8], &["sample 0", "too close"]),
-        ("huge", vec![(1e30, 1e30), (-1e30, 1e30), (-1e30, -1e30), (1e30, -1e30)].repeat(2), &["sample 0", "1e6"]),
+        ("huge", [(1e30, 1e30), (-1e30, 1e30), (-1e30, -1e30), (1e30, -1e30)].repeat(2), &["sample 0", "1e6"]),
         ("far", far, &["sample 7", "1e6"]),
         ("repeated", repeated, &["sample 40", "too close"]),
         ("short", circle(100, 10.0), &["lap of 63", "at least 200"]),

@@ -291,8 +291,8 @@ fn check_sample(
         return Err(SampleProblem::BarrierOnRoad { barrier: b, half: 0.5 * width });
     }
     let distance = flat(next_pos - pos).length();
-    // `!(>=)` so that a NaN distance (impossible after the checks above) is refused too.
-    if !(distance >= MIN_SPACING_M) {
+    // A NaN distance (impossible after the checks above) is refused too.
+    if distance.is_nan() || distance < MIN_SPACING_M {
         return Err(SampleProblem::TooClose { next, distance });
     }
     Ok(())
