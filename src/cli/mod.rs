@@ -106,6 +106,9 @@ pub enum CliError {
     /// A trace could not be replayed (unreadable, corrupt, another version, or diverging).
     #[error("{0}")]
     Replay(String),
+    /// A race could not be recorded, or its recording could not be kept.
+    #[error(transparent)]
+    Record(#[from] crate::input::recording::RecordError),
     /// A trace could not be opened or replayed.
     #[error(transparent)]
     Trace(#[from] crate::input::replay::ReplayError),

@@ -7,11 +7,10 @@ use clap::Args;
 use super::{CliError, values};
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::best_lap_of_trace;
-use crate::input::trace::TraceWriter;
 use crate::render::{Method, RenderOptions};
-use crate::shell::race::{Race, header_for};
+use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
-use crate::shell::settings::{self, Settings};
+use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
 
@@ -126,22 +125,38 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                 None => None,
             };
             let path = args.settings.clone().or_else(settings::default_path);
-            let (settings, note) = path.as_deref().map_or_else(|| (Settings::default(), None), Settings::load);
+            let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
+                Some((file, settings, note)) => (Some(file), settings, note),
+                None => (None, Settings::default(), None),
+            };
             if let Some(n) = &note {
                 eprintln!("warning: {n}");
             }
             let mut race = Race::new(scene, options, args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
-                .with_settings(settings, path, args.scale, note);
+                .with_settings(settings, file, args.scale, note);
             if let Some(lap) = ghost {
                 race = race.with_ghost(lap);
             }
             if let Some(path) = &args.record {
-                let header = header_for(race.world());
-                race = race
-                    .recording(TraceWriter::create(path, &header).map_err(|e| CliError::BadArgument(e.to_string()))?);
+                race = race.record_to(path)?;
             }
-            run(window, &mut race)?;
+            let ran = run(window, &mut race);
+            // However the window closed, what was raced replaces the target (or stays in its temporary
+            // file, named in the one-line error, when the rename fails).
+            match (race.finish_recording(), ran) {
+                (Ok(kept), ran) => {
+                    if let Some(kept) = kept {
+                        eprintln!("{kept}");
+                    }
+                    ran?;
+                }
+                (Err(e), Ok(())) => return Err(e.into()),
+                (Err(e), Err(ran)) => {
+                    eprintln!("scanline-racer: error: {e}");
+                    return Err(ran.into());
+                }
+            }
         }
     }
     Ok(())

@@ -148,14 +148,22 @@ fn decode(steer: i16, throttle: u8, brake: u8) -> Controls {
 pub struct TraceWriter {
     out: BufWriter<File>,
     path: String,
+    ticks: u64,
 }
 
 impl TraceWriter {
-    /// Creates `path` and writes the header.
+    /// Creates (or truncates) `path` and writes the header.
     pub fn create(path: &Path, header: &Header) -> Result<Self, TraceError> {
         let name = path.display().to_string();
+        let file = File::create(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
+        Self::new(file, &name, header)
+    }
+
+    /// Writes the header to `file`, an empty file opened for writing; `name` stands for it in messages.
+    pub fn new(file: File, name: &str, header: &Header) -> Result<Self, TraceError> {
+        let name = name.to_string();
         let io = |e: std::io::Error| TraceError::Io { path: name.clone(), reason: e.to_string() };
-        let mut out = BufWriter::new(File::create(path).map_err(io)?);
+        let mut out = BufWriter::new(file);
         let json =
             serde_json::to_vec(header).map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
         out.write_all(MAGIC).map_err(io)?;
@@ -163,7 +171,13 @@ impl TraceWriter {
         out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
         out.write_all(&json).map_err(io)?;
         out.flush().map_err(io)?;
-        Ok(Self { out, path: name })
+        Ok(Self { out, path: name, ticks: 0 })
+    }
+
+    /// Ticks whose controls were written.
+    #[must_use]
+    pub fn ticks(&self) -> u64 {
+        self.ticks
     }
 
     /// Appends one tick's controls (quantized).
@@ -171,7 +185,9 @@ impl TraceWriter {
         let (s, t, b) = encode(c);
         let mut rec = [TAG_CONTROLS, 0, 0, t, b];
         rec[1..3].copy_from_slice(&s.to_le_bytes());
-        self.write(&rec)
+        self.write(&rec)?;
+        self.ticks += 1;
+        Ok(())
     }
 
     /// Appends a checksum and flushes, so everything up to here survives a crash.
@@ -187,6 +203,12 @@ impl TraceWriter {
     /// Flushes what is buffered (dropping the writer does too, but cannot report an error).
     pub fn finish(&mut self) -> Result<(), TraceError> {
         self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+    }
+
+    /// Flushes what is buffered and waits until the file is on disk (before it is renamed into place).
+    pub fn sync(&mut self) -> Result<(), TraceError> {
+        self.finish()?;
+        self.out.get_ref().sync_all().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<(), TraceError> {

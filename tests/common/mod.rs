@@ -3,6 +3,8 @@
 //! rasterizer on the 1/16-pixel grid, and scene builders.
 #![allow(dead_code)]
 
+pub mod xvfb;
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use scanline_racer::render::{
     Camera, DrawList, Instance, Material, Mesh, MeshBuilder, Projection, RenderOptions, Renderer, Stats, Texture,

@@ -4,18 +4,20 @@
 
 use winit::keyboard::KeyCode;
 
+mod record;
 mod ui;
 
 use super::race_scene::{FIELD, RaceScene, View};
-use super::settings::Settings;
+use super::settings::{Settings, SettingsFile};
 use super::window::{Content, ShellError, method_key};
 use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::bindings::{Action, Bindings};
 use crate::input::ghost::{GhostLap, LapRecorder};
+use crate::input::recording::Recording;
 use crate::input::replay::{ReplayError, TraceSource, lap_mm, step_recorded};
-use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
+use crate::input::trace::{Header, SIM_VERSION};
 use crate::render::{RenderOptions, Renderer};
 
 /// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
@@ -75,8 +77,8 @@ pub struct Race {
     settings_open: bool,
     /// In a replay, where the player's controls come from.
     source: Option<TraceSource>,
-    /// When recording, where the controls go.
-    recorder: Option<TraceWriter>,
+    /// When recording, where the controls go (a file beside the target, renamed over it at the end).
+    recorder: Option<Recording>,
     /// Replay speed (1 = real time).
     speed: f64,
     /// Ticks to run while paused (single-step).
@@ -99,6 +101,8 @@ pub struct Race {
     replay_input: String,
     /// The main menu's recording toggle and the file it records to.
     record_to: (bool, String),
+    /// Whether a recorded race has replaced its target in this run.
+    kept_a_race: bool,
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
     scale: (u32, Option<u32>),
     /// Key bindings (from the settings file).
@@ -106,7 +110,7 @@ pub struct Race {
     /// The action waiting for a key press in Settings.
     rebinding: Option<Action>,
     /// Where settings are saved (none: not saved), and what was saved or loaded last.
-    settings_file: Option<(std::path::PathBuf, Settings)>,
+    settings_file: Option<SettingsFile>,
     /// The player's laps so far, the fastest kept for the ghost.
     laps_rec: LapRecorder,
     /// The lap the ghost car drives (from `--ghost FILE`, or the fastest lap of this session).
@@ -164,6 +168,7 @@ impl Race {
             pad_ui: Vec::new(),
             replay_input: String::new(),
             record_to: (false, "race.trace".into()),
+            kept_a_race: false,
             scale: (1, None),
             bindings: Bindings::default(),
             rebinding: None,
@@ -192,12 +197,12 @@ impl Race {
     }
 
     /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
-    /// changes made in Settings to `path`; `note` (a problem reading the file) is shown in the menu.
+    /// changes made in Settings to `file`; `note` (a problem reading the file) is shown in the menu.
     #[must_use]
     pub fn with_settings(
         mut self,
         settings: Settings,
-        path: Option<std::path::PathBuf>,
+        file: Option<SettingsFile>,
         scale: Option<u32>,
         note: Option<String>,
     ) -> Self {
@@ -208,7 +213,10 @@ impl Race {
         // A scale from the command line is for this run: it is saved only with a change made in Settings.
         let scale = scale.unwrap_or(settings.scale);
         self.scale = (scale, Some(scale));
-        self.settings_file = path.map(|p| (p, Settings { scale, ..settings }));
+        self.settings_file = file.map(|mut f| {
+            f.assume_saved(Settings { scale, ..settings });
+            f
+        });
         if note.is_some() {
             self.notice = note;
         }
@@ -229,13 +237,10 @@ impl Race {
     /// Saves the settings if they changed since the last save (a failure is shown, not fatal).
     fn save_settings(&mut self) {
         let now = self.current_settings();
-        if let Some((path, saved)) = &mut self.settings_file
-            && *saved != now
+        if let Some(file) = &mut self.settings_file
+            && let Err(e) = file.save(&now)
         {
-            if let Err(e) = now.save(path) {
-                self.notice = Some(e);
-            }
-            *saved = now;
+            self.notice = Some(e.to_string());
         }
     }
 
@@ -259,13 +264,6 @@ impl Race {
     #[must_use]
     pub fn world(&self) -> &World {
         &self.world
-    }
-
-    /// Records the race to a trace as it is driven.
-    #[must_use]
-    pub fn recording(mut self, writer: TraceWriter) -> Self {
-        self.recorder = Some(writer);
-        self
     }
 
     /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, `[` and `]` halve and
@@ -332,9 +330,10 @@ impl Race {
                 }
             },
         };
-        if let Err(e) = step_recorded(&mut self.world, c, self.recorder.as_mut(), CHECKSUM_EVERY) {
-            self.notice = Some(format!("recording stopped: {e}"));
-            self.recorder = None;
+        if let Err(e) =
+            step_recorded(&mut self.world, c, self.recorder.as_mut().and_then(Recording::writer), CHECKSUM_EVERY)
+        {
+            self.end_recording(&format!("recording stopped: {e}"));
         }
         if self.laps_rec.observe(&self.world)
             && let Some(best) = &self.laps_rec.best
@@ -393,16 +392,7 @@ impl Race {
 
     /// Leaves the main menu for the race, recording it first when the menu's toggle asks for it.
     fn start_race(&mut self) {
-        if self.record_to.0 && self.recorder.is_none() && self.source.is_none() && self.world.tick == 0 {
-            let path = std::path::PathBuf::from(self.record_to.1.trim());
-            match TraceWriter::create(&path, &header_for(&self.world)) {
-                Ok(w) => {
-                    self.recorder = Some(w);
-                    self.notice = Some(format!("recording to {}", path.display()));
-                }
-                Err(e) => self.notice = Some(format!("not recording: {e}")),
-            }
-        }
+        self.start_recording();
         self.screen = Screen::Race;
     }
 
@@ -413,8 +403,8 @@ impl Race {
         self.keys = Keys::default();
         self.renderer.reset_lod();
         self.laps_rec.restart();
-        if self.recorder.take().is_some() {
-            self.notice = Some("recording ended at the restart".into());
+        if self.recorder.is_some() {
+            self.end_recording("recording ended at the restart");
         }
     }
 
@@ -476,7 +466,7 @@ impl Content for Race {
     }
 
     fn key(&mut self, code: KeyCode, down: bool) -> bool {
-        let name = format!("{code:?}");
+        let name = super::keys::key_name(code);
         if let Some(action) = self.rebinding
             && down
         {
@@ -485,7 +475,7 @@ impl Content for Race {
             if code != KeyCode::Escape
                 && let Err(e) = self.bindings.bind(action, &name)
             {
-                self.notice = Some(e);
+                self.notice = Some(e.to_string());
             }
             return false;
         }

@@ -66,9 +66,11 @@ impl Race {
             if ui.button("Default keys").clicked() {
                 self.bindings = Bindings::default();
             }
-            if let Some((path, _)) = &self.settings_file {
-                ui.label(format!("Saved to {}", path.display()));
-            }
+            match &self.settings_file {
+                Some(f) if f.writable() => ui.label(format!("Saved to {}", f.path().display())),
+                Some(f) => ui.label(format!("Not saved: {} could not be read at start", f.path().display())),
+                None => ui.label("Not saved: no settings file"),
+            };
             let mut scale = self.scale.0;
             if ui
                 .add(
