@@ -104,3 +104,38 @@ fn the_settings_file_accepts_every_scale_the_flag_accepts() {
         assert_eq!(err.lines().count(), if warned { 2 } else { 1 }, "{err}");
     }
 }
+
+#[test]
+fn key_bindings_that_cannot_work_are_named_in_the_one_warning() {
+    let settings = tmp("keys.json");
+    // A misspelt key, and the default steering keys given to other actions.
+    let json = r#"{"keys": {"throttle": ["ArowUp"], "brake": ["ArrowLeft", "KeyA"], "steer_left": ["KeyX"]}}"#;
+    for (json, want) in [
+        (
+            json.replace(r#", "steer_left": ["KeyX"]"#, ""),
+            vec![
+                r#"key "ArowUp" for throttle is not a key name (names are like ArrowUp, KeyW, Space, Digit7): dropped"#,
+                // Actions left with no key are repaired in the order Settings lists them.
+                "steer left is not in the file and its default ArrowLeft is bound to brake, KeyA is bound to brake: \
+                 KeyJ used instead",
+                "throttle had no key: default ArrowUp, KeyW used",
+            ],
+        ),
+        (
+            json.to_string(),
+            vec![
+                r#"key "ArowUp" for throttle is not a key name (names are like ArrowUp, KeyW, Space, Digit7): dropped"#,
+                "throttle had no key: default ArrowUp, KeyW used",
+            ],
+        ),
+    ] {
+        std::fs::write(&settings, &json).unwrap();
+        let o = run(&["play", "--settings", settings.to_str().unwrap()], 20);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let lines: Vec<&str> = err.lines().collect();
+        assert_eq!((o.status.code(), lines.len()), (Some(1), 2), "{err}");
+        assert_eq!(lines[0], format!("warning: settings {}: {}", settings.display(), want.join("; ")));
+        assert!(lines[1].contains("no display"), "{err}");
+    }
+    assert!(std::fs::read_to_string(&settings).unwrap() == json.to_string(), "the file is not rewritten");
+}

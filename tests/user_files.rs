@@ -255,3 +255,19 @@ fn the_largest_scale_the_key_reaches_is_saved_and_accepted_at_the_next_start() {
     let img = image::open(&shot).unwrap();
     assert_eq!((img.width(), img.height()), (40, 23));
 }
+
+#[test]
+fn a_long_ghost_trace_does_not_hold_up_the_window() {
+    let Some(x) = Xvfb::start() else { return };
+    let dir = tmp("long-ghost");
+    // 50 MB: ten million ticks, 23 hours of racing; replaying it all took over 30 s before the window opened.
+    let ghost = dir.join("long.trace");
+    common::write_idle_trace(&ghost, 10_000_000);
+    assert!(std::fs::metadata(&ghost).unwrap().len() > 50_000_000);
+    let t = Instant::now();
+    let args = ["--no-menu", "--ghost", ghost.to_str().unwrap(), "--exit-after-frames", "30"];
+    let (code, err) = Game::start(&x, &dir, &dir.join("settings.json"), &args).wait();
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    assert!(t.elapsed() < Duration::from_secs(20), "the game took {:?}", t.elapsed());
+    let _ = std::fs::remove_file(&ghost);
+}

@@ -6,7 +6,7 @@ use clap::Args;
 
 use super::{CliError, values};
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
-use crate::input::ghost::best_lap_of_trace;
+use crate::input::ghost::GhostSearch;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
@@ -53,7 +53,8 @@ pub struct PlayArgs {
     /// Record the race to this trace file (replay it with `scanline-racer replay FILE`).
     #[arg(long)]
     pub record: Option<PathBuf>,
-    /// Race against the fastest lap in this trace, as a see-through ghost car.
+    /// Race against the fastest lap in this trace, as a see-through ghost car (the trace is replayed in the
+    /// background while the race runs; each faster lap found takes over at the line).
     #[arg(long)]
     pub ghost: Option<PathBuf>,
     /// Let the AI drive your car (attract mode; with --record it makes a demo trace).
@@ -117,13 +118,8 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         None => {
             let dir = super::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
-            let ghost = match &args.ghost {
-                Some(p) => Some(
-                    best_lap_of_trace(p, scene.track.clone(), FIELD)?
-                        .ok_or_else(|| CliError::Replay(format!("{}: no complete lap to race against", p.display())))?,
-                ),
-                None => None,
-            };
+            // The trace is checked now; its laps are searched on a background thread while the race runs.
+            let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
             let path = args.settings.clone().or_else(settings::default_path);
             let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
                 Some((file, settings, note)) => (Some(file), settings, note),
@@ -135,8 +131,8 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             let mut race = Race::new(scene, options, args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
                 .with_settings(settings, file, args.scale, note);
-            if let Some(lap) = ghost {
-                race = race.with_ghost(lap);
+            if let Some(search) = ghost {
+                race = race.with_ghost_search(search);
             }
             if let Some(path) = &args.record {
                 race = race.record_to(path)?;

@@ -219,7 +219,7 @@ impl TraceWriter {
 /// Reads a trace record by record; a record cut short at the end of the file ends the trace quietly
 /// (that is what a killed recording leaves).
 pub struct TraceReader {
-    input: BufReader<Box<dyn Read>>,
+    input: BufReader<Box<dyn Read + Send>>,
     path: String,
     offset: u64,
 }
@@ -234,7 +234,7 @@ impl TraceReader {
 
     /// Reads and checks the header of a trace coming from `input`; `name` stands for it in messages. Nothing
     /// is allocated from a length in the input except the header, which is bounded (64 KiB).
-    pub fn from_reader(name: &str, input: Box<dyn Read>) -> Result<(Header, Self), TraceError> {
+    pub fn from_reader(name: &str, input: Box<dyn Read + Send>) -> Result<(Header, Self), TraceError> {
         let name = name.to_string();
         let mut input = BufReader::new(input);
         let mut head = [0u8; 14];

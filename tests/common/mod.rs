@@ -269,3 +269,15 @@ pub fn copy_assets(dir: &std::path::Path) {
     let _ = std::fs::remove_dir_all(dir);
     copy(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"), dir);
 }
+
+/// Writes a trace of a three-lap race of eight cars on the shipped circuit in which the player never moves
+/// for `ticks` ticks, and no checksums: a long trace made in a moment (5 bytes a tick).
+pub fn write_idle_trace(path: &std::path::Path, ticks: u64) {
+    use scanline_racer::shell::race::header_for;
+    let w = scanline_racer::game::World::with_laps(circuit(), 8, 3);
+    let mut rec = scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w)).expect("create trace");
+    for _ in 0..ticks {
+        rec.controls(scanline_racer::game::Controls::default()).expect("write");
+    }
+    rec.finish().expect("flush");
+}

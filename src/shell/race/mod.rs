@@ -4,6 +4,7 @@
 
 use winit::keyboard::KeyCode;
 
+mod ghost;
 mod record;
 mod ui;
 
@@ -14,7 +15,7 @@ use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::bindings::{Action, Bindings};
-use crate::input::ghost::{GhostLap, LapRecorder};
+use crate::input::ghost::{GhostLap, GhostSearch, LapRecorder};
 use crate::input::recording::Recording;
 use crate::input::replay::{ReplayError, TraceSource, lap_mm, step_recorded};
 use crate::input::trace::{Header, SIM_VERSION};
@@ -115,6 +116,10 @@ pub struct Race {
     laps_rec: LapRecorder,
     /// The lap the ghost car drives (from `--ghost FILE`, or the fastest lap of this session).
     ghost: Option<GhostLap>,
+    /// The search for the fastest lap of `--ghost FILE`, while it runs.
+    ghost_search: Option<GhostSearch>,
+    /// A faster lap from the search, waiting for the player to cross the line (the ghost never jumps mid-lap).
+    ghost_pending: Option<GhostLap>,
     /// Whether the ghost car is drawn.
     show_ghost: bool,
 }
@@ -175,25 +180,10 @@ impl Race {
             settings_file: None,
             laps_rec: LapRecorder::default(),
             ghost: None,
+            ghost_search: None,
+            ghost_pending: None,
             show_ghost: true,
         }
-    }
-
-    /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
-    #[must_use]
-    pub fn with_ghost(mut self, lap: GhostLap) -> Self {
-        self.ghost = Some(lap);
-        self
-    }
-
-    /// Where the ghost car is this tick: on its lap as far in as the player is into theirs.
-    fn ghost_pose(&self) -> Option<crate::input::ghost::Pose> {
-        let race = &self.world.race;
-        let me = &race.standings[0];
-        if !self.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
-            return None;
-        }
-        self.ghost.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
     }
 
     /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
@@ -335,6 +325,7 @@ impl Race {
         {
             self.end_recording(&format!("recording stopped: {e}"));
         }
+        self.take_pending_ghost();
         if self.laps_rec.observe(&self.world)
             && let Some(best) = &self.laps_rec.best
             && self.ghost.as_ref().is_none_or(|g| best.ticks() < g.ticks())
@@ -446,6 +437,7 @@ impl Race {
 impl Content for Race {
     fn update(&mut self, dt: f64) {
         self.gamepad_events();
+        self.ghost_search_reports();
         while self.steps > 0 {
             self.steps -= 1;
             self.tick();
