@@ -137,5 +137,5 @@ fn key_bindings_that_cannot_work_are_named_in_the_one_warning() {
         assert_eq!(lines[0], format!("warning: settings {}: {}", settings.display(), want.join("; ")));
         assert!(lines[1].contains("no display"), "{err}");
     }
-    assert!(std::fs::read_to_string(&settings).unwrap() == json.to_string(), "the file is not rewritten");
+    assert_eq!(std::fs::read_to_string(&settings).unwrap(), json, "the file is not rewritten");
 }
