@@ -139,3 +139,25 @@ fn key_bindings_that_cannot_work_are_named_in_the_one_warning() {
     }
     assert_eq!(std::fs::read_to_string(&settings).unwrap(), json, "the file is not rewritten");
 }
+
+#[test]
+fn a_recording_that_cannot_start_is_one_line_and_touches_nothing() {
+    let dir = tmp("record");
+    let _ = std::fs::remove_dir_all(&dir);
+    let folder = dir.join("a-folder.trace");
+    std::fs::create_dir_all(&folder).unwrap();
+    let f = folder.to_str().unwrap();
+    assert_one_line(&run(&["play", "--record", f], 20), &["cannot record to", f, "is a folder"]);
+    let missing = dir.join("no-such-folder/race.trace");
+    let m = missing.to_str().unwrap();
+    assert_one_line(&run(&["play", "--record", m], 20), &["cannot record to", m, "No such file"]);
+    // With no display the window never opens: one line, and the trace recorded over is as it was.
+    let best = dir.join("best.trace");
+    std::fs::write(&best, b"the user's race").unwrap();
+    assert_one_line(&run(&["play", "--record", best.to_str().unwrap()], 20), &["no display"]);
+    assert_eq!(std::fs::read(&best).unwrap(), b"the user's race");
+    let mut names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert_eq!(names, ["a-folder.trace", "best.trace"], "no temporary file is left");
+}

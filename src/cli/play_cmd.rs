@@ -7,6 +7,7 @@ use clap::Args;
 use super::{CliError, values};
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::GhostSearch;
+use crate::input::recording::Kept;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
@@ -142,7 +143,9 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             // file, named in the one-line error, when the rename fails).
             match (race.finish_recording(), ran) {
                 (Ok(kept), ran) => {
-                    if let Some(kept) = kept {
+                    // A race kept is always said; nothing recorded only when the window ran (not before
+                    // the one-line error that it could not open).
+                    if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
                         eprintln!("{kept}");
                     }
                     ran?;
