@@ -139,8 +139,8 @@ fn bad_input_gives_one_line_errors() {
     assert_one_line_error(&run(&["render", c, "--camera", "7", "--out", o]), 1, "no camera '7'");
     assert_one_line_error(&run(&["render", c, "--camera", "nobody", "--out", o]), 1, "no camera 'nobody'");
     assert_one_line_error(&run(&["render", c, "--method", "raytrace", "--out", o]), 2, "raytrace");
-    assert_one_line_error(&run(&["render", c, "--background", "300,0,0", "--out", o]), 1, "background");
-    assert_one_line_error(&run(&["render", c, "--width", "0", "--out", o]), 1, "width");
+    assert_one_line_error(&run(&["render", c, "--background", "300,0,0", "--out", o]), 2, "background");
+    assert_one_line_error(&run(&["render", c, "--width", "0", "--out", o]), 2, "width");
     assert_one_line_error(&run(&["render", c, "--out", "/no/such/dir/x.png"]), 1, "cannot write");
     assert_one_line_error(&run(&["frobnicate"]), 2, "frobnicate");
 }

@@ -181,3 +181,34 @@ fn headless_replay_writes_identical_frames_for_any_thread_count() {
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("diverges from the recording at tick 600"), "{err}");
 }
+
+/// The ghost's lap search on a background thread finds the lap the search done at once finds, laps
+/// arriving fastest last; dropped mid-trace, it stops at once instead of replaying the rest.
+#[test]
+fn the_background_ghost_search_finds_the_fastest_lap_and_stops_when_dropped() {
+    use scanline_racer::input::ghost::{GhostFound, GhostSearch, best_lap_of_trace};
+    use std::time::{Duration, Instant};
+    let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/replays/demo-race.trace");
+    let at_once = best_lap_of_trace(&demo, circuit(), 8).unwrap().expect("the demo race has a lap");
+    let mut search = GhostSearch::start(&demo, circuit(), 8).unwrap();
+    let mut laps = vec![];
+    let end = loop {
+        match search.wait() {
+            Some(GhostFound::Faster(lap)) => laps.push(lap),
+            Some(other) => break other,
+            None => panic!("the search ended without saying so"),
+        }
+    };
+    assert!(matches!(end, GhostFound::End { laps: true }), "{end:?}");
+    assert!(laps.windows(2).all(|w| w[1].ticks() < w[0].ticks()), "each lap reported is faster");
+    assert_eq!(laps.last(), Some(&at_once));
+    // Two million ticks (about 40 s to replay in a debug build): dropping the search stops its thread.
+    let long = tmp("idle-long.trace");
+    write_idle_trace(&long, 2_000_000);
+    let search = GhostSearch::start(&long, circuit(), 8).unwrap();
+    std::thread::sleep(Duration::from_millis(200));
+    let t = Instant::now();
+    drop(search);
+    assert!(t.elapsed() < Duration::from_secs(2), "dropping took {:?}", t.elapsed());
+    let _ = std::fs::remove_file(&long);
+}

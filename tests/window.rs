@@ -6,75 +6,11 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::xvfb::{Xvfb, xdotool};
 use common::*;
-
-/// An Xvfb server on a free display, killed when dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-static NEXT: AtomicUsize = AtomicUsize::new(0);
-
-/// Set (by `scripts/test`, hence CI) to make a missing Xvfb a failure instead of a plainly reported skip.
-const REQUIRE: &str = "SCANLINE_RACER_REQUIRE_XVFB";
-
-impl Xvfb {
-    /// Starts Xvfb; `None` (after saying so plainly) when it is not installed and not required.
-    fn start() -> Option<Xvfb> {
-        for _ in 0..50 {
-            // Tests in this binary run in parallel: each takes its own display number.
-            let num = 90 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
-            if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
-                continue;
-            }
-            let child = Command::new("Xvfb")
-                .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn();
-            let mut child = match child {
-                Ok(c) => c,
-                Err(e) if std::env::var_os(REQUIRE).is_some() => {
-                    panic!("cannot start Xvfb ({e}) and {REQUIRE} is set: install it (apt-get install xvfb)")
-                }
-                Err(e) => {
-                    eprintln!(
-                        "NOT RUN: this window test needs Xvfb, which cannot be started here ({e}); scripts/test installs it"
-                    );
-                    return None;
-                }
-            };
-            let socket = format!("/tmp/.X11-unix/X{num}");
-            let t = Instant::now();
-            while t.elapsed() < Duration::from_secs(10) {
-                if let Ok(Some(_)) = child.try_wait() {
-                    break; // this display was taken after all: try another
-                }
-                if Path::new(&socket).exists() {
-                    // The socket appears just before the server accepts; give it a moment.
-                    std::thread::sleep(Duration::from_millis(100));
-                    return Some(Xvfb { child, display: format!(":{num}") });
-                }
-                std::thread::sleep(Duration::from_millis(50));
-            }
-            let _ = child.kill();
-            let _ = child.wait();
-        }
-        panic!("no Xvfb display came up");
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
 
 #[test]
 fn window_shows_the_same_frame_as_the_headless_renderer() {
@@ -279,19 +215,6 @@ fn settings_file(name: &str, json: Option<&str>) -> std::path::PathBuf {
     p
 }
 
-/// Runs `xdotool` with `args` on `display`; false when it is not installed (and not required).
-fn xdotool(display: &str, args: &[&str]) -> Option<String> {
-    match Command::new("xdotool").args(args).env("DISPLAY", display).output() {
-        Ok(o) if o.status.success() => Some(String::from_utf8_lossy(&o.stdout).trim().to_string()),
-        Ok(o) => panic!("xdotool {args:?}: {}", String::from_utf8_lossy(&o.stderr)),
-        Err(e) if std::env::var_os(REQUIRE).is_some() => panic!("cannot run xdotool ({e}) and {REQUIRE} is set"),
-        Err(e) => {
-            eprintln!("NOT RUN: this window test needs xdotool ({e}); scripts/test installs it");
-            None
-        }
-    }
-}
-
 /// Checksum records in a trace file so far (each is tag 2 + 16 bytes; controls are tag 1 + 4 bytes).
 fn trace_records(path: &Path) -> (u64, u64, u64) {
     use scanline_racer::input::trace::{Record, TraceReader};
@@ -312,15 +235,24 @@ fn trace_records(path: &Path) -> (u64, u64, u64) {
 #[test]
 fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_every_checksum() {
     let Some(x) = Xvfb::start() else { return };
-    let trace = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-killed.trace");
-    let _ = std::fs::remove_file(&trace);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-killed");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // Recording over an older trace: a killed game never got to replace it, so it stays whole, and the
+    // race so far is in the temporary file beside it.
+    let target = dir.join("race.trace");
+    std::fs::write(&target, b"an older race").unwrap();
+    let recording = || -> std::path::PathBuf {
+        let tmp = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).find(|p| p != &target);
+        tmp.unwrap_or_else(|| dir.join("none yet"))
+    };
     // Rebound keys from the settings file: T throttle, J and L steer (the arrows then do nothing).
     let settings = settings_file(
         "rebound",
         Some(r#"{"keys":{"throttle":["KeyT"],"steer_left":["KeyJ"],"steer_right":["KeyL"]}}"#),
     );
     let mut game = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
-        .args(["play", "--no-menu", "--width", "320", "--height", "180", "--record", trace.to_str().unwrap()])
+        .args(["play", "--no-menu", "--width", "320", "--height", "180", "--record", target.to_str().unwrap()])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", &settings)
@@ -339,7 +271,7 @@ fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_e
     xdotool(&x.display, &["keydown", "t"]);
     let t = Instant::now();
     let mut tap = 0;
-    while trace_records(&trace).0 < 6 && t.elapsed() < Duration::from_secs(60) {
+    while trace_records(&recording()).0 < 6 && t.elapsed() < Duration::from_secs(60) {
         let key = if tap % 2 == 0 { "j" } else { "l" };
         xdotool(&x.display, &["keydown", key]);
         std::thread::sleep(Duration::from_millis(300));
@@ -350,6 +282,10 @@ fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_e
     // Killed mid-race, with no chance to flush or clean up.
     game.kill().unwrap();
     let _ = game.wait();
+    assert_eq!(std::fs::read(&target).unwrap(), b"an older race");
+    let trace = recording();
+    let name = trace.file_name().unwrap().to_string_lossy().into_owned();
+    assert!(name.starts_with(".race.trace.") && name.ends_with(".tmp"), "{name}");
     let (sums, throttle, steer) = trace_records(&trace);
     assert!(sums >= 6, "the recording reached {sums} checksums in 60 s");
     assert!(

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, values};
 use crate::bench::chart::Panel;
 use crate::bench::{Row, chart, collect_frames, configs, csv, run};
 use crate::render::view_lists::DEFAULT_MAX_POLYGONS;
@@ -23,20 +23,20 @@ pub struct BenchArgs {
     #[arg(long)]
     pub trace: Option<PathBuf>,
     /// Chase-camera frames taken from the trace (half of them also add the far-chase, bumper and trackside
-    /// views).
-    #[arg(long, default_value_t = 8)]
+    /// views), 1 to 1000.
+    #[arg(long, default_value_t = 8, value_parser = values::count(1000))]
     pub frames: usize,
-    /// Times each frame is drawn per configuration; the best counts.
-    #[arg(long, default_value_t = 3)]
+    /// Times each frame is drawn per configuration; the best counts (1 to 1000).
+    #[arg(long, default_value_t = 3, value_parser = values::count(1000))]
     pub repeats: usize,
     /// Renderer threads for every configuration (1 by default: per-core speed, the steadiest figure).
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Frame width of the main sweep.
-    #[arg(long, default_value_t = 640)]
+    /// Frame width of the main sweep (1 to 8192).
+    #[arg(long, default_value_t = 640, value_parser = values::side(values::MAX_BENCH_SIDE))]
     pub width: usize,
-    /// Frame height of the main sweep.
-    #[arg(long, default_value_t = 480)]
+    /// Frame height of the main sweep (1 to 8192).
+    #[arg(long, default_value_t = 480, value_parser = values::side(values::MAX_BENCH_SIDE))]
     pub height: usize,
     /// A small sweep for tests: 2 frames, 1 repeat, 160x120, three bucket counts, two resolutions.
     #[arg(long)]
@@ -45,12 +45,8 @@ pub struct BenchArgs {
 
 /// Runs `bench`.
 pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
-    if args.width == 0 || args.height == 0 || args.width > 8192 || args.height > 8192 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 8192",
-            args.width, args.height
-        )));
-    }
+    // Before the sweep (minutes long): an output folder that cannot be written fails now, not after it.
+    super::output_folder("--out", &args.out, "the CSV and the charts")?;
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
@@ -66,7 +62,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
                 vec![(320, 240), (640, 480), (1280, 720), (1920, 1080)],
             )
         };
-    let frames = collect_frames(&scene, &trace, frames).map_err(|e| CliError::Replay(e.to_string()))?;
+    let frames = collect_frames(&scene, &trace, frames)?;
     if frames.is_empty() {
         return Err(CliError::Replay(format!("{}: no racing frames to measure", trace.display())));
     }
@@ -106,8 +102,6 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     if terminal {
         eprintln!();
     }
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
     let write = |name: &str, bytes: &[u8]| {
         let p = args.out.join(name);
         std::fs::write(&p, bytes).map_err(|e| CliError::Write { path: p.display().to_string(), reason: e.to_string() })

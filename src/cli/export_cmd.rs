@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, values};
 use crate::asset::export::export_glb;
 use crate::input::replay::Replay;
 use crate::render::{RenderOptions, Renderer};
@@ -21,28 +21,21 @@ pub struct ExportArgs {
     /// The GLB file to write.
     #[arg(long)]
     pub out: PathBuf,
-    /// Frame width (sets the camera's aspect and the LOD choice).
-    #[arg(long, default_value_t = 1280)]
+    /// Frame width (sets the camera's aspect and the LOD choice), 1 to 16384.
+    #[arg(long, default_value_t = 1280, value_parser = values::side(values::MAX_SIDE))]
     pub width: usize,
-    /// Frame height.
-    #[arg(long, default_value_t = 720)]
+    /// Frame height, 1 to 16384.
+    #[arg(long, default_value_t = 720, value_parser = values::side(values::MAX_SIDE))]
     pub height: usize,
 }
 
 /// Runs `export-frame`; prints what was written.
 pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 16384",
-            args.width, args.height
-        )));
-    }
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
-    let mut replay =
-        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
+    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     while replay.world.tick < args.tick {
-        if !replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+        if !replay.advance()? {
             return Err(CliError::Replay(format!(
                 "{}: the trace ends at tick {}, before tick {}",
                 args.trace.display(),

@@ -8,6 +8,7 @@ mod export_cmd;
 mod play_cmd;
 mod render_cmd;
 mod replay_cmd;
+pub mod values;
 
 use std::process::ExitCode;
 
@@ -50,6 +51,9 @@ pub enum CliError {
     /// The scene could not be loaded.
     #[error(transparent)]
     Asset(#[from] crate::asset::AssetError),
+    /// The race's circuit, cars or centre line could not be loaded.
+    #[error(transparent)]
+    RaceScene(#[from] crate::shell::race_scene::RaceSceneError),
     /// The renderer refused the frame.
     #[error("render: {0}")]
     Render(#[from] crate::render::RenderError),
@@ -73,6 +77,26 @@ pub enum CliError {
         /// The error.
         reason: String,
     },
+    /// An output folder's path names a file.
+    #[error("{flag} {path}: is a file, not a folder; name a folder (new or existing) for {what}")]
+    NotAFolder {
+        /// The flag that named it.
+        flag: &'static str,
+        /// The path.
+        path: String,
+        /// What the folder is for.
+        what: &'static str,
+    },
+    /// An output folder cannot be created or written into.
+    #[error("{flag} {path}: cannot write into this folder: {reason}")]
+    FolderNotWritable {
+        /// The flag that named it.
+        flag: &'static str,
+        /// The path.
+        path: String,
+        /// The operating system's reason.
+        reason: String,
+    },
     /// An argument value is out of range in a way clap cannot check.
     #[error("{0}")]
     BadArgument(String),
@@ -82,6 +106,12 @@ pub enum CliError {
     /// A trace could not be replayed (unreadable, corrupt, another version, or diverging).
     #[error("{0}")]
     Replay(String),
+    /// A race could not be recorded, or its recording could not be kept.
+    #[error(transparent)]
+    Record(#[from] crate::input::recording::RecordError),
+    /// A trace could not be opened or replayed.
+    #[error(transparent)]
+    Trace(#[from] crate::input::replay::ReplayError),
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),
@@ -95,6 +125,20 @@ fn assets_dir() -> Result<std::path::PathBuf, CliError> {
             "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
         )
     })
+}
+
+/// Makes `dir` (named by `flag`, to hold `what`) a folder the command can write into, before any long work:
+/// creates it if missing and writes and removes a probe file, so a bad path fails at once in one line.
+fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'static str) -> Result<(), CliError> {
+    let path = dir.display().to_string();
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::NotAFolder { flag, path, what });
+    }
+    let fail = |e: std::io::Error| CliError::FolderNotWritable { flag, path: path.clone(), reason: e.to_string() };
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    let probe = crate::userfile::temp_sibling(&dir.join("write-probe"));
+    std::fs::write(&probe, b"").map_err(fail)?;
+    std::fs::remove_file(&probe).map_err(fail)
 }
 
 /// Parses the process arguments, runs the command and returns the exit status.

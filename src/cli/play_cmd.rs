@@ -4,14 +4,14 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, values};
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
-use crate::input::ghost::best_lap_of_trace;
-use crate::input::trace::TraceWriter;
+use crate::input::ghost::GhostSearch;
+use crate::input::recording::Kept;
 use crate::render::{Method, RenderOptions};
-use crate::shell::race::{Race, header_for};
+use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
-use crate::shell::settings::{self, Settings};
+use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
 
@@ -21,18 +21,18 @@ const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
 /// Arguments of `play`.
 #[derive(Debug, Args)]
 pub struct PlayArgs {
-    /// Window width in pixels.
-    #[arg(long, default_value_t = 1280)]
+    /// Window width in pixels (1 to 16384).
+    #[arg(long, default_value_t = 1280, value_parser = values::window_side())]
     pub width: u32,
-    /// Window height in pixels.
-    #[arg(long, default_value_t = 720)]
+    /// Window height in pixels (1 to 16384).
+    #[arg(long, default_value_t = 720, value_parser = values::window_side())]
     pub height: u32,
     /// Start in fullscreen (F11 or F toggles).
     #[arg(long)]
     pub fullscreen: bool,
-    /// Window pixels per rendered pixel (1 = native; 2-4 for the retro look; '-' and '=' change it).
-    /// Default: the settings file's, else 1.
-    #[arg(long)]
+    /// Window pixels per rendered pixel, 1 to 8 (1 = native; 2-4 for the retro look; '-' and '=' change
+    /// it). Default: the settings file's, else 1.
+    #[arg(long, value_parser = values::scale())]
     pub scale: Option<u32>,
     /// The settings file (keys, gamepad, scale), read at start and written when Settings change. Default:
     /// $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
@@ -54,7 +54,8 @@ pub struct PlayArgs {
     /// Record the race to this trace file (replay it with `scanline-racer replay FILE`).
     #[arg(long)]
     pub record: Option<PathBuf>,
-    /// Race against the fastest lap in this trace, as a see-through ghost car.
+    /// Race against the fastest lap in this trace, as a see-through ghost car (the trace is replayed in the
+    /// background while the race runs; each faster lap found takes over at the line).
     #[arg(long)]
     pub ghost: Option<PathBuf>,
     /// Let the AI drive your car (attract mode; with --record it makes a demo trace).
@@ -63,8 +64,8 @@ pub struct PlayArgs {
     /// Start racing at once instead of showing the main menu.
     #[arg(long)]
     pub no_menu: bool,
-    /// Laps in the race.
-    #[arg(long, default_value_t = 3)]
+    /// Laps in the race (1 to 99).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=values::MAX_LAPS))]
     pub laps: u32,
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
@@ -99,20 +100,6 @@ impl Default for PlayArgs {
 
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 16384",
-            args.width, args.height
-        )));
-    }
-    if !(1..=99).contains(&args.laps) {
-        return Err(CliError::BadArgument(format!("--laps {}: expected 1 to 99", args.laps)));
-    }
-    if let Some(scale) = args.scale
-        && !(1..=16).contains(&scale)
-    {
-        return Err(CliError::BadArgument(format!("--scale {scale}: expected 1 to 16")));
-    }
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
     let window = WindowConfig {
         size: (args.width, args.height),
@@ -132,31 +119,43 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         None => {
             let dir = super::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
-            let ghost = match &args.ghost {
-                Some(p) => Some(
-                    best_lap_of_trace(p, scene.track.clone(), FIELD)
-                        .map_err(|e| CliError::Replay(e.to_string()))?
-                        .ok_or_else(|| CliError::Replay(format!("{}: no complete lap to race against", p.display())))?,
-                ),
-                None => None,
-            };
+            // The trace is checked now; its laps are searched on a background thread while the race runs.
+            let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
             let path = args.settings.clone().or_else(settings::default_path);
-            let (settings, note) = path.as_deref().map_or_else(|| (Settings::default(), None), Settings::load);
+            let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
+                Some((file, settings, note)) => (Some(file), settings, note),
+                None => (None, Settings::default(), None),
+            };
             if let Some(n) = &note {
                 eprintln!("warning: {n}");
             }
             let mut race = Race::new(scene, options, args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
-                .with_settings(settings, path, args.scale, note);
-            if let Some(lap) = ghost {
-                race = race.with_ghost(lap);
+                .with_settings(settings, file, args.scale, note);
+            if let Some(search) = ghost {
+                race = race.with_ghost_search(search);
             }
             if let Some(path) = &args.record {
-                let header = header_for(race.world());
-                race = race
-                    .recording(TraceWriter::create(path, &header).map_err(|e| CliError::BadArgument(e.to_string()))?);
+                race = race.record_to(path)?;
             }
-            run(window, &mut race)?;
+            let ran = run(window, &mut race);
+            // However the window closed, what was raced replaces the target (or stays in its temporary
+            // file, named in the one-line error, when the rename fails).
+            match (race.finish_recording(), ran) {
+                (Ok(kept), ran) => {
+                    // A race kept is always said; nothing recorded only when the window ran (not before
+                    // the one-line error that it could not open).
+                    if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
+                        eprintln!("{kept}");
+                    }
+                    ran?;
+                }
+                (Err(e), Ok(())) => return Err(e.into()),
+                (Err(e), Err(ran)) => {
+                    eprintln!("scanline-racer: error: {e}");
+                    return Err(ran.into());
+                }
+            }
         }
     }
     Ok(())

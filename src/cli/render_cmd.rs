@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 
-use super::CliError;
+use super::{CliError, values};
 use crate::asset::{LoadedScene, load};
 use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
@@ -50,17 +50,17 @@ pub struct RenderArgs {
     /// node, or a camera that frames the scene's bounds when there is none.
     #[arg(long)]
     pub camera: Option<String>,
-    /// Frame width in pixels.
-    #[arg(long, default_value_t = 640)]
+    /// Frame width in pixels (1 to 16384).
+    #[arg(long, default_value_t = 640, value_parser = values::side(values::MAX_SIDE))]
     pub width: usize,
-    /// Frame height in pixels.
-    #[arg(long, default_value_t = 480)]
+    /// Frame height in pixels (1 to 16384).
+    #[arg(long, default_value_t = 480, value_parser = values::side(values::MAX_SIDE))]
     pub height: usize,
     /// Visibility method: zbuffer, sort, bucket-far, bucket-near.
     #[arg(long, default_value = "zbuffer")]
     pub method: Method,
-    /// Ordering-table buckets (bucket-far, bucket-near).
-    #[arg(long, default_value_t = DEFAULT_BUCKETS)]
+    /// Ordering-table buckets (bucket-far, bucket-near), 1 to 1048576.
+    #[arg(long, default_value_t = DEFAULT_BUCKETS, value_parser = values::count(values::MAX_BUCKETS))]
     pub buckets: usize,
     /// Representative depth for sort and buckets: avg, min, max.
     #[arg(long, default_value = "max")]
@@ -77,20 +77,21 @@ pub struct RenderArgs {
     /// Level of detail for LOD sets: auto (by projected size), or close, mid or long for every set.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
-    /// LOD bias: projected sizes are multiplied by 2^BIAS before choosing (positive keeps finer models).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// LOD bias: projected sizes are multiplied by 2^BIAS before choosing (positive keeps finer models);
+    /// -16 to 16.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = values::parse_lod_bias)]
     pub lod_bias: f32,
     /// Worker threads for the fill (default: the cores available); frames are identical for every count.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
     /// Background colour as R,G,B (0-255 each).
-    #[arg(long, default_value = "135,206,235")]
-    pub background: String,
+    #[arg(long, default_value = "135,206,235", value_parser = values::parse_rgb)]
+    pub background: u32,
     /// Output PNG (default: the scene's file name with .png, in the current directory).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Draw the frame N times and report the median time.
-    #[arg(long, default_value_t = 1)]
+    /// Draw the frame N times and report the median time (1 to 100000).
+    #[arg(long, default_value_t = 1, value_parser = values::count(values::MAX_REPEAT))]
     pub repeat: usize,
     /// Print statistics: `json` prints one JSON object on stdout.
     #[arg(long)]
@@ -104,31 +105,11 @@ pub enum StatsFormat {
     Json,
 }
 
-/// Parses `R,G,B` into `0x00RRGGBB`.
-pub fn parse_rgb(s: &str) -> Result<u32, CliError> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let bad = || CliError::BadArgument(format!("--background '{s}': expected R,G,B with each 0-255"));
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    let mut rgb = 0u32;
-    for p in parts {
-        let v: u8 = p.parse().map_err(|_| bad())?;
-        rgb = (rgb << 8) | u32::from(v);
-    }
-    Ok(rgb)
-}
-
 impl RenderArgs {
-    /// The renderer options these arguments ask for.
-    pub fn options(&self) -> Result<RenderOptions, CliError> {
-        if !(self.lod_bias.is_finite() && self.lod_bias.abs() <= 16.0) {
-            return Err(CliError::BadArgument(format!("--lod-bias {}: expected -16 to 16", self.lod_bias)));
-        }
-        if self.buckets == 0 || self.buckets > 1 << 20 {
-            return Err(CliError::BadArgument(format!("--buckets {}: expected 1 to 1048576", self.buckets)));
-        }
-        Ok(RenderOptions {
+    /// The renderer options these arguments ask for (clap has checked every range).
+    #[must_use]
+    pub fn options(&self) -> RenderOptions {
+        RenderOptions {
             method: self.method,
             buckets: self.buckets,
             key: self.key,
@@ -146,10 +127,10 @@ impl RenderArgs {
                 FilterArg::Bilinear => Filter::Bilinear,
             },
             threads: self.threads,
-            background: Some(parse_rgb(&self.background)?),
+            background: Some(self.background),
             lod: self.lod,
             lod_bias: self.lod_bias,
-        })
+        }
     }
 }
 
@@ -194,16 +175,7 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// Runs `render`.
 pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
-    let options = args.options()?;
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 16384",
-            args.width, args.height
-        )));
-    }
-    if args.repeat == 0 || args.repeat > 100_000 {
-        return Err(CliError::BadArgument(format!("--repeat {}: expected 1 to 100000", args.repeat)));
-    }
+    let options = args.options();
     let mut scene = load(&args.scene)?;
     if options.method == Method::ViewLists {
         scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);

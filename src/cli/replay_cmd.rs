@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, values};
 use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
@@ -24,14 +24,14 @@ pub struct ReplayArgs {
     /// Folder for PNG frames (headless), named `frame_TICK.png`.
     #[arg(long)]
     pub frames: Option<PathBuf>,
-    /// Write every Nth tick's frame.
-    #[arg(long, default_value_t = 60)]
+    /// Write every Nth tick's frame (1 to 10^9).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
     pub every: u64,
-    /// Frame width.
-    #[arg(long, default_value_t = 640)]
+    /// Frame width (1 to 16384).
+    #[arg(long, default_value_t = 640, value_parser = values::side(values::MAX_SIDE))]
     pub width: usize,
-    /// Frame height.
-    #[arg(long, default_value_t = 360)]
+    /// Frame height (1 to 16384).
+    #[arg(long, default_value_t = 360, value_parser = values::side(values::MAX_SIDE))]
     pub height: usize,
     /// Visibility method.
     #[arg(long, default_value = "zbuffer")]
@@ -63,20 +63,18 @@ pub struct ReplaySummary {
 
 /// Replays a trace without a window, checking checksums and writing frames; `progress` gets each tick.
 pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Result<ReplaySummary, CliError> {
+    if let Some(d) = &args.frames {
+        super::output_folder("--frames", d, "the PNG frames")?;
+    }
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
-    let mut replay =
-        Replay::open(&args.trace, scene.track.clone(), FIELD).map_err(|e| CliError::Replay(e.to_string()))?;
-    if let Some(d) = &args.frames {
-        std::fs::create_dir_all(d)
-            .map_err(|e| CliError::Write { path: d.display().to_string(), reason: e.to_string() })?;
-    }
+    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     let options =
         RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
-    while replay.advance().map_err(|e| CliError::Replay(e.to_string()))? {
+    while replay.advance()? {
         let world = &replay.world;
         progress(world.tick);
         if let Some(d) = &args.frames
@@ -92,12 +90,6 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
 
 /// Runs `replay`.
 pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        return Err(CliError::BadArgument(format!(
-            "--width {} --height {}: each must be 1 to 16384",
-            args.width, args.height
-        )));
-    }
     if args.headless {
         let mut err = std::io::stderr();
         let terminal = std::io::IsTerminal::is_terminal(&err);

@@ -68,7 +68,8 @@ pub fn drive(driver: &Driver, idx: usize, cars: &[Car], track: &Track, params: &
             }
         }
     }
-    let half = 0.5 * me.loc.width - 1.2;
+    // Never negative (a road under 2.4 m wide) nor NaN: `clamp` panics when its bounds cross.
+    let half = (0.5 * me.loc.width - 1.2).max(0.0);
     let (aim, _) = track.point_at(s + look, lateral.clamp(-half, half));
     let to = flat(aim) - me.pos;
     let fwd = me.forward();
@@ -83,4 +84,23 @@ pub fn drive(driver: &Driver, idx: usize, cars: &[Car], track: &Track, params: &
         (0.4, 0.0)
     };
     Controls { steer, throttle, brake }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn a_road_narrower_than_a_car_is_driven_without_a_panic() {
+        // 2 m wide: the aiming margin (1.2 m each side) is wider than the road's half.
+        let pts: Vec<(Vec3, f32, f32)> = (0..200)
+            .map(|i| i as f32 / 200.0 * std::f32::consts::TAU)
+            .map(|a| (Vec3::new(100.0 * a.cos(), 0.0, -100.0 * a.sin()), 0.0, 2.0))
+            .collect();
+        let track = Track::new(&pts).unwrap_or_else(|e| panic!("{e}"));
+        let car = Car::on_grid(&track, 10.0, 0.0);
+        let c = drive(&Driver::field(1), 0, &[car], &track, &CarParams::default());
+        assert!(c.steer.is_finite() && c.throttle.is_finite() && c.brake.is_finite(), "{c:?}");
+    }
 }

@@ -5,15 +5,78 @@ use glam::{Vec2, Vec3};
 use thiserror::Error;
 
 /// Why a centre line could not be read.
-#[derive(Debug, Error, PartialEq, Eq)]
+#[derive(Debug, Error, PartialEq)]
 pub enum TrackError {
     /// The JSON does not parse or lacks fields.
     #[error("centre line: {0}")]
     Format(String),
-    /// Too few samples, or samples that are not finite.
-    #[error("centre line: {0}")]
-    Geometry(String),
+    /// Too few samples to make a circuit.
+    #[error("centre line: {found} samples, need at least {MIN_SAMPLES}")]
+    TooFewSamples {
+        /// Samples in the file.
+        found: usize,
+    },
+    /// One sample cannot be used.
+    #[error("centre line: sample {index}: {problem}")]
+    Sample {
+        /// Its index in driving order (0 is on the start line).
+        index: usize,
+        /// What is wrong with it.
+        problem: SampleProblem,
+    },
+    /// The lap is too short for the starting grid.
+    #[error("centre line: a lap of {length:.0} m, need at least {MIN_LAP_M} m")]
+    TooShort {
+        /// The lap length in metres.
+        length: f32,
+    },
 }
+
+/// What is wrong with one sample of a centre line.
+#[derive(Debug, Error, PartialEq)]
+pub enum SampleProblem {
+    /// A number is NaN or infinite.
+    #[error("a number is not finite")]
+    NotFinite,
+    /// A coordinate, the width or a barrier distance is beyond [`MAX_COORDINATE_M`].
+    #[error("{value:e} is beyond the 1e6 m bound on coordinates and distances")]
+    TooFar {
+        /// The number.
+        value: f32,
+    },
+    /// The road has no width.
+    #[error("width {width} m is not positive")]
+    NoWidth {
+        /// The width.
+        width: f32,
+    },
+    /// A barrier is on the road.
+    #[error("a barrier at {barrier} m is inside the road's half width {half} m")]
+    BarrierOnRoad {
+        /// The barrier's distance from the centre line.
+        barrier: f32,
+        /// Half the road's width.
+        half: f32,
+    },
+    /// The next sample is (nearly) at the same place seen from above.
+    #[error("too close to sample {next} ({distance} m apart, need at least {MIN_SPACING_M} m)")]
+    TooClose {
+        /// The next sample's index (0 after the last).
+        next: usize,
+        /// Their horizontal distance in metres.
+        distance: f32,
+    },
+}
+
+/// Fewest samples a centre line may have.
+pub const MIN_SAMPLES: usize = 8;
+/// Largest coordinate, width or barrier distance accepted (metres): far beyond any circuit, small enough
+/// that squared distances stay finite and precise in `f32`.
+pub const MAX_COORDINATE_M: f32 = 1e6;
+/// Closest two consecutive samples may be (metres, seen from above): closer, the segment has no direction.
+pub const MIN_SPACING_M: f32 = 0.1;
+/// Shortest lap accepted (metres): the grid of eight cars takes 64 m behind the line.
+pub const MIN_LAP_M: f32 = 200.0;
 
 /// One sample of the centre line.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,20 +129,17 @@ impl Track {
         Self::with_barriers(&with_barriers)
     }
 
-    /// Builds a track from samples with their barrier distances (left, right).
+    /// Builds a track from samples with their barrier distances (left, right); refuses a degenerate one
+    /// (too few samples, a number not finite or beyond [`MAX_COORDINATE_M`], no width, a barrier on the
+    /// road, consecutive samples closer than [`MIN_SPACING_M`], a lap shorter than [`MIN_LAP_M`]), naming
+    /// the sample.
     pub fn with_barriers(points: &[(Vec3, f32, f32, [f32; 2])]) -> Result<Self, TrackError> {
-        if points.len() < 8 {
-            return Err(TrackError::Geometry(format!("{} samples, need at least 8", points.len())));
+        if points.len() < MIN_SAMPLES {
+            return Err(TrackError::TooFewSamples { found: points.len() });
         }
-        let bad = |(p, b, w, br): &(Vec3, f32, f32, [f32; 2])| {
-            !(p.is_finite()
-                && b.is_finite()
-                && w.is_finite()
-                && *w > 0.0
-                && br.iter().all(|x| x.is_finite() && *x > 0.5 * w))
-        };
-        if points.iter().any(bad) {
-            return Err(TrackError::Geometry("a sample is not finite or has no width".into()));
+        for (index, point) in points.iter().enumerate() {
+            let next = (index + 1) % points.len();
+            check_sample(point, points[next].0, next).map_err(|problem| TrackError::Sample { index, problem })?;
         }
         let mut s = 0.0;
         let mut samples = Vec::with_capacity(points.len());
@@ -87,6 +147,9 @@ impl Track {
             samples.push(Sample { pos, bank, width, barrier, s });
             let next = points[(i + 1) % points.len()].0;
             s += flat(next - pos).length();
+        }
+        if s < MIN_LAP_M {
+            return Err(TrackError::TooShort { length: s });
         }
         Ok(Self { samples, length: s })
     }
@@ -206,6 +269,35 @@ impl Track {
     }
 }
 
+/// Checks one sample (position, bank, width, barriers) and its distance to the next one, `next`.
+fn check_sample(
+    &(pos, bank, width, barrier): &(Vec3, f32, f32, [f32; 2]),
+    next_pos: Vec3,
+    next: usize,
+) -> Result<(), SampleProblem> {
+    let numbers = [pos.x, pos.y, pos.z, bank, width, barrier[0], barrier[1]];
+    if !numbers.iter().all(|x| x.is_finite()) {
+        return Err(SampleProblem::NotFinite);
+    }
+    if let Some(&value) =
+        [pos.x, pos.y, pos.z, width, barrier[0], barrier[1]].iter().find(|x| x.abs() > MAX_COORDINATE_M)
+    {
+        return Err(SampleProblem::TooFar { value });
+    }
+    if width <= 0.0 {
+        return Err(SampleProblem::NoWidth { width });
+    }
+    if let Some(&b) = barrier.iter().find(|&&b| b <= 0.5 * width) {
+        return Err(SampleProblem::BarrierOnRoad { barrier: b, half: 0.5 * width });
+    }
+    let distance = flat(next_pos - pos).length();
+    // A NaN distance (impossible after the checks above) is refused too.
+    if distance.is_nan() || distance < MIN_SPACING_M {
+        return Err(SampleProblem::TooClose { next, distance });
+    }
+    Ok(())
+}
+
 /// The horizontal part (x, z) of a position.
 #[must_use]
 pub fn flat(v: Vec3) -> Vec2 {
@@ -250,8 +342,35 @@ mod tests {
     #[test]
     fn bad_centre_lines_are_errors() {
         assert!(Track::from_json("{").is_err());
-        assert!(Track::from_json(r#"{"samples": []}"#).is_err());
-        assert!(Track::new(&[(Vec3::splat(f32::NAN), 0.0, 12.0); 10]).is_err());
+        assert_eq!(Track::from_json(r#"{"samples": []}"#), Err(TrackError::TooFewSamples { found: 0 }));
+        let at = |index, problem| Err(TrackError::Sample { index, problem });
+        assert_eq!(Track::new(&[(Vec3::splat(f32::NAN), 0.0, 12.0); 10]), at(0, SampleProblem::NotFinite));
+        let ring = |r: f32| -> Vec<(Vec3, f32, f32)> {
+            (0..100)
+                .map(|i| i as f32 / 100.0 * std::f32::consts::TAU)
+                .map(|a| (Vec3::new(r * a.cos(), 0.0, r * a.sin()), 0.0, 12.0))
+                .collect()
+        };
+        assert!(Track::new(&ring(100.0)).is_ok());
+        // Eight identical points: no direction and no length.
+        let same = [(Vec3::new(1.0, 2.0, 3.0), 0.0, 12.0); 8];
+        assert_eq!(Track::new(&same), at(0, SampleProblem::TooClose { next: 1, distance: 0.0 }));
+        let mut repeated = ring(100.0);
+        repeated[42] = repeated[41];
+        assert_eq!(Track::new(&repeated), at(41, SampleProblem::TooClose { next: 42, distance: 0.0 }));
+        // The last sample closes the loop onto the first.
+        let mut closed = ring(100.0);
+        closed[99] = closed[0];
+        assert_eq!(Track::new(&closed), at(99, SampleProblem::TooClose { next: 0, distance: 0.0 }));
+        let mut huge = ring(100.0);
+        huge[5].0.x = 1e30;
+        assert_eq!(Track::new(&huge), at(5, SampleProblem::TooFar { value: 1e30 }));
+        let mut flat_road = ring(100.0);
+        flat_road[3].2 = 0.0;
+        assert_eq!(Track::new(&flat_road), at(3, SampleProblem::NoWidth { width: 0.0 }));
+        assert!(matches!(Track::new(&ring(20.0)), Err(TrackError::TooShort { length }) if length < MIN_LAP_M));
+        let message = Track::new(&repeated).unwrap_err().to_string();
+        assert_eq!(message, "centre line: sample 41: too close to sample 42 (0 m apart, need at least 0.1 m)");
     }
 }
 

@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
+use thiserror::Error;
 
 /// Something a key can do in the race.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
@@ -92,9 +93,9 @@ impl Bindings {
 
     /// Binds `key` to `action` alone (replacing its keys) and unbinds it from any other action; refuses a
     /// reserved key, naming it.
-    pub fn bind(&mut self, action: Action, key: &str) -> Result<(), String> {
+    pub fn bind(&mut self, action: Action, key: &str) -> Result<(), BindError> {
         if RESERVED.contains(&key) {
-            return Err(format!("{key} is reserved for menus and the window"));
+            return Err(BindError::Reserved { key: key.to_string() });
         }
         for ks in self.keys.values_mut() {
             ks.retain(|k| k != key);
@@ -103,42 +104,105 @@ impl Bindings {
         Ok(())
     }
 
-    /// Bindings read from a settings file made whole: every action present; reserved, duplicate (the first
-    /// action in [`Action::ALL`] order keeps a key), overlong and empty names dropped; an action left with no key gets its default keys back where they
-    /// are free. Returns what was repaired, one line each.
+    /// Bindings read from a settings file made whole, and what was repaired, one line each naming the key
+    /// and the action. Reserved keys, names that `is_key` does not know (a typo such as `"ArowUp"`),
+    /// duplicates (the first action in [`Action::ALL`] order keeps a key) and keys past
+    /// [`Bindings::MAX_KEYS`] are dropped. An action left with no key (or not in the file) gets those of
+    /// its default keys that no other action has; when every one of them is bound to another action (which
+    /// keeps it: the file asked for that), it gets the first free key of [`SPARE_KEYS`]. The note says
+    /// which default is taken by which action and which key is used; an action missing from the file that
+    /// gets all its default keys needs no note.
     #[must_use]
-    pub fn repaired(&self) -> (Bindings, Vec<String>) {
+    pub fn repaired(&self, is_key: impl Fn(&str) -> bool) -> (Bindings, Vec<String>) {
         let mut notes = vec![];
-        let mut seen: Vec<String> = vec![];
         let mut out = BTreeMap::new();
         for action in Action::ALL {
-            let mut ks = vec![];
+            let mut ks: Vec<String> = vec![];
             for key in self.keys(action) {
-                let bad = key.is_empty() || key.len() > 32 || RESERVED.contains(&key.as_str());
-                if bad || seen.contains(key) || ks.len() >= Self::MAX_KEYS {
-                    notes.push(format!("key {key:?} for {} dropped", action.label()));
-                    continue;
+                let why = if RESERVED.contains(&key.as_str()) {
+                    Some("is reserved for menus and the window".to_string())
+                } else if !is_key(key) {
+                    Some("is not a key name (names are like ArrowUp, KeyW, Space, Digit7)".to_string())
+                } else if let Some(other) =
+                    out.iter().find_map(|(a, v): (&Action, &Vec<String>)| v.contains(key).then_some(*a))
+                {
+                    Some(format!("is already bound to {}", other.label()))
+                } else if ks.contains(key) {
+                    Some("is listed twice".to_string())
+                } else if ks.len() >= Self::MAX_KEYS {
+                    Some(format!("is past the {} keys an action may have", Self::MAX_KEYS))
+                } else {
+                    None
+                };
+                match why {
+                    Some(why) => notes.push(format!("key {key:?} for {} {why}: dropped", action.label())),
+                    None => ks.push(key.clone()),
                 }
-                seen.push(key.clone());
-                ks.push(key.clone());
             }
             out.insert(action, ks);
         }
         let defaults = Bindings::default();
-        for (action, ks) in &mut out {
-            if ks.is_empty() {
-                ks.extend(defaults.keys(*action).iter().filter(|k| !seen.contains(k)).cloned());
-                seen.extend(ks.iter().cloned());
-                notes.push(format!("{} had no key: default restored", action.label()));
+        for action in Action::ALL {
+            if out.get(&action).is_some_and(|ks| !ks.is_empty()) {
+                continue;
             }
+            let holder = |key: &str| out.iter().find_map(|(a, v)| v.iter().any(|k| k == key).then_some(*a));
+            let (mut free, mut taken) = (vec![], vec![]);
+            for k in defaults.keys(action) {
+                match holder(k) {
+                    None => free.push(k.clone()),
+                    Some(other) => taken.push(format!("{k} is bound to {}", other.label())),
+                }
+            }
+            let listed = self.keys.contains_key(&action);
+            let mut note = format!("{} {}", action.label(), if listed { "had no key" } else { "is not in the file" });
+            if !taken.is_empty() {
+                note += &format!(" and its default {}", taken.join(", "));
+            }
+            let keys = if free.is_empty() {
+                let spare: Vec<String> =
+                    SPARE_KEYS.iter().find(|k| holder(k).is_none()).map(|k| (*k).to_string()).into_iter().collect();
+                note +=
+                    &spare.first().map_or_else(|| ": no free key is left".into(), |k| format!(": {k} used instead"));
+                spare
+            } else {
+                note += &format!(": default {} used", free.join(", "));
+                free
+            };
+            if listed || !taken.is_empty() {
+                notes.push(note);
+            }
+            out.insert(action, keys);
         }
         (Bindings { keys: out }, notes)
     }
 }
 
+/// Keys given, in this order, to an action left with no key whose default keys are bound to other actions.
+pub const SPARE_KEYS: [&str; 16] = [
+    "KeyJ", "KeyL", "KeyI", "KeyK", "KeyU", "KeyO", "KeyH", "KeyG", "KeyB", "KeyN", "KeyM", "KeyV", "KeyF", "KeyE",
+    "KeyQ", "KeyZ",
+];
+
+/// Why a key could not be bound.
+#[derive(Debug, Error, PartialEq, Eq)]
+pub enum BindError {
+    /// The key is kept for menus and the window.
+    #[error("{key} is reserved for menus and the window")]
+    Reserved {
+        /// The key's name.
+        key: String,
+    },
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Key names for these tests: letters, arrows and a few others (the shell checks against winit's list).
+    fn known(k: &str) -> bool {
+        (k.len() == 4 && k.starts_with("Key")) || k.starts_with("Arrow") || ["Space", "Escape"].contains(&k)
+    }
 
     #[test]
     fn defaults_cover_every_action_with_distinct_keys() {
@@ -149,7 +213,7 @@ mod tests {
                 assert_eq!(b.action(k), Some(a));
             }
         }
-        assert_eq!(b.repaired(), (b.clone(), vec![]));
+        assert_eq!(b.repaired(known), (b.clone(), vec![]));
     }
 
     #[test]
@@ -160,25 +224,65 @@ mod tests {
         assert_eq!(b.keys(Action::SteerLeft), ["ArrowLeft"]);
         assert_eq!(b.action("KeyA"), Some(Action::Throttle));
         assert_eq!(b.action("ArrowUp"), None);
-        assert!(b.bind(Action::Brake, "Escape").unwrap_err().contains("Escape"));
+        assert_eq!(b.bind(Action::Brake, "Escape"), Err(BindError::Reserved { key: "Escape".into() }));
         assert_eq!(b.keys(Action::Brake), ["ArrowDown", "KeyS"]);
+    }
+
+    fn repair(json: &str) -> (Bindings, Vec<String>) {
+        serde_json::from_str::<Bindings>(json).unwrap().repaired(known)
     }
 
     #[test]
     fn a_hand_edited_file_is_repaired() {
-        let json = r#"{"throttle":["KeyA","Escape","","KeyT"],"steer_left":["KeyQ","KeyA"]}"#;
-        let b: Bindings = serde_json::from_str(json).unwrap();
-        let (r, notes) = b.repaired();
+        let (r, notes) = repair(r#"{"throttle":["KeyA","Escape","","KeyT"],"steer_left":["KeyQ","KeyA"]}"#);
         // Steering left comes first in the order: it keeps KeyA.
         assert_eq!(r.keys(Action::SteerLeft), ["KeyQ", "KeyA"]);
         assert_eq!(r.keys(Action::Throttle), ["KeyT"]);
         assert_eq!(r.keys(Action::Brake), ["ArrowDown", "KeyS"]);
         assert_eq!(r.keys(Action::SteerRight), ["ArrowRight", "KeyD"]);
-        assert!(notes.iter().any(|n| n.contains("Escape")), "{notes:?}");
-        assert_eq!(r.repaired().1, Vec::<String>::new());
-        // Defaults come back only where free.
-        let (r, _) = serde_json::from_str::<Bindings>(r#"{"pause":["KeyC"]}"#).unwrap().repaired();
-        assert_eq!((r.keys(Action::Pause), r.keys(Action::ChangeView)), (&["KeyC".to_string()][..], &[][..]));
+        assert!(notes.contains(&r#"key "Escape" for throttle is reserved for menus and the window: dropped"#.into()));
+        assert!(notes.contains(&r#"key "KeyA" for throttle is already bound to steer left: dropped"#.into()));
+        assert_eq!(r.repaired(known).1, Vec::<String>::new());
         assert!(serde_json::from_str::<Bindings>(r#"{"fly":["KeyF"]}"#).is_err());
+    }
+
+    #[test]
+    fn a_typo_is_named_with_its_action_and_the_default_used_is_said() {
+        let (r, notes) = repair(r#"{"throttle":["ArowUp"],"brake":["KeyS","Spcae"]}"#);
+        assert_eq!(r.keys(Action::Throttle), ["ArrowUp", "KeyW"]);
+        assert_eq!(r.keys(Action::Brake), ["KeyS"]);
+        assert_eq!(
+            notes,
+            [
+                r#"key "ArowUp" for throttle is not a key name (names are like ArrowUp, KeyW, Space, Digit7): dropped"#,
+                r#"key "Spcae" for brake is not a key name (names are like ArrowUp, KeyW, Space, Digit7): dropped"#,
+                "throttle had no key: default ArrowUp, KeyW used",
+            ]
+        );
+    }
+
+    #[test]
+    fn an_action_whose_default_keys_are_taken_gets_a_free_key_and_the_note_says_so() {
+        // The default steering keys given to throttle and brake: steering must still be possible.
+        let (r, notes) = repair(r#"{"throttle":["ArrowLeft","KeyA"],"brake":["ArrowRight"],"steer_left":[]}"#);
+        assert_eq!(r.keys(Action::Throttle), ["ArrowLeft", "KeyA"]);
+        assert_eq!(r.keys(Action::SteerLeft), ["KeyJ"]);
+        assert_eq!(r.keys(Action::SteerRight), ["KeyD"]);
+        assert_eq!(
+            notes,
+            [
+                "steer left had no key and its default ArrowLeft is bound to throttle, KeyA is bound to throttle: \
+                 KeyJ used instead",
+                "steer right is not in the file and its default ArrowRight is bound to brake: default KeyD used",
+            ]
+        );
+        for a in Action::ALL {
+            assert!(!r.keys(a).is_empty(), "{a:?} has a key");
+            assert!(r.keys(a).iter().all(|k| r.action(k) == Some(a)), "{a:?}'s keys drive it alone");
+        }
+        // A spare key already bound is skipped; a single-key default taken gets the next free spare.
+        let (r, notes) = repair(r#"{"steer_left":["KeyJ"],"pause":["KeyC"]}"#);
+        assert_eq!(r.keys(Action::ChangeView), ["KeyL"]);
+        assert_eq!(notes, ["change view is not in the file and its default KeyC is bound to pause: KeyL used instead"]);
     }
 }

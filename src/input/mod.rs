@@ -4,5 +4,6 @@
 pub mod bindings;
 pub mod gamepad;
 pub mod ghost;
+pub mod recording;
 pub mod replay;
 pub mod trace;

@@ -72,7 +72,7 @@ impl TraceSource {
     }
 
     /// A trace read from `input` (a pipe, or bytes in memory); `name` stands for it in messages.
-    pub fn from_reader(name: &str, input: Box<dyn std::io::Read>) -> Result<Self, ReplayError> {
+    pub fn from_reader(name: &str, input: Box<dyn std::io::Read + Send>) -> Result<Self, ReplayError> {
         let (header, reader) = TraceReader::from_reader(name, input)?;
         Ok(Self { header, reader, path: name.to_string(), verified: 0 })
     }

@@ -28,6 +28,9 @@ pub const FORMAT_VERSION: u16 = 1;
 pub const SIM_VERSION: u32 = 2;
 /// Largest header accepted.
 const MAX_HEADER: u32 = 64 * 1024;
+/// Largest trace file read: 256 MiB, about 14 hours of racing at 120 ticks a second (a three-lap race is
+/// under 200 KB). Reading stops there whatever the file does meanwhile.
+pub const MAX_TRACE_BYTES: u64 = 256 * 1024 * 1024;
 
 const TAG_CONTROLS: u8 = 1;
 const TAG_CHECKSUM: u8 = 2;
@@ -70,6 +73,9 @@ pub enum Record {
 /// Why a trace could not be written or read.
 #[derive(Debug, Error)]
 pub enum TraceError {
+    /// The path is not a regular file (a folder, a FIFO, a device), is too big, or cannot be opened.
+    #[error(transparent)]
+    File(#[from] crate::userfile::UserFileError),
     /// The file could not be opened, read or written.
     #[error("{path}: {reason}")]
     Io {
@@ -144,14 +150,22 @@ fn decode(steer: i16, throttle: u8, brake: u8) -> Controls {
 pub struct TraceWriter {
     out: BufWriter<File>,
     path: String,
+    ticks: u64,
 }
 
 impl TraceWriter {
-    /// Creates `path` and writes the header.
+    /// Creates (or truncates) `path` and writes the header.
     pub fn create(path: &Path, header: &Header) -> Result<Self, TraceError> {
         let name = path.display().to_string();
+        let file = File::create(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
+        Self::new(file, &name, header)
+    }
+
+    /// Writes the header to `file`, an empty file opened for writing; `name` stands for it in messages.
+    pub fn new(file: File, name: &str, header: &Header) -> Result<Self, TraceError> {
+        let name = name.to_string();
         let io = |e: std::io::Error| TraceError::Io { path: name.clone(), reason: e.to_string() };
-        let mut out = BufWriter::new(File::create(path).map_err(io)?);
+        let mut out = BufWriter::new(file);
         let json =
             serde_json::to_vec(header).map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
         out.write_all(MAGIC).map_err(io)?;
@@ -159,7 +173,13 @@ impl TraceWriter {
         out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
         out.write_all(&json).map_err(io)?;
         out.flush().map_err(io)?;
-        Ok(Self { out, path: name })
+        Ok(Self { out, path: name, ticks: 0 })
+    }
+
+    /// Ticks whose controls were written.
+    #[must_use]
+    pub fn ticks(&self) -> u64 {
+        self.ticks
     }
 
     /// Appends one tick's controls (quantized).
@@ -167,7 +187,9 @@ impl TraceWriter {
         let (s, t, b) = encode(c);
         let mut rec = [TAG_CONTROLS, 0, 0, t, b];
         rec[1..3].copy_from_slice(&s.to_le_bytes());
-        self.write(&rec)
+        self.write(&rec)?;
+        self.ticks += 1;
+        Ok(())
     }
 
     /// Appends a checksum and flushes, so everything up to here survives a crash.
@@ -185,6 +207,12 @@ impl TraceWriter {
         self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
     }
 
+    /// Flushes what is buffered and waits until the file is on disk (before it is renamed into place).
+    pub fn sync(&mut self) -> Result<(), TraceError> {
+        self.finish()?;
+        self.out.get_ref().sync_all().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+    }
+
     fn write(&mut self, bytes: &[u8]) -> Result<(), TraceError> {
         self.out.write_all(bytes).map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
     }
@@ -193,22 +221,22 @@ impl TraceWriter {
 /// Reads a trace record by record; a record cut short at the end of the file ends the trace quietly
 /// (that is what a killed recording leaves).
 pub struct TraceReader {
-    input: BufReader<Box<dyn Read>>,
+    input: BufReader<Box<dyn Read + Send>>,
     path: String,
     offset: u64,
 }
 
 impl TraceReader {
-    /// Opens `path` and reads and checks its header.
+    /// Opens `path` and reads and checks its header; only a regular file is opened (a folder, a FIFO or a
+    /// device is refused at once, without blocking), and at most [`MAX_TRACE_BYTES`] of it are read.
     pub fn open(path: &Path) -> Result<(Header, Self), TraceError> {
-        let name = path.display().to_string();
-        let file = File::open(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
-        Self::from_reader(&name, Box::new(file))
+        let file = crate::userfile::open_regular(path, MAX_TRACE_BYTES, "a trace")?;
+        Self::from_reader(&path.display().to_string(), Box::new(file))
     }
 
     /// Reads and checks the header of a trace coming from `input`; `name` stands for it in messages. Nothing
     /// is allocated from a length in the input except the header, which is bounded (64 KiB).
-    pub fn from_reader(name: &str, input: Box<dyn Read>) -> Result<(Header, Self), TraceError> {
+    pub fn from_reader(name: &str, input: Box<dyn Read + Send>) -> Result<(Header, Self), TraceError> {
         let name = name.to_string();
         let mut input = BufReader::new(input);
         let mut head = [0u8; 14];

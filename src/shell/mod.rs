@@ -2,6 +2,7 @@
 //! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
 
 pub mod debug_overlay;
+pub mod keys;
 pub mod png;
 pub mod race;
 pub mod race_scene;

@@ -7,10 +7,12 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 use crate::asset::{AssetError, LoadedScene, load};
+use crate::game::track::TrackError;
 use crate::game::{Track, World};
 use crate::input::ghost::Pose;
 use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{Camera, DrawList, Instance, Method, RenderError, RenderOptions, Renderer, Stats, ViewLists};
+use crate::userfile::UserFileError;
 
 /// Number of cars in a race.
 pub const FIELD: usize = 8;
@@ -28,6 +30,28 @@ pub fn find_assets() -> Option<PathBuf> {
         }
     }
     candidates.into_iter().find(|p| p.join("track/circuit.gltf").is_file())
+}
+
+/// Largest centre line read (the shipped one is about 150 KB).
+const MAX_CENTRE_LINE_BYTES: u64 = 16 * 1024 * 1024;
+
+/// Why the race's assets could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum RaceSceneError {
+    /// A glTF file of the circuit or a car.
+    #[error(transparent)]
+    Asset(#[from] AssetError),
+    /// The centre line's file is missing, not a regular file, or too big.
+    #[error("{0}")]
+    CentreLineFile(#[from] UserFileError),
+    /// The centre line does not describe a usable circuit.
+    #[error("{file}: {source}")]
+    CentreLine {
+        /// The centre line's file.
+        file: String,
+        /// What is wrong with it.
+        source: TrackError,
+    },
 }
 
 /// The circuit and the cars, loaded and merged into one scene.
@@ -88,7 +112,7 @@ pub fn camera_for(world: &World, view: View) -> Camera {
 
 impl RaceScene {
     /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
-    pub fn load(dir: &Path) -> Result<Self, AssetError> {
+    pub fn load(dir: &Path) -> Result<Self, RaceSceneError> {
         let mut scene = load(&dir.join("track/circuit.gltf"))?;
         let statics = scene.instances.len();
         let mut car_sets = vec![];
@@ -98,10 +122,9 @@ impl RaceScene {
             car_sets.push(first);
         }
         let line = dir.join("track/centerline.json");
-        let text = std::fs::read_to_string(&line)
-            .map_err(|e| AssetError::Read { file: line.display().to_string(), reason: e.to_string() })?;
+        let text = crate::userfile::read_regular_text(&line, MAX_CENTRE_LINE_BYTES, "a centre line")?;
         let track = Track::from_json(&text)
-            .map_err(|e| AssetError::Scene { file: line.display().to_string(), reason: e.to_string() })?;
+            .map_err(|source| RaceSceneError::CentreLine { file: line.display().to_string(), source })?;
         scene.instances.truncate(statics);
         Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
     }

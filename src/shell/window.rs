@@ -70,6 +70,12 @@ pub fn method_key(code: KeyCode) -> Option<crate::render::Method> {
     crate::render::Method::ALL.get(i).copied()
 }
 
+/// Fewest window pixels per rendered pixel (native resolution).
+pub const MIN_SCALE: u32 = 1;
+/// Most window pixels per rendered pixel: the one bound the `=` key, `play --scale`, Settings and the
+/// settings file share (a 1280x720 window then renders 160x90).
+pub const MAX_SCALE: u32 = 8;
+
 /// How the window opens.
 #[derive(Clone, Debug)]
 pub struct WindowConfig {
@@ -188,7 +194,7 @@ impl App<'_> {
             return Ok(false);
         };
         surface.resize(ww, wh).map_err(|e| ShellError::Window(e.to_string()))?;
-        self.config.scale = self.content.scale(self.config.scale).clamp(1, 8);
+        self.config.scale = self.content.scale(self.config.scale).clamp(MIN_SCALE, MAX_SCALE);
         let scale = self.config.scale.max(1);
         let (fw, fh) = (size.width.div_ceil(scale) as usize, size.height.div_ceil(scale) as usize);
         if self.frame_size != (fw, fh) {
@@ -224,8 +230,8 @@ impl App<'_> {
 
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, down: bool) {
         match code {
-            KeyCode::Equal if down => self.config.scale = (self.config.scale + 1).min(8),
-            KeyCode::Minus if down => self.config.scale = self.config.scale.saturating_sub(1).max(1),
+            KeyCode::Equal if down => self.config.scale = (self.config.scale + 1).min(MAX_SCALE),
+            KeyCode::Minus if down => self.config.scale = self.config.scale.saturating_sub(1).max(MIN_SCALE),
             KeyCode::F11 if down => {
                 if let Some(w) = &self.window {
                     w.set_fullscreen(if w.fullscreen().is_some() { None } else { Some(Fullscreen::Borderless(None)) });

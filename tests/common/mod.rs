@@ -3,6 +3,8 @@
 //! rasterizer on the 1/16-pixel grid, and scene builders.
 #![allow(dead_code)]
 
+pub mod xvfb;
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use scanline_racer::render::{
     Camera, DrawList, Instance, Material, Mesh, MeshBuilder, Projection, RenderOptions, Renderer, Stats, Texture,
@@ -198,4 +200,84 @@ pub fn read_xwd(bytes: &[u8]) -> Option<(Vec<u32>, usize, usize)> {
         }
     }
     Some((px, width, height))
+}
+
+/// Runs `cmd` with its output captured and kills it after `secs` seconds: a child still running then fails
+/// the test, naming `what` (a hang is a failure, never a stuck test run).
+pub fn run_bounded(cmd: &mut std::process::Command, secs: u64, what: &str) -> std::process::Output {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    let pipe = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = vec![];
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out = pipe(Box::new(child.stdout.take().expect("stdout")));
+    let err = pipe(Box::new(child.stderr.take().expect("stderr")));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(secs);
+    let status = loop {
+        if let Some(st) = child.try_wait().expect("wait") {
+            break st;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            let err = String::from_utf8_lossy(&err.join().unwrap_or_default()).into_owned();
+            panic!("{what}: still running after {secs} s, killed (stderr: {err})");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    std::process::Output { status, stdout: out.join().unwrap_or_default(), stderr: err.join().unwrap_or_default() }
+}
+
+/// Asserts that `o` failed with exit status 1 and exactly one stderr line containing every one of `needles`,
+/// and no panic.
+pub fn assert_one_line(o: &std::process::Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(o.status.code(), Some(1), "stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "expected one line, got: {err}");
+    for n in needles {
+        assert!(err.contains(n), "expected '{n}' in: {err}");
+    }
+}
+
+/// Makes a FIFO at `path` (replacing whatever is there).
+pub fn mkfifo(path: &std::path::Path) {
+    let _ = std::fs::remove_file(path);
+    let ok = std::process::Command::new("mkfifo").arg(path).status().map(|s| s.success()).unwrap_or(false);
+    assert!(ok, "mkfifo {} failed", path.display());
+}
+
+/// A fresh copy of the repository's `assets/` folder at `dir` (for tests that break one of its files).
+pub fn copy_assets(dir: &std::path::Path) {
+    fn copy(from: &std::path::Path, to: &std::path::Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for e in std::fs::read_dir(from).unwrap() {
+            let e = e.unwrap();
+            let (src, dst) = (e.path(), to.join(e.file_name()));
+            if e.file_type().unwrap().is_dir() {
+                copy(&src, &dst);
+            } else {
+                std::fs::copy(&src, &dst).unwrap();
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+    copy(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"), dir);
+}
+
+/// Writes a trace of a three-lap race of eight cars on the shipped circuit in which the player never moves
+/// for `ticks` ticks, and no checksums: a long trace made in a moment (5 bytes a tick).
+pub fn write_idle_trace(path: &std::path::Path, ticks: u64) {
+    use scanline_racer::shell::race::header_for;
+    let w = scanline_racer::game::World::with_laps(circuit(), 8, 3);
+    let mut rec = scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w)).expect("create trace");
+    for _ in 0..ticks {
+        rec.controls(scanline_racer::game::Controls::default()).expect("write");
+    }
+    rec.finish().expect("flush");
 }

@@ -4,18 +4,21 @@
 
 use winit::keyboard::KeyCode;
 
+mod ghost;
+mod record;
 mod ui;
 
 use super::race_scene::{FIELD, RaceScene, View};
-use super::settings::Settings;
+use super::settings::{Settings, SettingsFile};
 use super::window::{Content, ShellError, method_key};
 use crate::game::ai::{Driver, drive};
 use crate::game::rules::{Phase, format_ticks};
 use crate::game::{Controls, DT, TICK_HZ, World};
 use crate::input::bindings::{Action, Bindings};
-use crate::input::ghost::{GhostLap, LapRecorder};
-use crate::input::replay::{TraceSource, lap_mm, step_recorded};
-use crate::input::trace::{Header, SIM_VERSION, TraceWriter};
+use crate::input::ghost::{GhostLap, GhostSearch, LapRecorder};
+use crate::input::recording::Recording;
+use crate::input::replay::{ReplayError, TraceSource, lap_mm, step_recorded};
+use crate::input::trace::{Header, SIM_VERSION};
 use crate::render::{RenderOptions, Renderer};
 
 /// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
@@ -75,8 +78,8 @@ pub struct Race {
     settings_open: bool,
     /// In a replay, where the player's controls come from.
     source: Option<TraceSource>,
-    /// When recording, where the controls go.
-    recorder: Option<TraceWriter>,
+    /// When recording, where the controls go (a file beside the target, renamed over it at the end).
+    recorder: Option<Recording>,
     /// Replay speed (1 = real time).
     speed: f64,
     /// Ticks to run while paused (single-step).
@@ -99,6 +102,8 @@ pub struct Race {
     replay_input: String,
     /// The main menu's recording toggle and the file it records to.
     record_to: (bool, String),
+    /// Whether a recorded race has replaced its target in this run.
+    kept_a_race: bool,
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
     scale: (u32, Option<u32>),
     /// Key bindings (from the settings file).
@@ -106,11 +111,15 @@ pub struct Race {
     /// The action waiting for a key press in Settings.
     rebinding: Option<Action>,
     /// Where settings are saved (none: not saved), and what was saved or loaded last.
-    settings_file: Option<(std::path::PathBuf, Settings)>,
+    settings_file: Option<SettingsFile>,
     /// The player's laps so far, the fastest kept for the ghost.
     laps_rec: LapRecorder,
     /// The lap the ghost car drives (from `--ghost FILE`, or the fastest lap of this session).
     ghost: Option<GhostLap>,
+    /// The search for the fastest lap of `--ghost FILE`, while it runs.
+    ghost_search: Option<GhostSearch>,
+    /// A faster lap from the search, waiting for the player to cross the line (the ghost never jumps mid-lap).
+    ghost_pending: Option<GhostLap>,
     /// Whether the ghost car is drawn.
     show_ghost: bool,
 }
@@ -164,40 +173,26 @@ impl Race {
             pad_ui: Vec::new(),
             replay_input: String::new(),
             record_to: (false, "race.trace".into()),
+            kept_a_race: false,
             scale: (1, None),
             bindings: Bindings::default(),
             rebinding: None,
             settings_file: None,
             laps_rec: LapRecorder::default(),
             ghost: None,
+            ghost_search: None,
+            ghost_pending: None,
             show_ghost: true,
         }
     }
 
-    /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
-    #[must_use]
-    pub fn with_ghost(mut self, lap: GhostLap) -> Self {
-        self.ghost = Some(lap);
-        self
-    }
-
-    /// Where the ghost car is this tick: on its lap as far in as the player is into theirs.
-    fn ghost_pose(&self) -> Option<crate::input::ghost::Pose> {
-        let race = &self.world.race;
-        let me = &race.standings[0];
-        if !self.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
-            return None;
-        }
-        self.ghost.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
-    }
-
     /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
-    /// changes made in Settings to `path`; `note` (a problem reading the file) is shown in the menu.
+    /// changes made in Settings to `file`; `note` (a problem reading the file) is shown in the menu.
     #[must_use]
     pub fn with_settings(
         mut self,
         settings: Settings,
-        path: Option<std::path::PathBuf>,
+        file: Option<SettingsFile>,
         scale: Option<u32>,
         note: Option<String>,
     ) -> Self {
@@ -208,7 +203,10 @@ impl Race {
         // A scale from the command line is for this run: it is saved only with a change made in Settings.
         let scale = scale.unwrap_or(settings.scale);
         self.scale = (scale, Some(scale));
-        self.settings_file = path.map(|p| (p, Settings { scale, ..settings }));
+        self.settings_file = file.map(|mut f| {
+            f.assume_saved(Settings { scale, ..settings });
+            f
+        });
         if note.is_some() {
             self.notice = note;
         }
@@ -229,13 +227,10 @@ impl Race {
     /// Saves the settings if they changed since the last save (a failure is shown, not fatal).
     fn save_settings(&mut self) {
         let now = self.current_settings();
-        if let Some((path, saved)) = &mut self.settings_file
-            && *saved != now
+        if let Some(file) = &mut self.settings_file
+            && let Err(e) = file.save(&now)
         {
-            if let Err(e) = now.save(path) {
-                self.notice = Some(e);
-            }
-            *saved = now;
+            self.notice = Some(e.to_string());
         }
     }
 
@@ -261,34 +256,28 @@ impl Race {
         &self.world
     }
 
-    /// Records the race to a trace as it is driven.
-    #[must_use]
-    pub fn recording(mut self, writer: TraceWriter) -> Self {
-        self.recorder = Some(writer);
-        self
-    }
-
     /// A replay of `source`: the trace drives the player's car; P pauses, N steps a tick, `[` and `]` halve and
     /// double the speed (1/4x to 16x), R restarts.
-    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ShellError> {
+    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &std::path::Path) -> Result<Self, ReplayError> {
         let mut race = Self::new(scene, options, 3, false);
-        race.start_replay(path).map_err(ShellError::Window)?;
+        race.start_replay(path)?;
         Ok(race)
     }
 
-    /// Switches to replaying the trace at `path` from its start; the message says what is wrong otherwise.
-    fn start_replay(&mut self, path: &std::path::Path) -> Result<(), String> {
-        let source = TraceSource::open(path).map_err(|e| e.to_string())?;
+    /// Switches to replaying the trace at `path` from its start; refuses a file that is not a trace of
+    /// this track and field.
+    fn start_replay(&mut self, path: &std::path::Path) -> Result<(), ReplayError> {
+        let source = TraceSource::open(path)?;
         if source.header.cars as usize != FIELD {
-            return Err(format!(
-                "{}: recorded with {} cars, this build races {FIELD}",
-                path.display(),
-                source.header.cars
-            ));
+            return Err(ReplayError::Cars {
+                path: path.display().to_string(),
+                found: source.header.cars,
+                expected: FIELD,
+            });
         }
         self.laps = source.header.laps;
         self.restart();
-        source.check_track(&self.world).map_err(|e| e.to_string())?;
+        source.check_track(&self.world)?;
         self.source = Some(source);
         self.replay_path = Some(path.to_path_buf());
         self.screen = Screen::Race;
@@ -331,10 +320,12 @@ impl Race {
                 }
             },
         };
-        if let Err(e) = step_recorded(&mut self.world, c, self.recorder.as_mut(), CHECKSUM_EVERY) {
-            self.notice = Some(format!("recording stopped: {e}"));
-            self.recorder = None;
+        if let Err(e) =
+            step_recorded(&mut self.world, c, self.recorder.as_mut().and_then(Recording::writer), CHECKSUM_EVERY)
+        {
+            self.end_recording(&format!("recording stopped: {e}"));
         }
+        self.take_pending_ghost();
         if self.laps_rec.observe(&self.world)
             && let Some(best) = &self.laps_rec.best
             && self.ghost.as_ref().is_none_or(|g| best.ticks() < g.ticks())
@@ -392,16 +383,7 @@ impl Race {
 
     /// Leaves the main menu for the race, recording it first when the menu's toggle asks for it.
     fn start_race(&mut self) {
-        if self.record_to.0 && self.recorder.is_none() && self.source.is_none() && self.world.tick == 0 {
-            let path = std::path::PathBuf::from(self.record_to.1.trim());
-            match TraceWriter::create(&path, &header_for(&self.world)) {
-                Ok(w) => {
-                    self.recorder = Some(w);
-                    self.notice = Some(format!("recording to {}", path.display()));
-                }
-                Err(e) => self.notice = Some(format!("not recording: {e}")),
-            }
-        }
+        self.start_recording();
         self.screen = Screen::Race;
     }
 
@@ -412,8 +394,8 @@ impl Race {
         self.keys = Keys::default();
         self.renderer.reset_lod();
         self.laps_rec.restart();
-        if self.recorder.take().is_some() {
-            self.notice = Some("recording ended at the restart".into());
+        if self.recorder.is_some() {
+            self.end_recording("recording ended at the restart");
         }
     }
 
@@ -455,6 +437,7 @@ impl Race {
 impl Content for Race {
     fn update(&mut self, dt: f64) {
         self.gamepad_events();
+        self.ghost_search_reports();
         while self.steps > 0 {
             self.steps -= 1;
             self.tick();
@@ -475,7 +458,7 @@ impl Content for Race {
     }
 
     fn key(&mut self, code: KeyCode, down: bool) -> bool {
-        let name = format!("{code:?}");
+        let name = super::keys::key_name(code);
         if let Some(action) = self.rebinding
             && down
         {
@@ -484,7 +467,7 @@ impl Content for Race {
             if code != KeyCode::Escape
                 && let Err(e) = self.bindings.bind(action, &name)
             {
-                self.notice = Some(e);
+                self.notice = Some(e.to_string());
             }
             return false;
         }
@@ -513,7 +496,7 @@ impl Content for Race {
                 if let Some(path) = self.replay_path.clone()
                     && let Err(e) = self.start_replay(&path)
                 {
-                    self.notice = Some(e);
+                    self.notice = Some(e.to_string());
                 }
             }
             (KeyCode::KeyN, _) if self.source.is_some() && self.screen == Screen::Paused => self.steps += 1,
@@ -606,7 +589,7 @@ impl Content for Race {
                             if ui.button("Replay a file").clicked() {
                                 let path = std::path::PathBuf::from(self.replay_input.trim());
                                 if let Err(e) = self.start_replay(&path) {
-                                    self.notice = Some(e);
+                                    self.notice = Some(e.to_string());
                                 }
                             }
                         });

@@ -6,6 +6,7 @@ use crate::game::rules::{Phase, format_ticks};
 use crate::input::bindings::{Action, Bindings};
 use crate::render::{Method, TextureMode};
 use crate::shell::race_scene::View;
+use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
 impl Race {
     /// Rendering and view settings (from the main and pause menus).
@@ -65,11 +66,18 @@ impl Race {
             if ui.button("Default keys").clicked() {
                 self.bindings = Bindings::default();
             }
-            if let Some((path, _)) = &self.settings_file {
-                ui.label(format!("Saved to {}", path.display()));
-            }
+            match &self.settings_file {
+                Some(f) if f.writable() => ui.label(format!("Saved to {}", f.path().display())),
+                Some(f) => ui.label(format!("Not saved: {} could not be read at start", f.path().display())),
+                None => ui.label("Not saved: no settings file"),
+            };
             let mut scale = self.scale.0;
-            if ui.add(egui::Slider::new(&mut scale, 1..=4).text("window pixels per rendered pixel ('-' '=')")).changed()
+            if ui
+                .add(
+                    egui::Slider::new(&mut scale, MIN_SCALE..=MAX_SCALE)
+                        .text("window pixels per rendered pixel ('-' '=')"),
+                )
+                .changed()
             {
                 self.scale.1 = Some(scale);
             }

@@ -1,0 +1,252 @@
+//! A race being recorded to a trace file: written to a new temporary file beside the target, and renamed
+//! over the target only when there is a race to keep.
+//!
+//! Why: recording used to create (truncate) the target at start-up, so `play --record best.trace` left a
+//! 142-byte header where the user's 58 KB race had been even when they quit from the main menu, and
+//! `play --ghost g.trace --record g.trace` destroyed the ghost it was about to race. Now the target is
+//! untouched until [`Recording::finish`]: a race of at least one tick replaces it (a race quit half-way is
+//! kept: its trace replays up to where it stopped, as a crash-cut trace does); with nothing raced the
+//! temporary file is removed and the target stays as it was. A process killed mid-race leaves the race in
+//! the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a rename that fails leaves it there too and
+//! says so; a recorded race is never deleted.
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use super::trace::{Header, TraceError, TraceWriter};
+use crate::userfile::{UserFileError, temp_sibling, write_target};
+
+/// Why a race could not be recorded or kept.
+#[derive(Debug, Error)]
+pub enum RecordError {
+    /// The target exists and is not a regular file (a folder, a FIFO, a device).
+    #[error("cannot record to {0}")]
+    Target(#[from] UserFileError),
+    /// The temporary file beside the target could not be created.
+    #[error("cannot record to {target}: cannot create {tmp}: {reason}")]
+    Create {
+        /// The file the race was to be recorded to.
+        target: PathBuf,
+        /// The temporary file.
+        tmp: PathBuf,
+        /// The operating system's reason.
+        reason: String,
+    },
+    /// Writing the trace failed.
+    #[error("recording stopped: {0}")]
+    Write(#[from] TraceError),
+    /// The recorded race could not be moved into place; it is still in the temporary file.
+    #[error("the race is recorded in {tmp} but could not be renamed to {target}: {reason}; rename it to keep it")]
+    Keep {
+        /// The temporary file holding the race.
+        tmp: PathBuf,
+        /// The file it was meant to replace.
+        target: PathBuf,
+        /// The operating system's reason.
+        reason: String,
+    },
+}
+
+/// What [`Recording::finish`] did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Kept {
+    /// The race replaced the target.
+    Race {
+        /// The target, as named by the user.
+        path: PathBuf,
+        /// Ticks recorded.
+        ticks: u64,
+    },
+    /// Nothing was raced: the temporary file is gone and the target is as it was.
+    Nothing {
+        /// The target, as named by the user.
+        path: PathBuf,
+    },
+}
+
+impl std::fmt::Display for Kept {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Kept::Race { path, ticks } => write!(
+                f,
+                "recorded {ticks} ticks ({:.1} s) to {}",
+                *ticks as f64 / f64::from(crate::game::TICK_HZ),
+                path.display()
+            ),
+            Kept::Nothing { path } => write!(f, "no race to record: {} not written", path.display()),
+        }
+    }
+}
+
+/// A trace being written beside its target (see the module documentation).
+pub struct Recording {
+    /// The target as named by the user (for messages).
+    target: PathBuf,
+    /// The file the rename replaces: the target, or the file its symbolic link names.
+    dest: PathBuf,
+    /// The temporary file being written.
+    tmp: PathBuf,
+    /// `None` once finished.
+    writer: Option<TraceWriter>,
+}
+
+impl Recording {
+    /// Starts recording a race with `header` for `target`: checks that the target is a regular file or
+    /// does not exist, and writes the header to a new temporary file beside it (never touching the target).
+    pub fn start(target: &Path, header: &Header) -> Result<Self, RecordError> {
+        let dest = write_target(target);
+        match crate::userfile::check_regular(&dest, u64::MAX, "a trace") {
+            Ok(_) => {}
+            Err(e) if e.is_not_found() => {}
+            Err(e) => return Err(e.into()),
+        }
+        let tmp = temp_sibling(&dest);
+        let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|e| {
+            RecordError::Create { target: target.to_path_buf(), tmp: tmp.clone(), reason: e.to_string() }
+        })?;
+        match TraceWriter::new(file, &tmp.display().to_string(), header) {
+            Ok(w) => Ok(Self { target: target.to_path_buf(), dest, tmp, writer: Some(w) }),
+            Err(e) => {
+                let _ = std::fs::remove_file(&tmp);
+                Err(e.into())
+            }
+        }
+    }
+
+    /// The writer, for [`super::replay::step_recorded`]; `None` once finished.
+    pub fn writer(&mut self) -> Option<&mut TraceWriter> {
+        self.writer.as_mut()
+    }
+
+    /// The file being recorded to, as named by the user.
+    #[must_use]
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Ends the recording: renames the temporary file over the target when at least one tick was
+    /// recorded, else removes it. Calling it again does nothing and returns [`Kept::Nothing`].
+    pub fn finish(&mut self) -> Result<Kept, RecordError> {
+        let nothing = Kept::Nothing { path: self.target.clone() };
+        let Some(mut writer) = self.writer.take() else {
+            let _ = std::fs::remove_file(&self.tmp);
+            return Ok(nothing);
+        };
+        let ticks = writer.ticks();
+        if ticks == 0 {
+            drop(writer);
+            let _ = std::fs::remove_file(&self.tmp);
+            return Ok(nothing);
+        }
+        let keep = |reason: String| RecordError::Keep { tmp: self.tmp.clone(), target: self.target.clone(), reason };
+        writer.sync().map_err(|e| keep(e.to_string()))?;
+        drop(writer);
+        std::fs::rename(&self.tmp, &self.dest).map_err(|e| keep(e.to_string()))?;
+        Ok(Kept::Race { path: self.target.clone(), ticks })
+    }
+}
+
+impl Drop for Recording {
+    /// A recording dropped without [`Recording::finish`] (a panic, an early return) is finished here; a
+    /// failure can only be printed.
+    fn drop(&mut self) {
+        if self.writer.is_some()
+            && let Err(e) = self.finish()
+        {
+            eprintln!("scanline-racer: error: {e}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::game::Controls;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("recording-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn header() -> Header {
+        Header {
+            sim_version: super::super::trace::SIM_VERSION,
+            game_version: "test".into(),
+            track_length_mm: 1000,
+            cars: 8,
+            laps: 3,
+            seed: 0,
+            tick_hz: crate::game::TICK_HZ,
+            checksum_every: 120,
+        }
+    }
+
+    fn files(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn nothing_raced_leaves_the_target_as_it_was() {
+        let d = dir("nothing");
+        let target = d.join("best.trace");
+        std::fs::write(&target, b"the user's race").unwrap();
+        let mut rec = Recording::start(&target, &header()).unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"the user's race", "untouched while recording");
+        assert_eq!(files(&d).len(), 2, "the temporary file is beside it: {:?}", files(&d));
+        assert_eq!(rec.finish().unwrap(), Kept::Nothing { path: target.clone() });
+        assert_eq!(std::fs::read(&target).unwrap(), b"the user's race");
+        assert_eq!(files(&d), ["best.trace"]);
+        // Dropped without finishing: the same.
+        drop(Recording::start(&target, &header()).unwrap());
+        assert_eq!(files(&d), ["best.trace"]);
+    }
+
+    #[test]
+    fn a_race_replaces_the_target_and_a_failed_rename_keeps_the_race() {
+        let d = dir("race");
+        let target = d.join("best.trace");
+        std::fs::write(&target, b"old").unwrap();
+        let mut rec = Recording::start(&target, &header()).unwrap();
+        for _ in 0..3 {
+            rec.writer().unwrap().controls(Controls { steer: 0.5, throttle: 1.0, brake: 0.0 }).unwrap();
+        }
+        assert_eq!(rec.finish().unwrap(), Kept::Race { path: target.clone(), ticks: 3 });
+        let bytes = std::fs::read(&target).unwrap();
+        assert!(bytes.starts_with(super::super::trace::MAGIC) && bytes.ends_with(&[1, 0x00, 0x40, 255, 0]));
+        assert_eq!(files(&d), ["best.trace"]);
+        // The target turned into a folder with a file in it meanwhile: the rename fails, the race stays.
+        let mut rec = Recording::start(&target, &header()).unwrap();
+        rec.writer().unwrap().controls(Controls::default()).unwrap();
+        std::fs::remove_file(&target).unwrap();
+        std::fs::create_dir_all(target.join("inside")).unwrap();
+        let e = rec.finish().unwrap_err();
+        let RecordError::Keep { tmp, .. } = &e else { panic!("{e}") };
+        assert!(tmp.exists() && std::fs::read(tmp).unwrap().starts_with(super::super::trace::MAGIC));
+        let msg = e.to_string();
+        assert!(msg.contains(&tmp.display().to_string()) && msg.ends_with("rename it to keep it"), "{msg}");
+        assert!(!msg.contains('\n'));
+    }
+
+    #[test]
+    fn a_folder_is_refused_and_a_link_is_followed() {
+        let d = dir("refuse");
+        let e = Recording::start(&d, &header()).err().unwrap();
+        assert!(e.to_string().ends_with("is a folder, not a regular file"), "{e}");
+        #[cfg(unix)]
+        {
+            std::fs::write(d.join("real.trace"), b"old").unwrap();
+            std::os::unix::fs::symlink("real.trace", d.join("link.trace")).unwrap();
+            let mut rec = Recording::start(&d.join("link.trace"), &header()).unwrap();
+            rec.writer().unwrap().controls(Controls::default()).unwrap();
+            rec.finish().unwrap();
+            assert!(std::fs::symlink_metadata(d.join("link.trace")).unwrap().file_type().is_symlink());
+            assert!(std::fs::read(d.join("real.trace")).unwrap().starts_with(super::super::trace::MAGIC));
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! An Xvfb server for the window tests, and xdotool to type into the window.
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+/// An Xvfb server on a free display, killed when dropped.
+pub struct Xvfb {
+    child: Child,
+    /// The display, as `:N`.
+    pub display: String,
+}
+
+static NEXT: AtomicUsize = AtomicUsize::new(0);
+
+/// Set (by `scripts/test`, hence CI) to make a missing Xvfb a failure instead of a plainly reported skip.
+pub const REQUIRE: &str = "SCANLINE_RACER_REQUIRE_XVFB";
+
+impl Xvfb {
+    /// Starts Xvfb; `None` (after saying so plainly) when it is not installed and not required.
+    pub fn start() -> Option<Xvfb> {
+        for _ in 0..50 {
+            // Tests in this binary run in parallel: each takes its own display number.
+            let num = 90 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
+            if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
+                continue;
+            }
+            let child = Command::new("Xvfb")
+                .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn();
+            let mut child = match child {
+                Ok(c) => c,
+                Err(e) if std::env::var_os(REQUIRE).is_some() => {
+                    panic!("cannot start Xvfb ({e}) and {REQUIRE} is set: install it (apt-get install xvfb)")
+                }
+                Err(e) => {
+                    eprintln!(
+                        "NOT RUN: this window test needs Xvfb, which cannot be started here ({e}); scripts/test installs it"
+                    );
+                    return None;
+                }
+            };
+            let socket = format!("/tmp/.X11-unix/X{num}");
+            let t = Instant::now();
+            while t.elapsed() < Duration::from_secs(10) {
+                if let Ok(Some(_)) = child.try_wait() {
+                    break; // this display was taken after all: try another
+                }
+                if Path::new(&socket).exists() {
+                    // The socket appears just before the server accepts; give it a moment.
+                    std::thread::sleep(Duration::from_millis(100));
+                    return Some(Xvfb { child, display: format!(":{num}") });
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+        panic!("no Xvfb display came up");
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Runs `xdotool` with `args` on `display`; false when it is not installed (and not required).
+pub fn xdotool(display: &str, args: &[&str]) -> Option<String> {
+    match Command::new("xdotool").args(args).env("DISPLAY", display).output() {
+        Ok(o) if o.status.success() => Some(String::from_utf8_lossy(&o.stdout).trim().to_string()),
+        Ok(o) => panic!("xdotool {args:?}: {}", String::from_utf8_lossy(&o.stderr)),
+        Err(e) if std::env::var_os(REQUIRE).is_some() => panic!("cannot run xdotool ({e}) and {REQUIRE} is set"),
+        Err(e) => {
+            eprintln!("NOT RUN: this window test needs xdotool ({e}); scripts/test installs it");
+            None
+        }
+    }
+}
