@@ -126,7 +126,7 @@ fn centre_line(points: &[(f64, f64)]) -> String {
 #[test]
 fn degenerate_centre_lines_are_refused_naming_the_sample() {
     let circle = |n: usize, r: f64| -> Vec<(f64, f64)> {
-        (0..n).map(|i| (i as f64 / n as f64 * std::f64::consts::TAU).sin_cos()).map(|(s, c)| (r * c, r * s)).collect()
+        (0..n).map(|i| libm::sincos(i as f64 / n as f64 * std::f64::consts::TAU)).map(|(s, c)| (r * c, r * s)).collect()
     };
     let mut repeated = circle(100, 200.0);
     repeated[41] = repeated[40];

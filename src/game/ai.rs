@@ -96,7 +96,7 @@ mod tests {
         // 2 m wide: the aiming margin (1.2 m each side) is wider than the road's half.
         let pts: Vec<(Vec3, f32, f32)> = (0..200)
             .map(|i| i as f32 / 200.0 * std::f32::consts::TAU)
-            .map(|a| (Vec3::new(100.0 * a.cos(), 0.0, -100.0 * a.sin()), 0.0, 2.0))
+            .map(|a| (Vec3::new(100.0 * libm::cosf(a), 0.0, -100.0 * libm::sinf(a)), 0.0, 2.0))
             .collect();
         let track = Track::new(&pts).unwrap_or_else(|e| panic!("{e}"));
         let car = Car::on_grid(&track, 10.0, 0.0);

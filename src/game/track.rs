@@ -348,7 +348,7 @@ mod tests {
         let ring = |r: f32| -> Vec<(Vec3, f32, f32)> {
             (0..100)
                 .map(|i| i as f32 / 100.0 * std::f32::consts::TAU)
-                .map(|a| (Vec3::new(r * a.cos(), 0.0, r * a.sin()), 0.0, 12.0))
+                .map(|a| (Vec3::new(r * libm::cosf(a), 0.0, r * libm::sinf(a)), 0.0, 12.0))
                 .collect()
         };
         assert!(Track::new(&ring(100.0)).is_ok());
