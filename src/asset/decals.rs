@@ -15,12 +15,17 @@ use glam::{Vec2, Vec3};
 
 use crate::render::Mesh;
 
-/// Most polygon pairs compared per mesh (a bound for huge flat meshes).
-const MAX_PAIRS: usize = 2_000_000;
-
 /// Sets [`crate::render::Material::depth_bias`] on every material of `mesh` whose polygons lie on and over
 /// polygons of an earlier material; returns how many materials were marked.
-pub fn mark_decals(mesh: &mut Mesh) -> usize {
+///
+/// `pairs_left` is the work budget, in polygon pairs compared, that this call takes from: the loader
+/// passes one budget shared by all the meshes of a load ([`crate::asset::LoadBudget::decal_pairs`]), so
+/// the time spent grows with the budget, not with the number of meshes. When it runs out, the rest of the
+/// mesh (and any later mesh) is left unmarked: its decals fight in the z-buffer, nothing else changes.
+pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
+    if *pairs_left == 0 {
+        return 0;
+    }
     let size = mesh.bounds().radius.max(1e-6);
     let tol = 1e-4 * size;
     let polys = mesh.polygons();
@@ -36,7 +41,6 @@ pub fn mark_decals(mesh: &mut Mesh) -> usize {
     }
     let materials = mesh.materials().len();
     let mut bias = vec![0u8; materials];
-    let mut pairs = 0usize;
     // Materials in order, so a surface's own bias is final before the decals on it are set.
     let mut by_material: Vec<Vec<usize>> = vec![vec![]; materials];
     for (i, p) in polys.iter().enumerate() {
@@ -55,10 +59,10 @@ pub fn mark_decals(mesh: &mut Mesh) -> usize {
                     if under >= m {
                         continue;
                     }
-                    pairs += 1;
-                    if pairs > MAX_PAIRS {
+                    if *pairs_left == 0 {
                         break 'poly;
                     }
+                    *pairs_left -= 1;
                     if overlap_in_plane(mesh, i, j, n, tol) {
                         bias[m] = bias[m].max(bias[under].saturating_add(1));
                     }
@@ -175,7 +179,9 @@ mod tests {
         quad(&mut b, lifted, 2.0, 3.0, 0.5);
         quad(&mut b, beside, 10.0, 12.0, 0.0); // touches the road's edge only
         let mut mesh = b.build().unwrap();
-        assert_eq!(mark_decals(&mut mesh), 2);
+        let mut pairs = 1000;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 2);
+        assert!(pairs < 1000, "the pairs compared are taken from the budget");
         let biases: Vec<u8> = mesh.materials().iter().map(|m| m.depth_bias).collect();
         assert_eq!(biases, [0, 1, 2, 0, 0]);
     }
