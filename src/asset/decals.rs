@@ -8,6 +8,13 @@
 //! (planes are bucketed by those quantized values, and neighbouring offset buckets are searched too).
 //! Over means the two polygons' outlines, projected onto that plane, overlap by more than that tolerance
 //! (separating axes on their convex hulls).
+//!
+//! The search compares pairs of polygons in one plane bucket, which is quadratic in a flat mesh; its work
+//! is bounded by one budget of pairs for the whole load ([`crate::asset::LoadBudget::decal_pairs`], 4 Mi by
+//! default, about a third of a second), shared by all meshes in load order, so a file of many flat meshes
+//! costs no more than one. A material stops being searched once it has the highest bias it can get, so an
+//! honest decal layer costs a few pairs. Past the budget, decals are left unmarked (they fight in the
+//! z-buffer; painter's methods still draw them in order).
 
 use std::collections::BTreeMap;
 
@@ -48,15 +55,22 @@ pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
             v.push(i);
         }
     }
+    // The highest bias of the materials before `m`: `m` can get at most one more, and once it has that, the
+    // rest of its polygons cannot change anything.
+    let mut below = 0u8;
     for (m, members) in by_material.iter().enumerate() {
+        let ceiling = below.saturating_add(1);
         'poly: for &i in members {
+            if bias[m] >= ceiling {
+                break;
+            }
             let Some((n, d)) = planes[i] else { continue };
             let (kx, ky, kz, kd) = key(n, d, tol);
             for dd in [kd - 1, kd, kd + 1] {
                 let Some(cands) = buckets.get(&(kx, ky, kz, dd)) else { continue };
                 for &j in cands {
                     let under = polys[j].material as usize;
-                    if under >= m {
+                    if under >= m || bias[under] < bias[m] {
                         continue;
                     }
                     if *pairs_left == 0 {
@@ -69,6 +83,7 @@ pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
                 }
             }
         }
+        below = below.max(bias[m]);
     }
     let mut marked = 0;
     for (mat, b) in mesh.materials_mut().iter_mut().zip(bias) {
