@@ -204,7 +204,9 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     if args.repeat == 0 || args.repeat > 100_000 {
         return Err(CliError::BadArgument(format!("--repeat {}: expected 1 to 100000", args.repeat)));
     }
+    let t_load = Instant::now();
     let mut scene = load(&args.scene)?;
+    let ms_load = t_load.elapsed().as_secs_f64() * 1e3;
     if options.method == Method::ViewLists {
         scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
     }
@@ -257,6 +259,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
                 "width": args.width,
                 "height": args.height,
                 "frames": args.repeat,
+                "ms_load": ms_load,
                 "ms_median": ms_median,
                 "ms_min": ms_min,
                 "ms_transform": stats.ms_transform,
