@@ -181,8 +181,16 @@ pub fn load_from_slice_with_budget(
     Ok(loader.out)
 }
 
+/// Most characters of a parser's message kept in an error (validation lists every problem it finds).
+const MAX_REASON_CHARS: usize = 400;
+
+/// A parser's message on one line, cut to [`MAX_REASON_CHARS`].
 fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
+    let line = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    match line.char_indices().nth(MAX_REASON_CHARS) {
+        Some((cut, _)) => format!("{} … ({} more characters)", &line[..cut], line.len() - cut),
+        None => line,
+    }
 }
 
 /// The state of one load; the mesh building half is in [`super::meshes`].
