@@ -221,6 +221,16 @@ fn fields_the_gltf_crate_would_unwrap_are_refused_in_one_line() {
         ),
         ("noimage.gltf", textured(json!({})), "image 0: has neither a uri nor a bufferView"),
         ("nomime.gltf", textured(json!({"bufferView": 0})), "image 0: has a bufferView but no mimeType"),
+        // The crate's own validation indexes this accessor unchecked (found by tests/gltf_fuzz.rs).
+        (
+            "position.gltf",
+            {
+                let mut doc = triangle_doc(json!({}));
+                doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9.into();
+                doc
+            },
+            "mesh 0 primitive 0: POSITION names accessor 9, which does not exist",
+        ),
     ];
     for (name, doc, needle) in cases {
         let r = render(&write_json(&d, name, &doc), 256, 20);

@@ -66,7 +66,7 @@ pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
             }
             let Some((n, d)) = planes[i] else { continue };
             let (kx, ky, kz, kd) = key(n, d, tol);
-            for dd in [kd - 1, kd, kd + 1] {
+            for dd in [kd.saturating_sub(1), kd, kd.saturating_add(1)] {
                 let Some(cands) = buckets.get(&(kx, ky, kz, dd)) else { continue };
                 for &j in cands {
                     let under = polys[j].material as usize;
@@ -199,5 +199,18 @@ mod tests {
         assert!(pairs < 1000, "the pairs compared are taken from the budget");
         let biases: Vec<u8> = mesh.materials().iter().map(|m| m.depth_bias).collect();
         assert_eq!(biases, [0, 1, 2, 0, 0]);
+    }
+
+    #[test]
+    fn a_tiny_mesh_far_away_does_not_overflow_the_plane_key() {
+        // Offset / tolerance is past i64: the key saturates, and its neighbours must too.
+        let mut b = MeshBuilder::new();
+        let under = b.material(Material::default());
+        let over = b.material(Material::default());
+        quad(&mut b, under, 0.0, 1e-3, 1e20);
+        quad(&mut b, over, 0.0, 1e-3, 1e20);
+        let mut mesh = b.build().unwrap();
+        let mut pairs = 100;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 1);
     }
 }

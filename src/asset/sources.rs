@@ -48,6 +48,7 @@ pub fn parse(bytes: &[u8]) -> Result<Parsed<'_>, String> {
     };
     let root: gltf::json::Root =
         gltf::json::deserialize::from_slice(&json).map_err(|e| gltf::Error::Deserialize(e).to_string())?;
+    super::validate::check_before_validation(&root).map_err(|e| e.to_string())?;
     let doc = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
     Ok(Parsed { doc, blob })
 }

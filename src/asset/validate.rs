@@ -4,7 +4,9 @@
 //! it checks and panic on a document it accepted: `Camera::projection` unwraps the object named by `type`
 //! (`"type": "orthographic"` with only a `perspective` object), `Image::source` unwraps `uri` when there is
 //! no `bufferView` (an image `{}`) and `mimeType` when there is one. These are checked here, on the
-//! `gltf::json` types, before the loader calls any accessor. The other accessors the loader calls
+//! `gltf::json` types, before the loader calls any accessor. One check must come before the crate's own
+//! validation, which indexes the accessor a primitive's `POSITION` names without checking it exists
+//! ([`check_before_validation`]; found by the fuzz target). The other accessors the loader calls
 //! (samplers, texture sources, accessor views and sparse storage, materials, primitive modes, node
 //! children, cameras and meshes) unwrap only indices and enum values that validation does check; the
 //! fuzz target (`tests/gltf_fuzz.rs`) holds the loader to that.
@@ -37,6 +39,16 @@ pub enum Unsupported {
         /// glTF image index.
         image: usize,
     },
+    /// A primitive's `POSITION` names an accessor that does not exist.
+    #[error("mesh {mesh} primitive {primitive}: POSITION names accessor {accessor}, which does not exist")]
+    PositionAccessor {
+        /// glTF mesh index.
+        mesh: usize,
+        /// Primitive index within the mesh.
+        primitive: usize,
+        /// The accessor index it names.
+        accessor: usize,
+    },
     /// An image in a buffer view has no `mimeType` (required with `bufferView`).
     #[error("image {image}: has a bufferView but no mimeType")]
     ImageMime {
@@ -45,7 +57,24 @@ pub enum Unsupported {
     },
 }
 
-/// Checks the fields whose accessors would panic; the first problem found is returned.
+/// Checks what `gltf::Document::validate` itself would index unchecked (it panics on a `POSITION` naming a
+/// missing accessor); run on the deserialized root before validating it.
+pub fn check_before_validation(root: &Root) -> Result<(), Unsupported> {
+    use gltf::json::mesh::Semantic;
+    for (mesh, m) in root.meshes.iter().enumerate() {
+        for (primitive, p) in m.primitives.iter().enumerate() {
+            if let Some(index) = p.attributes.get(&Checked::Valid(Semantic::Positions))
+                && index.value() >= root.accessors.len()
+            {
+                return Err(Unsupported::PositionAccessor { mesh, primitive, accessor: index.value() });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks the fields whose accessors would panic on a validated document; the first problem found is
+/// returned.
 pub fn check(root: &Root) -> Result<(), Unsupported> {
     for (camera, c) in root.cameras.iter().enumerate() {
         match c.type_ {
@@ -99,5 +128,12 @@ mod tests {
         assert_eq!(check(&empty), Err(Unsupported::ImageSource { image: 1 }));
         let nomime = root(r#"{"asset":{"version":"2.0"},"images":[{"bufferView":0}]}"#);
         assert_eq!(check(&nomime), Err(Unsupported::ImageMime { image: 0 }));
+        let missing = root(
+            r#"{"asset":{"version":"2.0"},"accessors":[],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#,
+        );
+        assert_eq!(
+            check_before_validation(&missing),
+            Err(Unsupported::PositionAccessor { mesh: 0, primitive: 0, accessor: 0 })
+        );
     }
 }
