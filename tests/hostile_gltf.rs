@@ -407,6 +407,18 @@ fn devices_and_fifos_are_refused_without_blocking() {
     assert_refused(&render(&write_json(&d, "fifo-buffer.gltf", &doc), 192, 10), &["buffer 1", "is a FIFO"]);
 }
 
+#[test]
+fn play_scene_refuses_what_render_refuses_before_opening_a_window() {
+    let d = dir("play");
+    let doc = triangle_doc(json!({"cameras": [{"type": "orthographic", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "nodes": [{"camera": 0}]}));
+    let p = write_json(&d, "camera.gltf", &doc);
+    for (scene, needle) in [(p.to_str().unwrap(), "type is orthographic"), ("/dev/zero", "is a device")] {
+        let r = run_bounded(&["play", "--scene", scene], 256, 20);
+        assert_refused(&r, &[needle]);
+    }
+}
+
 // 3. Hangs.
 
 #[test]

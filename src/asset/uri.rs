@@ -178,6 +178,27 @@ mod tests {
     }
 
     #[test]
+    fn locating_reads_nothing_and_names_one_file_one_way() {
+        let d = std::env::temp_dir().join(format!("uri-locate-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        std::fs::write(d.join("sub/a.bin"), [7u8; 5]).unwrap();
+        let a = locate("sub/a.bin", &d).unwrap();
+        let b = locate("./sub/%61.bin", &d).unwrap();
+        assert_eq!(a, b, "two spellings locate one canonical path");
+        assert_eq!(a.size_bound(), 5);
+        assert_eq!(a.read().unwrap(), [7u8; 5]);
+        assert_eq!(locate("data:;base64,AAECAw==", &d).unwrap().size_bound(), 6, "a bound, not exact");
+        #[cfg(unix)]
+        {
+            let fifo = d.join("pipe.bin");
+            assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+            let e = locate("pipe.bin", &d).unwrap_err();
+            assert!(e.to_string().ends_with("is a FIFO, not a regular file"), "{e}");
+        }
+    }
+
+    #[test]
     fn decodes_data_uris() {
         assert_eq!(resolve("data:application/octet-stream;base64,AAEC", Path::new(".")).unwrap(), [0, 1, 2]);
         assert_eq!(resolve("data:,a%20b", Path::new(".")).unwrap(), b"a b");
