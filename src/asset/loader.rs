@@ -11,8 +11,9 @@
 //! Every cost is charged to the load's [`Meter`]: buffer and image bytes, decoded texels, accessor values,
 //! vertices and polygons after instancing, node visits and depth (see [`LoadBudget`] for the defaults). A
 //! file that needs more is refused with [`AssetError::Budget`], one line that names the limit. Meshes are
-//! stored once however often they are placed; the scene's bounds come from each mesh's local box, computed
-//! once, with its eight corners transformed per placement.
+//! stored once however often they are placed. The scene's bounds transform every placed vertex up to
+//! [`EXACT_BOUNDS_VERTICES`] per load, then each placement's local box (computed once per mesh) by its
+//! eight corners, so a hierarchy that places a big mesh many times costs 8 transforms per placement.
 //!
 //! A placement whose world transform has a negative determinant mirrors the mesh, and glTF says the front
 //! face flips with it: such an instance draws a winding-reversed copy of its mesh (made once per mesh and
@@ -212,26 +213,46 @@ pub(super) struct Loader<'a> {
     local_bounds: Vec<Option<(Vec3, Vec3)>>,
 }
 
+/// Vertex transforms the scene's bounds may spend per load on exact boxes (4 Mi, tens of milliseconds):
+/// placements are bounded by transforming every vertex of their mesh until this runs out, then by the
+/// eight corners of the mesh's local box (a conservative box, looser under rotation). The budget caps
+/// vertices after instancing anyway; this keeps a scene of millions of them from paying twice.
+pub const EXACT_BOUNDS_VERTICES: u64 = 1 << 22;
+
 /// The world-space box of everything placed so far.
 struct Bounds {
     lo: Vec3,
     hi: Vec3,
+    /// Vertex transforms left for exact boxes.
+    exact_left: u64,
 }
 
 impl Bounds {
-    fn add(&mut self, local: Option<(Vec3, Vec3)>, world: Mat4) {
+    fn grow(&mut self, p: Vec3) {
+        if p.is_finite() {
+            self.lo = self.lo.min(p);
+            self.hi = self.hi.max(p);
+        }
+    }
+
+    /// Adds `mesh` placed at `world`: exactly while the work allows, else its local box's corners.
+    fn add(&mut self, mesh: &Mesh, local: Option<(Vec3, Vec3)>, world: Mat4) {
         let Some((lo, hi)) = local else { return };
+        let n = mesh.vertices().len() as u64;
+        if n <= self.exact_left {
+            self.exact_left -= n;
+            for v in mesh.vertices() {
+                self.grow(world.transform_point3(v.position));
+            }
+            return;
+        }
         for k in 0..8 {
             let corner = Vec3::new(
                 if k & 1 == 0 { lo.x } else { hi.x },
                 if k & 2 == 0 { lo.y } else { hi.y },
                 if k & 4 == 0 { lo.z } else { hi.z },
             );
-            let p = world.transform_point3(corner);
-            if p.is_finite() {
-                self.lo = self.lo.min(p);
-                self.hi = self.hi.max(p);
-            }
+            self.grow(world.transform_point3(corner));
         }
     }
 }
@@ -270,7 +291,11 @@ impl<'a> Loader<'a> {
         // The current node's ancestors (depth-first, so the path is the stack of nodes above it).
         let mut path: Vec<usize> = vec![];
         let mut on_path = vec![false; doc.nodes().len()];
-        let mut bounds = Bounds { lo: Vec3::splat(f32::INFINITY), hi: Vec3::splat(f32::NEG_INFINITY) };
+        let mut bounds = Bounds {
+            lo: Vec3::splat(f32::INFINITY),
+            hi: Vec3::splat(f32::NEG_INFINITY),
+            exact_left: EXACT_BOUNDS_VERTICES,
+        };
         while let Some((node, parent, depth, named_lods)) = stack.pop() {
             let at = || format!("node {}", node.index());
             self.meter
@@ -355,7 +380,9 @@ impl<'a> Loader<'a> {
             .charge(Limit::Vertices, vertices)
             .and_then(|()| self.meter.charge(Limit::Polygons, polygons))
             .map_err(|over| AssetError::budget(&self.file, format!("node {}", node.index()), over))?;
-        bounds.add(self.local_bounds.get(meshes[0]).copied().flatten(), world);
+        if let Some(mesh) = self.out.meshes.get(meshes[0]) {
+            bounds.add(mesh, self.local_bounds.get(meshes[0]).copied().flatten(), world);
+        }
         if alternates.is_empty() {
             self.out.instances.push(Instance::new(meshes[0], world));
         } else {
