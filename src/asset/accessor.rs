@@ -75,8 +75,8 @@ fn read_index(bytes: &[u8], t: DataType) -> Option<u32> {
 }
 
 /// The bytes of a buffer view, checked against its buffer.
-fn view_bytes<'b>(view: &gltf::buffer::View<'_>, buffers: &'b [Vec<u8>]) -> Result<&'b [u8], String> {
-    let buf = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
+fn view_bytes<'b>(view: &gltf::buffer::View<'_>, buffers: &[&'b [u8]]) -> Result<&'b [u8], String> {
+    let buf: &'b [u8] = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
     let end = view.offset().checked_add(view.length()).ok_or("buffer view range overflows")?;
     buf.get(view.offset()..end).ok_or_else(|| {
         format!(
@@ -110,11 +110,11 @@ fn strided<'b>(
 }
 
 /// Reads an accessor as `f32` components; errors name the accessor.
-pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Elements, String> {
+pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, String> {
     read_floats_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
 }
 
-fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Elements, String> {
+fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, String> {
     let count = acc.count();
     if count > MAX_ELEMENTS {
         return Err(format!("{count} elements exceed the limit of {MAX_ELEMENTS}"));
@@ -167,11 +167,11 @@ fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<El
 }
 
 /// Reads an index accessor (unsigned scalar) as `u32`; errors name the accessor.
-pub fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+pub fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, String> {
     read_indices_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
 }
 
-fn read_indices_inner(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+fn read_indices_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, String> {
     if acc.dimensions() != Dimensions::Scalar
         || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
     {

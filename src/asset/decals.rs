@@ -8,6 +8,13 @@
 //! (planes are bucketed by those quantized values, and neighbouring offset buckets are searched too).
 //! Over means the two polygons' outlines, projected onto that plane, overlap by more than that tolerance
 //! (separating axes on their convex hulls).
+//!
+//! The search compares pairs of polygons in one plane bucket, which is quadratic in a flat mesh; its work
+//! is bounded by one budget of pairs for the whole load ([`crate::asset::LoadBudget::decal_pairs`], 4 Mi by
+//! default, about a third of a second), shared by all meshes in load order, so a file of many flat meshes
+//! costs no more than one. A material stops being searched once it has the highest bias it can get, so an
+//! honest decal layer costs a few pairs. Past the budget, decals are left unmarked (they fight in the
+//! z-buffer; painter's methods still draw them in order).
 
 use std::collections::BTreeMap;
 
@@ -15,12 +22,17 @@ use glam::{Vec2, Vec3};
 
 use crate::render::Mesh;
 
-/// Most polygon pairs compared per mesh (a bound for huge flat meshes).
-const MAX_PAIRS: usize = 2_000_000;
-
 /// Sets [`crate::render::Material::depth_bias`] on every material of `mesh` whose polygons lie on and over
 /// polygons of an earlier material; returns how many materials were marked.
-pub fn mark_decals(mesh: &mut Mesh) -> usize {
+///
+/// `pairs_left` is the work budget, in polygon pairs compared, that this call takes from: the loader
+/// passes one budget shared by all the meshes of a load ([`crate::asset::LoadBudget::decal_pairs`]), so
+/// the time spent grows with the budget, not with the number of meshes. When it runs out, the rest of the
+/// mesh (and any later mesh) is left unmarked: its decals fight in the z-buffer, nothing else changes.
+pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
+    if *pairs_left == 0 {
+        return 0;
+    }
     let size = mesh.bounds().radius.max(1e-6);
     let tol = 1e-4 * size;
     let polys = mesh.polygons();
@@ -36,7 +48,6 @@ pub fn mark_decals(mesh: &mut Mesh) -> usize {
     }
     let materials = mesh.materials().len();
     let mut bias = vec![0u8; materials];
-    let mut pairs = 0usize;
     // Materials in order, so a surface's own bias is final before the decals on it are set.
     let mut by_material: Vec<Vec<usize>> = vec![vec![]; materials];
     for (i, p) in polys.iter().enumerate() {
@@ -44,27 +55,35 @@ pub fn mark_decals(mesh: &mut Mesh) -> usize {
             v.push(i);
         }
     }
+    // The highest bias of the materials before `m`: `m` can get at most one more, and once it has that, the
+    // rest of its polygons cannot change anything.
+    let mut below = 0u8;
     for (m, members) in by_material.iter().enumerate() {
+        let ceiling = below.saturating_add(1);
         'poly: for &i in members {
+            if bias[m] >= ceiling {
+                break;
+            }
             let Some((n, d)) = planes[i] else { continue };
             let (kx, ky, kz, kd) = key(n, d, tol);
-            for dd in [kd - 1, kd, kd + 1] {
+            for dd in [kd.saturating_sub(1), kd, kd.saturating_add(1)] {
                 let Some(cands) = buckets.get(&(kx, ky, kz, dd)) else { continue };
                 for &j in cands {
                     let under = polys[j].material as usize;
-                    if under >= m {
+                    if under >= m || bias[under] < bias[m] {
                         continue;
                     }
-                    pairs += 1;
-                    if pairs > MAX_PAIRS {
+                    if *pairs_left == 0 {
                         break 'poly;
                     }
+                    *pairs_left -= 1;
                     if overlap_in_plane(mesh, i, j, n, tol) {
                         bias[m] = bias[m].max(bias[under].saturating_add(1));
                     }
                 }
             }
         }
+        below = below.max(bias[m]);
     }
     let mut marked = 0;
     for (mat, b) in mesh.materials_mut().iter_mut().zip(bias) {
@@ -175,8 +194,23 @@ mod tests {
         quad(&mut b, lifted, 2.0, 3.0, 0.5);
         quad(&mut b, beside, 10.0, 12.0, 0.0); // touches the road's edge only
         let mut mesh = b.build().unwrap();
-        assert_eq!(mark_decals(&mut mesh), 2);
+        let mut pairs = 1000;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 2);
+        assert!(pairs < 1000, "the pairs compared are taken from the budget");
         let biases: Vec<u8> = mesh.materials().iter().map(|m| m.depth_bias).collect();
         assert_eq!(biases, [0, 1, 2, 0, 0]);
+    }
+
+    #[test]
+    fn a_tiny_mesh_far_away_does_not_overflow_the_plane_key() {
+        // Offset / tolerance is past i64: the key saturates, and its neighbours must too.
+        let mut b = MeshBuilder::new();
+        let under = b.material(Material::default());
+        let over = b.material(Material::default());
+        quad(&mut b, under, 0.0, 1e-3, 1e20);
+        quad(&mut b, over, 0.0, 1e-3, 1e20);
+        let mut mesh = b.build().unwrap();
+        let mut pairs = 100;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 1);
     }
 }

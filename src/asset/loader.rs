@@ -1,35 +1,44 @@
-//! The glTF loader: document, buffers, images, node hierarchy, meshes, materials and cameras.
+//! The glTF loader: the document, its buffers and images, the node hierarchy, meshes, materials, cameras,
+//! all within one [`LoadBudget`].
+//!
+//! A load goes: read the file ([`crate::userfile::read_regular`]: regular files only, at most
+//! [`LoadBudget::file_bytes`]); parse and validate it ([`super::sources::parse`], a GLB's binary chunk
+//! borrowed, not copied); check what the `gltf` crate's validation lets through but its accessors unwrap
+//! ([`super::validate`]); read the buffers, each distinct source once ([`super::sources::load_buffers`]);
+//! walk the scene, building each glTF mesh the first time a node places it ([`super::meshes`]; accessors
+//! read once each) and decoding each image source the first time a material names it.
+//!
+//! Every cost is charged to the load's [`Meter`]: buffer and image bytes, decoded texels, accessor values,
+//! vertices and polygons after instancing, node visits and depth (see [`LoadBudget`] for the defaults). A
+//! file that needs more is refused with [`AssetError::Budget`], one line that names the limit. Meshes are
+//! stored once however often they are placed. The scene's bounds transform every placed vertex up to
+//! [`EXACT_BOUNDS_VERTICES`] per load, then each placement's local box (computed once per mesh) by its
+//! eight corners, so a hierarchy that places a big mesh many times costs 8 transforms per placement.
+//!
+//! A placement whose world transform has a negative determinant mirrors the mesh, and glTF says the front
+//! face flips with it: such an instance draws a winding-reversed copy of its mesh (made once per mesh and
+//! cached; LOD sets likewise), so single-sided polygons face the way the file means.
 
 use std::collections::BTreeMap;
-use std::io::Cursor;
 use std::path::Path;
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
-use gltf::mesh::Mode;
+use glam::{Mat4, Vec3};
 use thiserror::Error;
 
-use super::accessor::{Elements, read_floats, read_indices};
-use super::quads::merge_pairs;
+pub use super::budget::LoadBudget;
+use super::budget::{Limit, Meter, OverBudget};
+use super::meshes::{AccessorCache, reversed_winding};
 pub use super::scene::{LoadedScene, SceneCamera};
-use super::uri::{UriError, resolve};
-use crate::render::{
-    AlphaMode, Camera, Instance, LodSet, Material, Mesh, MeshBuilder, Projection, Sampler, Texture, Vertex, Wrap,
-};
+pub use super::sources::MAX_IMAGE_SIDE;
+use super::sources::{Images, Parsed, load_buffers, parse};
+use crate::render::{Camera, Instance, LodSet, Mesh, Projection};
+use crate::userfile::{UserFileError, read_regular};
 
 /// Switch sizes (projected height in pixels) for LOD sets that give no `MSFT_screencoverage` hints.
 pub const DEFAULT_SWITCH_PX: [f32; 2] = [100.0, 24.0];
 /// `MSFT_screencoverage` values are read as fractions of a frame this many pixels tall, so that larger frames
 /// keep finer models at the same share of the screen (texel density is what matters).
 pub const COVERAGE_HEIGHT: f32 = 720.0;
-
-/// Largest glTF or GLB file accepted (1 GiB).
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
-/// Largest texture side accepted.
-pub const MAX_IMAGE_SIDE: u32 = 8192;
-/// Deepest node hierarchy accepted (deeper is taken as a cycle).
-pub const MAX_NODE_DEPTH: usize = 256;
-/// Most node visits in one scene (bounds a hierarchy that instances a subtree many times).
-pub const MAX_NODE_VISITS: usize = 1 << 20;
 
 /// Why an asset could not be loaded; every variant names the file.
 #[derive(Debug, Error)]
@@ -90,98 +99,181 @@ pub enum AssetError {
         /// What is wrong.
         reason: String,
     },
+    /// The file needs more than the load budget allows.
+    #[error("{file}: {at}: {over}")]
+    Budget {
+        /// The file.
+        file: String,
+        /// Where the limit was passed ("buffer 3", "image 0", "mesh 2 primitive 0", "node 17").
+        at: String,
+        /// Which limit, and by how much.
+        over: OverBudget,
+    },
 }
 
-/// Loads a `.gltf` or `.glb` file.
-pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
-    let file = path.display().to_string();
-    let read_err = |e: std::io::Error| AssetError::Read { file: file.clone(), reason: e.to_string() };
-    let size = std::fs::metadata(path).map_err(read_err)?.len();
-    if size > MAX_FILE_BYTES {
-        return Err(AssetError::Read { file, reason: format!("{size} bytes is over the {MAX_FILE_BYTES}-byte limit") });
+impl AssetError {
+    /// A budget refusal at `at` in `file`.
+    pub(super) fn budget(file: &str, at: String, over: OverBudget) -> Self {
+        AssetError::Budget { file: file.to_string(), at, over }
     }
-    let bytes = std::fs::read(path).map_err(read_err)?;
-    let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    load_from_slice(&bytes, base, &file)
 }
 
-/// Loads glTF or GLB bytes; external files are resolved inside `base_dir`; `file` names the source in errors.
+/// Loads a `.gltf` or `.glb` file within the default [`LoadBudget`].
+pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
+    load_with_budget(path, &LoadBudget::default())
+}
+
+/// Loads a `.gltf` or `.glb` file within `budget`.
+pub fn load_with_budget(path: &Path, budget: &LoadBudget) -> Result<LoadedScene, AssetError> {
+    let file = path.display().to_string();
+    let bytes = read_regular(path, budget.file_bytes, "a glTF file").map_err(|e| match e {
+        UserFileError::TooBig { size, limit, .. } => AssetError::budget(
+            &file,
+            "the file".into(),
+            OverBudget { limit: Limit::FileBytes, needed: size, allowed: limit },
+        ),
+        UserFileError::Io { reason, .. } => AssetError::Read { file: file.clone(), reason },
+        UserFileError::NotRegular { kind, .. } => {
+            AssetError::Read { file: file.clone(), reason: format!("is {kind}, not a regular file") }
+        }
+    })?;
+    let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    load_from_slice_with_budget(&bytes, base, &file, budget)
+}
+
+/// Loads glTF or GLB bytes within the default [`LoadBudget`]; external files are resolved inside
+/// `base_dir`; `file` names the source in errors.
 pub fn load_from_slice(bytes: &[u8], base_dir: &Path, file: &str) -> Result<LoadedScene, AssetError> {
-    let gltf = gltf::Gltf::from_slice(bytes)
-        .map_err(|e| AssetError::Parse { file: file.to_string(), reason: one_line(&e.to_string()) })?;
+    load_from_slice_with_budget(bytes, base_dir, file, &LoadBudget::default())
+}
+
+/// Loads glTF or GLB bytes within `budget`; external files are resolved inside `base_dir`; `file` names
+/// the source in errors.
+pub fn load_from_slice_with_budget(
+    bytes: &[u8],
+    base_dir: &Path,
+    file: &str,
+    budget: &LoadBudget,
+) -> Result<LoadedScene, AssetError> {
+    let mut meter = Meter::new(*budget);
+    meter
+        .charge(Limit::FileBytes, bytes.len() as u64)
+        .map_err(|over| AssetError::budget(file, "the file".into(), over))?;
+    let Parsed { doc, blob } =
+        parse(bytes).map_err(|reason| AssetError::Parse { file: file.to_string(), reason: one_line(&reason) })?;
+    super::validate::check(doc.as_json())
+        .map_err(|e| AssetError::Parse { file: file.to_string(), reason: e.to_string() })?;
+    let buffers = load_buffers(&doc, blob, base_dir, &mut meter, file)?;
+    let slices = buffers.slices();
     let mut loader = Loader {
         file: file.to_string(),
         base_dir,
-        buffers: vec![],
-        images: BTreeMap::new(),
+        doc: &doc,
+        buffers: &slices,
+        images: Images::default(),
+        accessors: AccessorCache::default(),
+        meter,
         out: LoadedScene::default(),
+        mesh_map: BTreeMap::new(),
+        mirrored: BTreeMap::new(),
+        local_bounds: vec![],
     };
-    loader.load_buffers(&gltf)?;
-    loader.load_scene(&gltf.document)?;
+    loader.load_scene()?;
     Ok(loader.out)
 }
 
+/// Most characters of a parser's message kept in an error (validation lists every problem it finds).
+const MAX_REASON_CHARS: usize = 400;
+
+/// A parser's message on one line, cut to [`MAX_REASON_CHARS`].
 fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
+    let line = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    match line.char_indices().nth(MAX_REASON_CHARS) {
+        Some((cut, _)) => format!("{} … ({} more characters)", &line[..cut], line.len() - cut),
+        None => line,
+    }
 }
 
-struct Loader<'a> {
-    file: String,
-    base_dir: &'a Path,
-    buffers: Vec<Vec<u8>>,
-    /// glTF image index -> texture index (None when it failed to be wanted; errors are returned).
-    images: BTreeMap<usize, usize>,
-    out: LoadedScene,
+/// The state of one load; the mesh building half is in [`super::meshes`].
+pub(super) struct Loader<'a> {
+    pub(super) file: String,
+    pub(super) base_dir: &'a Path,
+    pub(super) doc: &'a gltf::Document,
+    /// Each glTF buffer's bytes, by buffer index.
+    pub(super) buffers: &'a [&'a [u8]],
+    pub(super) images: Images<'a>,
+    pub(super) accessors: AccessorCache,
+    pub(super) meter: Meter,
+    pub(super) out: LoadedScene,
+    /// glTF mesh index -> index in `out.meshes`.
+    mesh_map: BTreeMap<usize, usize>,
+    /// Index in `out.meshes` -> its winding-reversed copy's index.
+    mirrored: BTreeMap<usize, usize>,
+    /// Each of `out.meshes`' local box of finite vertex positions (None when it has none).
+    local_bounds: Vec<Option<(Vec3, Vec3)>>,
 }
 
-impl Loader<'_> {
-    fn load_buffers(&mut self, gltf: &gltf::Gltf) -> Result<(), AssetError> {
-        for b in gltf.document.buffers() {
-            let err = |reason: String| AssetError::Buffer { file: self.file.clone(), index: b.index(), reason };
-            let data = match b.source() {
-                gltf::buffer::Source::Bin => {
-                    gltf.blob.clone().ok_or_else(|| err("refers to a GLB binary chunk that is missing".into()))?
-                }
-                gltf::buffer::Source::Uri(uri) => {
-                    resolve(uri, self.base_dir).map_err(|e: UriError| err(e.to_string()))?
-                }
-            };
-            if data.len() < b.length() {
-                return Err(err(format!("holds {} bytes, but byteLength says {}", data.len(), b.length())));
-            }
-            self.buffers.push(data);
+/// Vertex transforms the scene's bounds may spend per load on exact boxes (4 Mi, tens of milliseconds):
+/// placements are bounded by transforming every vertex of their mesh until this runs out, then by the
+/// eight corners of the mesh's local box (a conservative box, looser under rotation). The budget caps
+/// vertices after instancing anyway; this keeps a scene of millions of them from paying twice.
+pub const EXACT_BOUNDS_VERTICES: u64 = 1 << 22;
+
+/// The world-space box of everything placed so far.
+struct Bounds {
+    lo: Vec3,
+    hi: Vec3,
+    /// Vertex transforms left for exact boxes.
+    exact_left: u64,
+}
+
+impl Bounds {
+    fn grow(&mut self, p: Vec3) {
+        if p.is_finite() {
+            self.lo = self.lo.min(p);
+            self.hi = self.hi.max(p);
         }
-        Ok(())
     }
 
-    fn texture(&mut self, image: gltf::Image<'_>) -> Result<usize, AssetError> {
-        if let Some(&t) = self.images.get(&image.index()) {
-            return Ok(t);
-        }
-        let err = |reason: String| AssetError::Image { file: self.file.clone(), index: image.index(), reason };
-        let bytes: Vec<u8> = match image.source() {
-            gltf::image::Source::Uri { uri, .. } => resolve(uri, self.base_dir).map_err(|e| err(e.to_string()))?,
-            gltf::image::Source::View { view, .. } => {
-                let buf = self
-                    .buffers
-                    .get(view.buffer().index())
-                    .ok_or_else(|| err("buffer view refers to a missing buffer".into()))?;
-                let end = view
-                    .offset()
-                    .checked_add(view.length())
-                    .ok_or_else(|| err("buffer view range overflows".into()))?;
-                buf.get(view.offset()..end).ok_or_else(|| err("buffer view runs past its buffer".into()))?.to_vec()
+    /// Adds `mesh` placed at `world`: exactly while the work allows, else its local box's corners.
+    fn add(&mut self, mesh: &Mesh, local: Option<(Vec3, Vec3)>, world: Mat4) {
+        let Some((lo, hi)) = local else { return };
+        let n = mesh.vertices().len() as u64;
+        if n <= self.exact_left {
+            self.exact_left -= n;
+            for v in mesh.vertices() {
+                self.grow(world.transform_point3(v.position));
             }
-        };
-        let texture = decode_image(&bytes).map_err(err)?;
-        self.out.textures.push(texture);
-        let t = self.out.textures.len() - 1;
-        self.images.insert(image.index(), t);
-        Ok(t)
+            return;
+        }
+        for k in 0..8 {
+            let corner = Vec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            self.grow(world.transform_point3(corner));
+        }
     }
+}
 
-    fn load_scene(&mut self, doc: &gltf::Document) -> Result<(), AssetError> {
-        let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+/// The box of a mesh's finite vertex positions.
+fn local_bounds(mesh: &Mesh) -> Option<(Vec3, Vec3)> {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for v in mesh.vertices() {
+        if v.position.is_finite() {
+            lo = lo.min(v.position);
+            hi = hi.max(v.position);
+        }
+    }
+    (lo.cmple(hi).all()).then_some((lo, hi))
+}
+
+impl<'a> Loader<'a> {
+    fn load_scene(&mut self) -> Result<(), AssetError> {
+        let doc = self.doc;
+        let roots: Vec<gltf::Node<'a>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
             None => {
                 let mut is_child = vec![false; doc.nodes().len()];
@@ -193,53 +285,40 @@ impl Loader<'_> {
                 doc.nodes().filter(|n| !is_child[n.index()]).collect()
             }
         };
-        let mut mesh_map: BTreeMap<usize, usize> = BTreeMap::new();
         // (node, parent's world transform, depth, nodes holding its middle and long models by naming convention)
-        let mut stack: Vec<(gltf::Node<'_>, Mat4, usize, Vec<gltf::Node<'_>>)> =
+        let mut stack: Vec<(gltf::Node<'a>, Mat4, usize, Vec<gltf::Node<'a>>)> =
             roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0, vec![])).collect();
-        let mut visits = 0usize;
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        // The current node's ancestors (depth-first, so the path is the stack of nodes above it).
+        let mut path: Vec<usize> = vec![];
+        let mut on_path = vec![false; doc.nodes().len()];
+        let mut bounds = Bounds {
+            lo: Vec3::splat(f32::INFINITY),
+            hi: Vec3::splat(f32::NEG_INFINITY),
+            exact_left: EXACT_BOUNDS_VERTICES,
+        };
         while let Some((node, parent, depth, named_lods)) = stack.pop() {
-            visits += 1;
-            if depth > MAX_NODE_DEPTH || visits > MAX_NODE_VISITS {
-                return Err(AssetError::Scene {
-                    file: self.file.clone(),
-                    reason: format!("node hierarchy is cyclic or too large (node {} at depth {depth})", node.index()),
-                });
+            let at = || format!("node {}", node.index());
+            self.meter
+                .charge(Limit::NodeVisits, 1)
+                .and_then(|()| self.meter.check_depth(depth as u64))
+                .map_err(|over| AssetError::budget(&self.file, at(), over))?;
+            while path.len() > depth {
+                if let Some(n) = path.pop() {
+                    on_path[n] = false;
+                }
             }
+            if on_path.get(node.index()).copied().unwrap_or(false) {
+                return Err(
+                    self.scene_error(format!("node hierarchy is cyclic (node {} is its own ancestor)", node.index()))
+                );
+            }
+            if let Some(flag) = on_path.get_mut(node.index()) {
+                *flag = true;
+            }
+            path.push(node.index());
             let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
             if let Some(mesh) = node.mesh() {
-                let index = self.mesh_index(&mesh, &mut mesh_map)?;
-                for v in self.out.meshes[index].vertices() {
-                    let p = world.transform_point3(v.position);
-                    if p.is_finite() {
-                        lo = lo.min(p);
-                        hi = hi.max(p);
-                    }
-                }
-                let (alternates, coverage) = match self.msft_lod(doc, &node)? {
-                    Some(found) => found,
-                    None => (named_lods, None),
-                };
-                if alternates.is_empty() {
-                    self.out.instances.push(Instance::new(index, world));
-                } else {
-                    let mut meshes = [index; 3];
-                    for (k, alt) in alternates.iter().take(2).enumerate() {
-                        let Some(m) = alt.mesh() else {
-                            return Err(self.scene_error(format!("LOD node {} has no mesh", alt.index())));
-                        };
-                        meshes[k + 1] = self.mesh_index(&m, &mut mesh_map)?;
-                    }
-                    if alternates.len() == 1 {
-                        meshes[2] = meshes[1];
-                    }
-                    let switch_px =
-                        coverage.map_or(DEFAULT_SWITCH_PX, |c| [c[0] * COVERAGE_HEIGHT, c[1] * COVERAGE_HEIGHT]);
-                    self.out.lod_sets.push(LodSet { meshes, switch_px });
-                    self.out.instances.push(Instance::of_lod_set(self.out.lod_sets.len() - 1, world));
-                }
+                self.place(doc, &node, &mesh, world, named_lods, &mut bounds)?;
             }
             if let Some(cam) = node.camera() {
                 let camera = self.camera(&cam, world)?;
@@ -253,8 +332,63 @@ impl Loader<'_> {
                 stack.push((child, world, depth + 1, alternates));
             }
         }
-        if lo.is_finite() && hi.is_finite() {
-            self.out.bounds = Some((lo, hi));
+        if bounds.lo.is_finite() && bounds.hi.is_finite() {
+            self.out.bounds = Some((bounds.lo, bounds.hi));
+        }
+        Ok(())
+    }
+
+    /// Places a node's mesh (or LOD set) at `world`: charges its vertices and polygons after instancing,
+    /// uses the winding-reversed meshes when `world` mirrors, and grows the scene's bounds.
+    fn place(
+        &mut self,
+        doc: &'a gltf::Document,
+        node: &gltf::Node<'a>,
+        mesh: &gltf::Mesh<'a>,
+        world: Mat4,
+        named_lods: Vec<gltf::Node<'a>>,
+        bounds: &mut Bounds,
+    ) -> Result<(), AssetError> {
+        let index = self.mesh_index(mesh)?;
+        let (alternates, coverage) = match self.msft_lod(doc, node)? {
+            Some(found) => found,
+            None => (named_lods, None),
+        };
+        let mut meshes = [index; 3];
+        for (k, alt) in alternates.iter().take(2).enumerate() {
+            let Some(m) = alt.mesh() else {
+                return Err(self.scene_error(format!("LOD node {} has no mesh", alt.index())));
+            };
+            meshes[k + 1] = self.mesh_index(&m)?;
+        }
+        if alternates.len() == 1 {
+            meshes[2] = meshes[1];
+        }
+        // NaN (a broken transform) is not mirrored; the renderer drops its polygons anyway.
+        if world.determinant() < 0.0 {
+            for m in &mut meshes {
+                *m = self.mirrored(*m)?;
+            }
+        }
+        let (mut vertices, mut polygons) = (0, 0);
+        for &m in &meshes {
+            let mesh = self.out.meshes.get(m).ok_or_else(|| self.scene_error(format!("mesh slot {m} is missing")))?;
+            vertices = vertices.max(mesh.vertices().len() as u64);
+            polygons = polygons.max(mesh.polygons().len() as u64);
+        }
+        self.meter
+            .charge(Limit::Vertices, vertices)
+            .and_then(|()| self.meter.charge(Limit::Polygons, polygons))
+            .map_err(|over| AssetError::budget(&self.file, format!("node {}", node.index()), over))?;
+        if let Some(mesh) = self.out.meshes.get(meshes[0]) {
+            bounds.add(mesh, self.local_bounds.get(meshes[0]).copied().flatten(), world);
+        }
+        if alternates.is_empty() {
+            self.out.instances.push(Instance::new(meshes[0], world));
+        } else {
+            let switch_px = coverage.map_or(DEFAULT_SWITCH_PX, |c| [c[0] * COVERAGE_HEIGHT, c[1] * COVERAGE_HEIGHT]);
+            self.out.lod_sets.push(LodSet { meshes, switch_px });
+            self.out.instances.push(Instance::of_lod_set(self.out.lod_sets.len() - 1, world));
         }
         Ok(())
     }
@@ -264,14 +398,32 @@ impl Loader<'_> {
     }
 
     /// The renderer mesh for a glTF mesh, loading it the first time.
-    fn mesh_index(&mut self, mesh: &gltf::Mesh<'_>, map: &mut BTreeMap<usize, usize>) -> Result<usize, AssetError> {
-        if let Some(&i) = map.get(&mesh.index()) {
+    fn mesh_index(&mut self, mesh: &gltf::Mesh<'_>) -> Result<usize, AssetError> {
+        if let Some(&i) = self.mesh_map.get(&mesh.index()) {
             return Ok(i);
         }
         let m = self.mesh(mesh)?;
+        self.local_bounds.push(local_bounds(&m));
         self.out.meshes.push(m);
         let i = self.out.meshes.len() - 1;
-        map.insert(mesh.index(), i);
+        self.mesh_map.insert(mesh.index(), i);
+        Ok(i)
+    }
+
+    /// The winding-reversed copy of `out.meshes[index]`, made the first time a mirrored placement needs it.
+    fn mirrored(&mut self, index: usize) -> Result<usize, AssetError> {
+        if let Some(&i) = self.mirrored.get(&index) {
+            return Ok(i);
+        }
+        let mesh =
+            self.out.meshes.get(index).ok_or_else(|| self.scene_error(format!("mesh slot {index} is missing")))?;
+        let copy = reversed_winding(mesh).map_err(|e| self.scene_error(format!("mirrored mesh: {e}")))?;
+        self.local_bounds.push(self.local_bounds.get(index).copied().flatten());
+        self.out.meshes.push(copy);
+        let i = self.out.meshes.len() - 1;
+        self.mirrored.insert(index, i);
+        // A copy mirrored again is the original.
+        self.mirrored.insert(i, index);
         Ok(i)
     }
 
@@ -344,103 +496,6 @@ impl Loader<'_> {
         }
         Ok(Camera { view, projection })
     }
-
-    fn mesh(&mut self, mesh: &gltf::Mesh<'_>) -> Result<Mesh, AssetError> {
-        let mut b = MeshBuilder::new();
-        let file = self.file.clone();
-        for prim in mesh.primitives() {
-            let err = |reason: String| AssetError::Primitive {
-                file: file.clone(),
-                mesh: mesh.index(),
-                primitive: prim.index(),
-                reason,
-            };
-            if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-                self.out.skipped_primitives += 1;
-                continue;
-            }
-            let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
-                self.out.skipped_primitives += 1;
-                continue;
-            };
-            let positions = read_floats(&pos_acc, &self.buffers).map_err(|e| err(format!("POSITION: {e}")))?;
-            if positions.width != 3 {
-                return Err(err("POSITION must be VEC3".into()));
-            }
-            let n = positions.len();
-            let gmat = prim.material();
-            let pbr = gmat.pbr_metallic_roughness();
-            let mut material = Material {
-                base_color: Vec4::from(pbr.base_color_factor()),
-                double_sided: gmat.double_sided(),
-                alpha_mode: match gmat.alpha_mode() {
-                    gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: gmat.alpha_cutoff().unwrap_or(0.5) },
-                    _ => AlphaMode::Opaque,
-                },
-                ..Material::default()
-            };
-            let mut uv_set = None;
-            if let Some(info) = pbr.base_color_texture() {
-                let tex = info.texture();
-                material.texture = Some(self.texture(tex.source())?);
-                let s = tex.sampler();
-                material.sampler = Sampler { wrap_s: wrap(s.wrap_s()), wrap_t: wrap(s.wrap_t()) };
-                uv_set = Some(info.tex_coord());
-            }
-            let uvs = match uv_set.and_then(|set| prim.get(&gltf::Semantic::TexCoords(set))) {
-                Some(acc) => {
-                    let e = read_floats(&acc, &self.buffers).map_err(|e| err(format!("TEXCOORD: {e}")))?;
-                    check_attr(&e, n, 2, "TEXCOORD").map_err(err)?;
-                    Some(e)
-                }
-                None => None,
-            };
-            let colors = match prim.get(&gltf::Semantic::Colors(0)) {
-                Some(acc) => {
-                    let e = read_floats(&acc, &self.buffers).map_err(|e| err(format!("COLOR_0: {e}")))?;
-                    if e.width != 3 && e.width != 4 {
-                        return Err(err("COLOR_0 must be VEC3 or VEC4".into()));
-                    }
-                    check_attr(&e, n, e.width, "COLOR_0").map_err(err)?;
-                    Some(e)
-                }
-                None => None,
-            };
-            let indices: Vec<u32> = match prim.indices() {
-                Some(acc) => read_indices(&acc, &self.buffers).map_err(|e| err(format!("indices: {e}")))?,
-                None => (0..n as u32).collect(),
-            };
-            if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
-                return Err(err(format!("index {bad} is out of range for {n} vertices")));
-            }
-            let base = b.vertex_count() as u32;
-            let mut verts = Vec::with_capacity(n);
-            for i in 0..n {
-                let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
-                let uv = uvs.as_ref().map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
-                let color = colors.as_ref().map_or(Vec4::ONE, |e| {
-                    Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
-                });
-                verts.push(Vertex { position, uv, color });
-            }
-            let m = b.material(material);
-            for v in &verts {
-                b.vertex(*v);
-            }
-            for poly in merge_pairs(&verts, &triangles(prim.mode(), &indices)) {
-                let idx: Vec<u32> = poly.iter().map(|&i| base + i).collect();
-                b.polygon(&idx, m);
-            }
-        }
-        let mut built = b.build().map_err(|e| AssetError::Primitive {
-            file: self.file.clone(),
-            mesh: mesh.index(),
-            primitive: 0,
-            reason: e.to_string(),
-        })?;
-        super::decals::mark_decals(&mut built);
-        Ok(built)
-    }
 }
 
 /// Splits a node's children into the ones to visit, each with the siblings that hold its middle and long
@@ -467,59 +522,4 @@ fn named_lod_groups(children: Vec<gltf::Node<'_>>) -> Vec<(gltf::Node<'_>, Vec<g
         }
     }
     out
-}
-
-fn check_attr(e: &Elements, n: usize, width: usize, what: &str) -> Result<(), String> {
-    if e.width != width {
-        return Err(format!("{what} has {} components, expected {width}", e.width));
-    }
-    if e.len() != n {
-        return Err(format!("{what} has {} elements, POSITION has {n}", e.len()));
-    }
-    Ok(())
-}
-
-fn wrap(w: gltf::texture::WrappingMode) -> Wrap {
-    match w {
-        gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
-        gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
-        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
-    }
-}
-
-/// Triangles of a TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN index list, with glTF's winding rules.
-fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
-    match mode {
-        Mode::TriangleStrip => (0..idx.len().saturating_sub(2))
-            .map(|i| if i % 2 == 0 { [idx[i], idx[i + 1], idx[i + 2]] } else { [idx[i + 1], idx[i], idx[i + 2]] })
-            .collect(),
-        Mode::TriangleFan => (1..idx.len().saturating_sub(1)).map(|i| [idx[i], idx[i + 1], idx[0]]).collect(),
-        _ => idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
-    }
-}
-
-/// Decodes PNG or JPEG bytes into a texture, refusing images over [`MAX_IMAGE_SIDE`] before decoding.
-fn decode_image(bytes: &[u8]) -> Result<Texture, String> {
-    let mut reader = image::ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_IMAGE_SIDE);
-    limits.max_image_height = Some(MAX_IMAGE_SIDE);
-    limits.max_alloc = Some(512 << 20);
-    reader.limits(limits);
-    let img = reader.decode().map_err(|e| one_line(&e.to_string()))?;
-    let rgba = img.to_rgba8();
-    Texture::from_rgba8(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|e| e.to_string())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn strips_and_fans_follow_gltf_winding() {
-        assert_eq!(triangles(Mode::TriangleStrip, &[0, 1, 2, 3]), [[0, 1, 2], [2, 1, 3]]);
-        assert_eq!(triangles(Mode::TriangleFan, &[0, 1, 2, 3]), [[1, 2, 0], [2, 3, 0]]);
-        assert_eq!(triangles(Mode::Triangles, &[0, 1, 2, 3]), [[0, 1, 2]]);
-        assert!(triangles(Mode::TriangleStrip, &[0]).is_empty());
-    }
 }

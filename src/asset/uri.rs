@@ -2,17 +2,22 @@
 //!
 //! `data:` URIs are decoded in memory. Any other scheme, an absolute path, or a path with a `..` component is
 //! refused, so a file cannot make the loader read outside its folder; symbolic links that lead out of the
-//! folder are refused too.
+//! folder are refused too. Files are only located first ([`locate`]: canonical path and size, nothing
+//! read), so that the loader can read a file named twice once and refuse one over its budget before
+//! reading it; reading goes through [`crate::userfile`] (regular files only: a FIFO or a device is refused
+//! without blocking).
 
 use std::path::{Component, Path, PathBuf};
 
 use base64::Engine;
 
+use crate::userfile::{UserFileError, check_regular, read_regular};
+
 /// Largest external file or decoded `data:` URI accepted (512 MiB).
 pub const MAX_BYTES: u64 = 512 << 20;
 
 /// Why a URI was refused or could not be read.
-#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[derive(Debug, thiserror::Error)]
 pub enum UriError {
     /// Not a `data:` URI and not a plain relative path.
     #[error("URI '{uri}' refused: {reason}")]
@@ -25,7 +30,10 @@ pub enum UriError {
     /// A `data:` URI whose payload does not decode.
     #[error("data URI does not decode: {0}")]
     BadData(String),
-    /// The file could not be read.
+    /// The file is not a regular file, is too big, or could not be read.
+    #[error(transparent)]
+    File(#[from] UserFileError),
+    /// The path could not be resolved.
     #[error("cannot read '{path}': {reason}")]
     Read {
         /// The path tried.
@@ -60,22 +68,65 @@ fn percent_decode(s: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-/// Returns the bytes a URI names, reading files only from inside `base_dir`.
-pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
+/// Where the bytes a URI names are: in the URI itself (`data:`, still encoded) or in a file inside the
+/// asset's folder (its canonical path, so two spellings of one file are one source).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Located<'u> {
+    /// A `data:` URI's payload.
+    Data {
+        /// Whether the payload is base64 (else percent-encoded).
+        base64: bool,
+        /// The encoded payload.
+        payload: &'u str,
+    },
+    /// A regular file inside the asset's folder.
+    File {
+        /// Its canonical path.
+        path: PathBuf,
+        /// Its size in bytes when it was located.
+        size: u64,
+    },
+}
+
+impl Located<'_> {
+    /// The most bytes reading this source gives (exact for a file, a bound for a `data:` URI), known
+    /// before reading it, so that a budget can refuse it before the memory is taken.
+    #[must_use]
+    pub fn size_bound(&self) -> u64 {
+        match self {
+            Located::Data { base64: true, payload } => (payload.len() as u64).div_ceil(4) * 3,
+            Located::Data { base64: false, payload } => payload.len() as u64,
+            Located::File { size, .. } => *size,
+        }
+    }
+
+    /// Reads (or decodes) the bytes: a file through [`crate::userfile::read_regular`], no more than the
+    /// size it had when located.
+    pub fn read(&self) -> Result<Vec<u8>, UriError> {
+        match self {
+            Located::Data { base64: true, payload } => base64::engine::general_purpose::STANDARD
+                .decode(payload.trim())
+                .map_err(|e| UriError::BadData(e.to_string())),
+            Located::Data { base64: false, payload } => percent_decode(payload)
+                .map(String::into_bytes)
+                .ok_or_else(|| UriError::BadData("bad percent-encoding".into())),
+            Located::File { path, size } => Ok(read_regular(path, *size, WHAT)?),
+        }
+    }
+}
+
+/// What the files a glTF file names are called in size errors.
+const WHAT: &str = "a file a glTF file names";
+
+/// Finds what a URI names without reading it: a `data:` URI is checked for shape and size, a relative
+/// path must stay inside `base_dir` (also through links) and be a regular file of at most [`MAX_BYTES`].
+pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (meta, payload) = rest.split_once(',').ok_or_else(|| UriError::BadData("no ',' in data URI".into()))?;
         if payload.len() as u64 > MAX_BYTES * 4 / 3 + 4 {
             return Err(UriError::BadData("payload is larger than the limit".into()));
         }
-        return if meta.ends_with(";base64") {
-            base64::engine::general_purpose::STANDARD
-                .decode(payload.trim())
-                .map_err(|e| UriError::BadData(e.to_string()))
-        } else {
-            percent_decode(payload)
-                .map(String::into_bytes)
-                .ok_or_else(|| UriError::BadData("bad percent-encoding".into()))
-        };
+        return Ok(Located::Data { base64: meta.ends_with(";base64"), payload });
     }
     let refused = |reason| UriError::Refused { uri: short(uri), reason };
     let scheme_len = uri.find(':').unwrap_or(0);
@@ -102,11 +153,14 @@ pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
     if !canon.starts_with(&base) {
         return Err(refused("the path leads out of the asset's folder through a link"));
     }
-    let len = std::fs::metadata(&canon).map_err(read_err)?.len();
-    if len > MAX_BYTES {
-        return Err(refused("file is larger than the 512 MiB limit"));
-    }
-    std::fs::read(&canon).map_err(read_err)
+    let size = check_regular(&canon, MAX_BYTES, WHAT)?;
+    Ok(Located::File { path: canon, size })
+}
+
+/// Returns the bytes a URI names, reading files only from inside `base_dir` ([`locate`], then
+/// [`Located::read`]).
+pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
+    locate(uri, base_dir)?.read()
 }
 
 #[cfg(test)]
@@ -121,6 +175,27 @@ mod tests {
             assert!(matches!(resolve(uri, base), Err(UriError::Refused { .. })), "{uri}");
         }
         assert!(matches!(resolve("missing-file.bin", base), Err(UriError::Read { .. })));
+    }
+
+    #[test]
+    fn locating_reads_nothing_and_names_one_file_one_way() {
+        let d = std::env::temp_dir().join(format!("uri-locate-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        std::fs::write(d.join("sub/a.bin"), [7u8; 5]).unwrap();
+        let a = locate("sub/a.bin", &d).unwrap();
+        let b = locate("./sub/%61.bin", &d).unwrap();
+        assert_eq!(a, b, "two spellings locate one canonical path");
+        assert_eq!(a.size_bound(), 5);
+        assert_eq!(a.read().unwrap(), [7u8; 5]);
+        assert_eq!(locate("data:;base64,AAECAw==", &d).unwrap().size_bound(), 6, "a bound, not exact");
+        #[cfg(unix)]
+        {
+            let fifo = d.join("pipe.bin");
+            assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+            let e = locate("pipe.bin", &d).unwrap_err();
+            assert!(e.to_string().ends_with("is a FIFO, not a regular file"), "{e}");
+        }
     }
 
     #[test]

@@ -176,7 +176,9 @@ fn median(v: &mut [f64]) -> f64 {
 /// Runs `render`.
 pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     let options = args.options();
+    let t_load = Instant::now();
     let mut scene = load(&args.scene)?;
+    let ms_load = t_load.elapsed().as_secs_f64() * 1e3;
     if options.method == Method::ViewLists {
         scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
     }
@@ -229,6 +231,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
                 "width": args.width,
                 "height": args.height,
                 "frames": args.repeat,
+                "ms_load": ms_load,
                 "ms_median": ms_median,
                 "ms_min": ms_min,
                 "ms_transform": stats.ms_transform,
