@@ -1,6 +1,9 @@
 //! Reading glTF accessors with every offset, stride and count checked, so a hostile file gets an error
 //! instead of a panic or an out-of-bounds read.
 
+use std::collections::BTreeMap;
+use std::rc::Rc;
+
 use gltf::accessor::{DataType, Dimensions};
 
 /// Most elements one accessor may hold (16 Mi): bounds memory for hostile counts.
@@ -107,6 +110,13 @@ fn strided<'b>(
         }
     }
     Ok((0..count).map(move |i| &bytes[offset + i * stride..offset + i * stride + elem]))
+}
+
+/// Accessors read so far, so that one shared by several primitives or meshes is read (and charged) once.
+#[derive(Debug, Default)]
+pub struct AccessorCache {
+    pub(crate) floats: BTreeMap<usize, Rc<Elements>>,
+    pub(crate) indices: BTreeMap<usize, Rc<Vec<u32>>>,
 }
 
 /// Reads an accessor as `f32` components; errors name the accessor.

@@ -23,14 +23,16 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
-use thiserror::Error;
 
+use super::accessor::AccessorCache;
 pub use super::budget::LoadBudget;
 use super::budget::{Limit, Meter, OverBudget};
-use super::meshes::{AccessorCache, reversed_winding};
+pub use super::error::AssetError;
+use super::meshes::reversed_winding;
 pub use super::scene::{LoadedScene, SceneCamera};
 pub use super::sources::MAX_IMAGE_SIDE;
 use super::sources::{Images, Parsed, load_buffers, parse};
+use super::state::Loader;
 use crate::render::{Camera, Instance, LodSet, Mesh, Projection};
 use crate::userfile::{UserFileError, read_regular};
 
@@ -39,84 +41,6 @@ pub const DEFAULT_SWITCH_PX: [f32; 2] = [100.0, 24.0];
 /// `MSFT_screencoverage` values are read as fractions of a frame this many pixels tall, so that larger frames
 /// keep finer models at the same share of the screen (texel density is what matters).
 pub const COVERAGE_HEIGHT: f32 = 720.0;
-
-/// Why an asset could not be loaded; every variant names the file.
-#[derive(Debug, Error)]
-pub enum AssetError {
-    /// The file could not be read.
-    #[error("{file}: cannot read: {reason}")]
-    Read {
-        /// The file.
-        file: String,
-        /// The I/O error.
-        reason: String,
-    },
-    /// The file is not valid glTF 2.0 (JSON, GLB container or schema).
-    #[error("{file}: not a valid glTF 2.0 file: {reason}")]
-    Parse {
-        /// The file.
-        file: String,
-        /// What the parser reported.
-        reason: String,
-    },
-    /// A buffer could not be resolved or is shorter than declared.
-    #[error("{file}: buffer {index}: {reason}")]
-    Buffer {
-        /// The file.
-        file: String,
-        /// glTF buffer index.
-        index: usize,
-        /// What is wrong.
-        reason: String,
-    },
-    /// An image could not be resolved or decoded.
-    #[error("{file}: image {index}: {reason}")]
-    Image {
-        /// The file.
-        file: String,
-        /// glTF image index.
-        index: usize,
-        /// What is wrong.
-        reason: String,
-    },
-    /// A mesh primitive has bad accessors or indices.
-    #[error("{file}: mesh {mesh} primitive {primitive}: {reason}")]
-    Primitive {
-        /// The file.
-        file: String,
-        /// glTF mesh index.
-        mesh: usize,
-        /// Primitive index within the mesh.
-        primitive: usize,
-        /// What is wrong.
-        reason: String,
-    },
-    /// The node hierarchy or a camera is unusable.
-    #[error("{file}: {reason}")]
-    Scene {
-        /// The file.
-        file: String,
-        /// What is wrong.
-        reason: String,
-    },
-    /// The file needs more than the load budget allows.
-    #[error("{file}: {at}: {over}")]
-    Budget {
-        /// The file.
-        file: String,
-        /// Where the limit was passed ("buffer 3", "image 0", "mesh 2 primitive 0", "node 17").
-        at: String,
-        /// Which limit, and by how much.
-        over: OverBudget,
-    },
-}
-
-impl AssetError {
-    /// A budget refusal at `at` in `file`.
-    pub(super) fn budget(file: &str, at: String, over: OverBudget) -> Self {
-        AssetError::Budget { file: file.to_string(), at, over }
-    }
-}
 
 /// Loads a `.gltf` or `.glb` file within the default [`LoadBudget`].
 pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
@@ -192,25 +116,6 @@ fn one_line(s: &str) -> String {
         Some((cut, _)) => format!("{} … ({} more characters)", &line[..cut], line.len() - cut),
         None => line,
     }
-}
-
-/// The state of one load; the mesh building half is in [`super::meshes`].
-pub(super) struct Loader<'a> {
-    pub(super) file: String,
-    pub(super) base_dir: &'a Path,
-    pub(super) doc: &'a gltf::Document,
-    /// Each glTF buffer's bytes, by buffer index.
-    pub(super) buffers: &'a [&'a [u8]],
-    pub(super) images: Images<'a>,
-    pub(super) accessors: AccessorCache,
-    pub(super) meter: Meter,
-    pub(super) out: LoadedScene,
-    /// glTF mesh index -> index in `out.meshes`.
-    mesh_map: BTreeMap<usize, usize>,
-    /// Index in `out.meshes` -> its winding-reversed copy's index.
-    mirrored: BTreeMap<usize, usize>,
-    /// Each of `out.meshes`' local box of finite vertex positions (None when it has none).
-    local_bounds: Vec<Option<(Vec3, Vec3)>>,
 }
 
 /// Vertex transforms the scene's bounds may spend per load on exact boxes (4 Mi, tens of milliseconds):

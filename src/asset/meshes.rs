@@ -2,7 +2,6 @@
 //! budget, vertex and polygon counts checked before anything is built, quads merged, decals marked; and
 //! the winding-reversed copy a mirrored placement draws.
 
-use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use glam::{Vec2, Vec3, Vec4};
@@ -10,16 +9,10 @@ use gltf::mesh::Mode;
 
 use super::accessor::{Elements, read_floats, read_indices};
 use super::budget::{Limit, OverBudget};
-use super::loader::{AssetError, Loader};
+use super::error::AssetError;
 use super::quads::merge_pairs;
+use super::state::Loader;
 use crate::render::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Sampler, Vertex, Wrap};
-
-/// Accessors read so far, so that one shared by several primitives or meshes is read (and charged) once.
-#[derive(Debug, Default)]
-pub struct AccessorCache {
-    floats: BTreeMap<usize, Rc<Elements>>,
-    indices: BTreeMap<usize, Rc<Vec<u32>>>,
-}
 
 /// Why a primitive could not be read: the file is wrong, or it needs more than the budget.
 enum Failure {

@@ -10,12 +10,14 @@
 pub mod accessor;
 pub mod budget;
 pub mod decals;
+pub mod error;
 pub mod export;
 pub mod loader;
 pub mod meshes;
 pub mod quads;
 pub mod scene;
 pub mod sources;
+mod state;
 pub mod uri;
 pub mod validate;
 

@@ -13,7 +13,7 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use super::budget::{Limit, Meter};
-use super::loader::AssetError;
+use super::error::AssetError;
 use super::uri::{Located, locate};
 use crate::render::Texture;
 
