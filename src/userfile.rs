@@ -97,12 +97,39 @@ pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64,
 /// the file meanwhile.
 pub fn open_regular(path: &Path, limit: u64, what: &'static str) -> Result<std::io::Take<File>, UserFileError> {
     check_regular(path, limit, what)?;
-    let file = File::open(path).map_err(|e| io(path, &e))?;
+    let file = open_nonblocking(path).map_err(|e| io(path, &e))?;
     let meta = file.metadata().map_err(|e| io(path, &e))?;
     if !meta.is_file() {
         return Err(UserFileError::NotRegular { path: path.to_path_buf(), kind: kind_of(meta.file_type()) });
     }
     Ok(file.take(limit))
+}
+
+/// Opens `path` for reading without waiting for a writer: should the path have become a FIFO since it was
+/// checked, the open returns at once and the check of the open file refuses it. (`O_NONBLOCK` has no
+/// effect on reading a regular file.)
+fn open_nonblocking(path: &Path) -> std::io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        const O_NONBLOCK: i32 = 0o4000;
+        options.custom_flags(O_NONBLOCK);
+    }
+    #[cfg(any(
+        target_os = "macos",
+        target_os = "ios",
+        target_os = "freebsd",
+        target_os = "openbsd",
+        target_os = "netbsd"
+    ))]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        const O_NONBLOCK: i32 = 0x0004;
+        options.custom_flags(O_NONBLOCK);
+    }
+    options.open(path)
 }
 
 /// Reads a whole regular file of at most `limit` bytes.
@@ -126,15 +153,27 @@ pub fn read_regular_text(path: &Path, limit: u64, what: &'static str) -> Result<
         .map_err(|e| UserFileError::Io { path: path.to_path_buf(), reason: format!("not UTF-8 text ({e})") })
 }
 
-/// The file a write to `path` should replace: the target of a symbolic link (so that a linked settings file
-/// stays a link), else `path` itself.
+/// Most symbolic links followed to find the file a write replaces (Linux's own limit is 40).
+const MAX_LINK_HOPS: usize = 40;
+
+/// The file a write to `path` should replace: the end of its chain of symbolic links (so that a linked
+/// settings file stays a link, and a link to a link too), else `path` itself. Relative link targets are
+/// resolved against the folder of the link that names them. A chain longer than [`MAX_LINK_HOPS`] (a
+/// loop) stops where it is, and the write then fails or replaces that link, never anything outside it.
 #[must_use]
 pub fn write_target(path: &Path) -> PathBuf {
-    match std::fs::read_link(path) {
-        Ok(target) if target.is_absolute() => target,
-        Ok(target) => path.parent().map_or(target.clone(), |dir| dir.join(&target)),
-        Err(_) => path.to_path_buf(),
+    let mut current = path.to_path_buf();
+    for _ in 0..MAX_LINK_HOPS {
+        match std::fs::read_link(&current) {
+            Ok(target) if target.is_absolute() => current = target,
+            Ok(target) => {
+                let dir = current.parent().map(Path::to_path_buf).unwrap_or_default();
+                current = dir.join(target);
+            }
+            Err(_) => break,
+        }
     }
+    current
 }
 
 /// A sibling of `target` that no other writer uses: `.NAME.PID.N.tmp` in the same folder, so that the
@@ -149,6 +188,29 @@ pub fn temp_sibling(target: &Path) -> PathBuf {
     target.parent().filter(|d| !d.as_os_str().is_empty()).map_or_else(|| PathBuf::from(&tmp), |d| d.join(&tmp))
 }
 
+/// Checks, before any long work, that `path` can take an output file: it does not exist or is a regular
+/// file (not a folder, FIFO or device, which would fail or block only at the end), and its folder exists.
+pub fn check_output(path: &Path) -> Result<(), UserFileError> {
+    let target = write_target(path);
+    match std::fs::metadata(&target) {
+        Ok(meta) if !meta.is_file() => {
+            return Err(UserFileError::NotRegular { path: target, kind: kind_of(meta.file_type()) });
+        }
+        Ok(_) => return Ok(()),
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(&target, &e)),
+        Err(_) => {}
+    }
+    let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    match std::fs::metadata(dir) {
+        Ok(meta) if meta.is_dir() => Ok(()),
+        Ok(meta) => Err(UserFileError::NotRegular { path: dir.to_path_buf(), kind: kind_of(meta.file_type()) }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(UserFileError::Io { path: dir.to_path_buf(), reason: "no such folder".into() })
+        }
+        Err(e) => Err(io(dir, &e)),
+    }
+}
+
 /// Replaces `path` (or the file its symbolic link names) with `bytes`: writes a temporary sibling, flushes
 /// it, and renames it over the target, so the old file stays whole until the new one is.
 pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError> {
@@ -159,9 +221,15 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
         return Err(UserFileError::NotRegular { path: target, kind: kind_of(meta.file_type()) });
     }
     let tmp = temp_sibling(&target);
+    let old_permissions = std::fs::metadata(&target).ok().map(|m| m.permissions());
     let result = (|| {
-        let mut f = File::create(&tmp)?;
+        // `create_new`: a stale file of that name is never written through (it could be a link).
+        let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         f.write_all(bytes)?;
+        // The new file keeps the old one's permissions (a private settings file stays private).
+        if let Some(p) = old_permissions {
+            f.set_permissions(p)?;
+        }
         f.sync_all()?;
         std::fs::rename(&tmp, &target)
     })();
@@ -220,11 +288,36 @@ mod tests {
         replace_atomically(&link, b"new").unwrap();
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        // A link to a link: the end of the chain is replaced, both links stay links.
+        let outer = d.join("outer.json");
+        std::os::unix::fs::symlink("link.json", &outer).unwrap();
+        replace_atomically(&outer, b"newer").unwrap();
+        assert!(std::fs::symlink_metadata(&outer).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "newer");
+        // A loop of links is not followed forever.
+        let (a, b) = (d.join("a"), d.join("b"));
+        std::os::unix::fs::symlink("b", &a).unwrap();
+        std::os::unix::fs::symlink("a", &b).unwrap();
+        let _ = write_target(&a);
         let leftovers: Vec<_> = std::fs::read_dir(&d)
             .unwrap()
             .filter_map(Result::ok)
             .filter(|e| e.path().extension() == Some("tmp".as_ref()))
             .collect();
         assert!(leftovers.is_empty());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn replacing_keeps_the_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = dir("perm");
+        let f = d.join("private.json");
+        std::fs::write(&f, "old").unwrap();
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
+        replace_atomically(&f, b"new").unwrap();
+        assert_eq!(std::fs::metadata(&f).unwrap().permissions().mode() & 0o777, 0o600);
+        assert_eq!(std::fs::read_to_string(&f).unwrap(), "new");
     }
 }

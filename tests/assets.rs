@@ -3,31 +3,18 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use common::files_under;
 use glam::Vec3;
 use scanline_racer::asset::{LoadedScene, load};
 use scanline_racer::render::{Camera, Level, LodMode, RenderOptions, Renderer};
 
 fn assets() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
-}
-
-fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
 }
 
 fn generate(into: &Path) {
@@ -42,7 +29,7 @@ fn committed_assets_are_exactly_what_the_generator_makes() {
     let (a, b) = (tmp.join("assets-a"), tmp.join("assets-b"));
     generate(&a);
     generate(&b);
-    let (fa, fb, committed) = (files(&a), files(&b), files(&assets()));
+    let (fa, fb, committed) = (files_under(&a), files_under(&b), files_under(&assets()));
     assert!(fa == fb, "two runs of the generator differ");
     let names = |m: &BTreeMap<PathBuf, Vec<u8>>| m.keys().cloned().collect::<Vec<_>>();
     assert_eq!(names(&committed), names(&fa), "committed files differ from generated ones");

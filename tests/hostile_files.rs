@@ -73,6 +73,35 @@ fn a_trace_that_is_not_a_file_is_refused_in_one_line_by_every_command() {
 }
 
 #[test]
+fn an_output_that_is_not_a_file_is_refused_before_the_work_and_an_old_file_is_replaced_whole() {
+    let dir = tmp("outputs");
+    let duck = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/samples/Duck/Duck.gltf");
+    let duck = duck.to_str().unwrap();
+    for (path, words) in not_files(&dir) {
+        let p = path.to_str().unwrap();
+        let r = run(&dir, &["render", duck, "--out", p]);
+        assert_one_line(&r, &["--out", p, words]);
+        let r = run(&dir, &["export-frame", &demo(), "--tick", "10", "--out", p]);
+        assert_one_line(&r, &["--out", p, words]);
+    }
+    let missing = dir.join("no-such-folder/frame.png");
+    let r = run(&dir, &["render", duck, "--out", missing.to_str().unwrap()]);
+    assert_one_line(&r, &["--out", "no such folder"]);
+    // An existing output is replaced by a whole new file (written beside it and renamed), nothing left over.
+    let out = dir.join("duck.png");
+    std::fs::write(&out, b"an older picture").unwrap();
+    let r = run(&dir, &["render", duck, "--out", out.to_str().unwrap(), "--width", "32", "--height", "24"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(read_png(&out).map(|(_, w, h)| (w, h)), Some((32, 24)));
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
 fn a_settings_file_that_is_not_a_file_gives_defaults_and_one_warning() {
     let dir = tmp("settings");
     for (path, words) in not_files(&dir) {

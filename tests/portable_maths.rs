@@ -17,9 +17,13 @@
 #![cfg(all(target_os = "linux", target_env = "gnu"))]
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+use common::files_under;
 use std::sync::OnceLock;
 
 fn root() -> PathBuf {
@@ -104,22 +108,6 @@ fn demo_traces_replay_with_the_same_checksums_and_frames_under_another_maths_lib
     }
 }
 
-fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
-}
-
 #[test]
 fn the_asset_generator_writes_the_committed_assets_under_another_maths_library() {
     let out = tmp().join("assets-perturbed");
@@ -127,7 +115,7 @@ fn the_asset_generator_writes_the_committed_assets_under_another_maths_library()
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_assetgen"));
     cmd.arg(&out);
     run(cmd, true);
-    let (made, committed) = (files(&out), files(&root().join("assets")));
+    let (made, committed) = (files_under(&out), files_under(&root().join("assets")));
     let stale: Vec<_> =
         made.iter().filter(|(k, v)| committed.get(*k) != Some(*v)).map(|(k, _)| k.display().to_string()).collect();
     assert!(stale.is_empty(), "under another maths library the generator writes different {stale:?}");

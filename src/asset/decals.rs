@@ -9,8 +9,9 @@
 //! Over means the two polygons' outlines, projected onto that plane, overlap by more than that tolerance
 //! (separating axes on their convex hulls).
 //!
-//! The search compares pairs of polygons in one plane bucket, which is quadratic in a flat mesh; its work
-//! is bounded by one budget of pairs for the whole load ([`crate::asset::LoadBudget::decal_pairs`], 4 Mi by
+//! The search visits pairs of polygons in one plane bucket, which is quadratic in a flat mesh; its work
+//! is bounded by one budget of pairs visited (every candidate looked at is charged, whether or not its
+//! material can be under the polygon) for the whole load ([`crate::asset::LoadBudget::decal_pairs`], 4 Mi by
 //! default, about a third of a second), shared by all meshes in load order, so a file of many flat meshes
 //! costs no more than one. A material stops being searched once it has the highest bias it can get, so an
 //! honest decal layer costs a few pairs. Past the budget, decals are left unmarked (they fight in the
@@ -58,7 +59,8 @@ pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
     // The highest bias of the materials before `m`: `m` can get at most one more, and once it has that, the
     // rest of its polygons cannot change anything.
     let mut below = 0u8;
-    for (m, members) in by_material.iter().enumerate() {
+    // The first material lies on nothing earlier: it is never searched.
+    for (m, members) in by_material.iter().enumerate().skip(1) {
         let ceiling = below.saturating_add(1);
         'poly: for &i in members {
             if bias[m] >= ceiling {
@@ -69,14 +71,16 @@ pub fn mark_decals(mesh: &mut Mesh, pairs_left: &mut u64) -> usize {
             for dd in [kd.saturating_sub(1), kd, kd.saturating_add(1)] {
                 let Some(cands) = buckets.get(&(kx, ky, kz, dd)) else { continue };
                 for &j in cands {
-                    let under = polys[j].material as usize;
-                    if under >= m || bias[under] < bias[m] {
-                        continue;
-                    }
+                    // Every candidate visited is charged, the ones the filter below skips too: a bucket of
+                    // one material's polygons would otherwise be walked for free, once per polygon.
                     if *pairs_left == 0 {
                         break 'poly;
                     }
                     *pairs_left -= 1;
+                    let under = polys[j].material as usize;
+                    if under >= m || bias[under] < bias[m] {
+                        continue;
+                    }
                     if overlap_in_plane(mesh, i, j, n, tol) {
                         bias[m] = bias[m].max(bias[under].saturating_add(1));
                     }
@@ -212,5 +216,34 @@ mod tests {
         let mut mesh = b.build().unwrap();
         let mut pairs = 100;
         assert_eq!(mark_decals(&mut mesh, &mut pairs), 1);
+    }
+
+    #[test]
+    fn candidates_the_filter_skips_are_charged_too() {
+        // One surface, then 600 side-by-side tiles of a second material in its plane but beside it: each
+        // tile's bucket holds 600 candidates of its own material, which the filter skips. Uncharged, that
+        // is 360,000 free visits (a flat mesh of a million quads would be 10^12); charged, the budget of
+        // 1,000 runs out and the search stops.
+        let mut b = MeshBuilder::new();
+        let ground = b.material(Material::default());
+        let tiles = b.material(Material::default());
+        quad(&mut b, ground, -10.0, -9.0, 0.0);
+        for k in 0..600 {
+            quad(&mut b, tiles, k as f32, k as f32 + 1.0, 0.0);
+        }
+        let mut mesh = b.build().unwrap();
+        let mut pairs = 1000;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 0);
+        assert_eq!(pairs, 0, "every candidate visited is charged");
+        // The first material is never searched: a flat one-material mesh costs nothing.
+        let mut b = MeshBuilder::new();
+        let only = b.material(Material::default());
+        for k in 0..600 {
+            quad(&mut b, only, k as f32, k as f32 + 1.0, 0.0);
+        }
+        let mut mesh = b.build().unwrap();
+        let mut pairs = 1000;
+        assert_eq!(mark_decals(&mut mesh, &mut pairs), 0);
+        assert_eq!(pairs, 1000);
     }
 }

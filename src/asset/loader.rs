@@ -190,6 +190,11 @@ impl<'a> Loader<'a> {
                 doc.nodes().filter(|n| !is_child[n.index()]).collect()
             }
         };
+        // Visits are charged when a node is pushed, not when it is popped, so that neither the stack nor the
+        // work of grouping a node's children (a node may list a million children) outgrows the budget.
+        self.meter
+            .charge(Limit::NodeVisits, roots.len() as u64)
+            .map_err(|over| AssetError::budget(&self.file, "the scene's root nodes".into(), over))?;
         // (node, parent's world transform, depth, nodes holding its middle and long models by naming convention)
         let mut stack: Vec<(gltf::Node<'a>, Mat4, usize, Vec<gltf::Node<'a>>)> =
             roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0, vec![])).collect();
@@ -203,10 +208,7 @@ impl<'a> Loader<'a> {
         };
         while let Some((node, parent, depth, named_lods)) = stack.pop() {
             let at = || format!("node {}", node.index());
-            self.meter
-                .charge(Limit::NodeVisits, 1)
-                .and_then(|()| self.meter.check_depth(depth as u64))
-                .map_err(|over| AssetError::budget(&self.file, at(), over))?;
+            self.meter.check_depth(depth as u64).map_err(|over| AssetError::budget(&self.file, at(), over))?;
             while path.len() > depth {
                 if let Some(n) = path.pop() {
                     on_path[n] = false;
@@ -233,6 +235,9 @@ impl<'a> Loader<'a> {
                     .map_or_else(|| format!("camera {}", self.out.cameras.len()), str::to_string);
                 self.out.cameras.push(SceneCamera { name, camera_name: cam.name().map(str::to_string), camera });
             }
+            self.meter
+                .charge(Limit::NodeVisits, node.children().len() as u64)
+                .map_err(|over| AssetError::budget(&self.file, format!("{}'s children", at()), over))?;
             for (child, alternates) in named_lod_groups(node.children().collect()).into_iter().rev() {
                 stack.push((child, world, depth + 1, alternates));
             }
@@ -413,16 +418,24 @@ fn named_lod_groups(children: Vec<gltf::Node<'_>>) -> Vec<(gltf::Node<'_>, Vec<g
         let level: u8 = level.parse().ok().filter(|l| *l <= 2)?;
         Some((prefix.to_string(), level))
     };
-    let find =
-        |prefix: &str, level: u8| children.iter().find(|c| split(c).is_some_and(|(p, l)| p == prefix && l == level));
+    // Each child's name is split once and the first child of each (prefix, level) is found through a map:
+    // linear in the children (a node may list a million), not quadratic.
+    let keys: Vec<Option<(String, u8)>> = children.iter().map(split).collect();
+    let mut first: BTreeMap<(&str, u8), usize> = BTreeMap::new();
+    for (i, k) in keys.iter().enumerate() {
+        if let Some((prefix, level)) = k {
+            first.entry((prefix.as_str(), *level)).or_insert(i);
+        }
+    }
+    let find = |prefix: &str, level: u8| first.get(&(prefix, level)).map(|&i| &children[i]);
     let mut out = vec![];
-    for c in &children {
-        match split(c) {
-            Some((prefix, 0)) if find(&prefix, 1).is_some() => {
-                let alts: Vec<_> = [1, 2].iter().filter_map(|&l| find(&prefix, l).cloned()).collect();
+    for (c, k) in children.iter().zip(&keys) {
+        match k {
+            Some((prefix, 0)) if find(prefix, 1).is_some() => {
+                let alts: Vec<_> = [1, 2].iter().filter_map(|&l| find(prefix, l).cloned()).collect();
                 out.push((c.clone(), alts));
             }
-            Some((prefix, 1 | 2)) if find(&prefix, 0).is_some() && find(&prefix, 1).is_some() => {}
+            Some((prefix, 1 | 2)) if find(prefix, 0).is_some() && find(prefix, 1).is_some() => {}
             _ => out.push((c.clone(), vec![])),
         }
     }

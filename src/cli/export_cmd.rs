@@ -31,6 +31,7 @@ pub struct ExportArgs {
 
 /// Runs `export-frame`; prints what was written.
 pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
+    crate::userfile::check_output(&args.out).map_err(|source| CliError::Output { flag: "--out", source })?;
     let dir = super::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
@@ -50,7 +51,7 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     let chosen = Renderer::new().frame_meshes(args.width, args.height, &camera, &list, &RenderOptions::default());
     let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))
         .map_err(|e| CliError::BadArgument(e.to_string()))?;
-    std::fs::write(&args.out, &bytes)
+    crate::userfile::replace_atomically(&args.out, &bytes)
         .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
     eprintln!(
         "wrote {} (tick {}, {}x{}: {} instances, {} triangles, {} materials, {} bytes)",

@@ -115,6 +115,14 @@ pub enum CliError {
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),
+    /// An output file named on the command line cannot be written there (checked before the work).
+    #[error("cannot write {flag} {source}")]
+    Output {
+        /// The flag that named it (`--out`).
+        flag: &'static str,
+        /// What is wrong with the path.
+        source: crate::userfile::UserFileError,
+    },
 }
 
 /// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that

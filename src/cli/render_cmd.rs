@@ -176,6 +176,11 @@ fn median(v: &mut [f64]) -> f64 {
 /// Runs `render`.
 pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     let options = args.options();
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.png"))
+    });
+    crate::userfile::check_output(&out).map_err(|source| CliError::Output { flag: "--out", source })?;
     let t_load = Instant::now();
     let mut scene = load(&args.scene)?;
     let ms_load = t_load.elapsed().as_secs_f64() * 1e3;
@@ -195,10 +200,6 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     }
     let ms_min = times.iter().copied().fold(f64::INFINITY, f64::min);
     let ms_median = median(&mut times);
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{stem}.png"))
-    });
     crate::shell::png::write_png(&out, &frame, args.width, args.height)?;
     if scene.skipped_primitives > 0 {
         eprintln!("note: {} point/line primitive(s) skipped (only triangles are drawn)", scene.skipped_primitives);

@@ -154,7 +154,9 @@ pub struct TraceWriter {
 }
 
 impl TraceWriter {
-    /// Creates (or truncates) `path` and writes the header.
+    /// Creates (or truncates) `path` and writes the header: for the asset generator and tests, which own
+    /// their output; the game records a user's race through [`super::recording::Recording`], which never
+    /// truncates an existing file.
     pub fn create(path: &Path, header: &Header) -> Result<Self, TraceError> {
         let name = path.display().to_string();
         let file = File::create(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;

@@ -12,7 +12,7 @@ pub struct PngError {
     pub reason: String,
 }
 
-/// Writes `width * height` pixels of `0x00RRGGBB` as an 8-bit RGB PNG.
+/// Writes `width * height` pixels of `0x00RRGGBB` as an 8-bit RGB PNG, replacing `path` atomically.
 pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Result<(), PngError> {
     let err = |reason: String| PngError { path: path.display().to_string(), reason };
     let n =
@@ -23,6 +23,16 @@ pub fn write_png(path: &Path, pixels: &[u32], width: usize, height: usize) -> Re
     }
     let w = u32::try_from(width).map_err(|e| err(e.to_string()))?;
     let h = u32::try_from(height).map_err(|e| err(e.to_string()))?;
-    image::save_buffer_with_format(path, &rgb, w, h, image::ColorType::Rgb8, image::ImageFormat::Png)
-        .map_err(|e| err(e.to_string()))
+    let mut png = Vec::new();
+    image::write_buffer_with_format(
+        &mut std::io::Cursor::new(&mut png),
+        &rgb,
+        w,
+        h,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| err(e.to_string()))?;
+    // Encoded in memory, then put in place whole: a failed write never leaves a truncated old file.
+    crate::userfile::replace_atomically(path, &png).map_err(|e| err(e.to_string()))
 }
