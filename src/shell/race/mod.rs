@@ -101,7 +101,7 @@ pub struct Race {
     /// The trace path typed in the main menu.
     replay_input: String,
     /// The main menu's recording toggle and the file it records to.
-    record_to: (bool, String),
+    record_to: record::RecordTo,
     /// Whether a recorded race has replaced its target in this run.
     kept_a_race: bool,
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
@@ -172,7 +172,7 @@ impl Race {
             pads: crate::input::gamepad::Gamepads::new(),
             pad_ui: Vec::new(),
             replay_input: String::new(),
-            record_to: (false, "race.trace".into()),
+            record_to: record::RecordTo::default(),
             kept_a_race: false,
             scale: (1, None),
             bindings: Bindings::default(),
@@ -566,8 +566,8 @@ impl Content for Race {
                             self.restart();
                         }
                         ui.horizontal(|ui| {
-                            ui.checkbox(&mut self.record_to.0, "record the race to");
-                            ui.add(egui::TextEdit::singleline(&mut self.record_to.1).desired_width(150.0));
+                            ui.checkbox(&mut self.record_to.on, "record the race to");
+                            ui.add(egui::TextEdit::singleline(&mut self.record_to.text).desired_width(150.0));
                         });
                         ui.horizontal(|ui| {
                             if ui.button("Race").clicked() {
