@@ -102,14 +102,8 @@ impl Race {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::race_on_the_menu;
     use super::*;
-    use crate::render::RenderOptions;
-    use crate::shell::race_scene::RaceScene;
-
-    fn race_on_the_menu() -> Race {
-        let scene = RaceScene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")).unwrap();
-        Race::new(scene, RenderOptions::default(), 1, true)
-    }
 
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("scanline-racer-record-{name}-{}", std::process::id()));
