@@ -5,7 +5,10 @@
 //! ends with at least one tick raced: at a restart, on the way back to the main menu, when a write fails,
 //! and when the window closes whatever closed it ([`Race::finish_recording`], called after the window's
 //! loop returns). Quitting from the main menu before racing leaves the target as it was. A race left
-//! half-way is kept: its trace replays up to where it stopped.
+//! half-way is kept: its trace replays up to where it stopped. Each race is a recording of its own, and the
+//! last one raced wins: a race of one tick started from the menu replaces a full race recorded earlier in
+//! the session (the README says so; keeping the longest would make the file depend on races no longer
+//! shown anywhere).
 
 use std::path::{Path, PathBuf};
 
@@ -152,5 +155,34 @@ mod tests {
         let typed = d.join("typed.trace");
         assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: typed, ticks: 1 }));
         assert_eq!(names(&d), ["typed.trace"]);
+    }
+
+    /// Controls records in the trace at `path`.
+    fn ticks_in(path: &Path) -> usize {
+        let (_, mut r) = crate::input::trace::TraceReader::open(path).unwrap();
+        std::iter::from_fn(|| r.next_record().unwrap())
+            .filter(|r| matches!(r, crate::input::trace::Record::Controls(_)))
+            .count()
+    }
+
+    /// The last race raced wins, as the README says: a race of 300 ticks is kept on the way back to the main
+    /// menu, and a second race from the menu quit after one tick replaces it.
+    #[test]
+    fn the_last_race_raced_replaces_the_file_even_when_quit_at_once() {
+        let d = dir("last");
+        let path = d.join("best.trace");
+        let mut race = race_on_the_menu().record_to(&path).unwrap();
+        race.start_race();
+        for _ in 0..300 {
+            race.tick();
+        }
+        // The pause menu's "Main menu".
+        race.restart();
+        race.screen = Screen::Menu;
+        assert_eq!(ticks_in(&path), 300);
+        race.start_race();
+        race.tick();
+        assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: path.clone(), ticks: 1 }));
+        assert_eq!(ticks_in(&path), 1);
     }
 }
