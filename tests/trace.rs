@@ -212,3 +212,77 @@ fn the_background_ghost_search_finds_the_fastest_lap_and_stops_when_dropped() {
     assert!(t.elapsed() < Duration::from_secs(2), "dropping took {:?}", t.elapsed());
     let _ = std::fs::remove_file(&long);
 }
+
+/// A trace of the header and then millions of checksum records for tick 0 (all with the right sum): the
+/// replay refuses the second record, naming its byte offset, instead of reading them all inside one tick;
+/// and a ghost search on it, dropped at once, stops within a bound (it used to read the whole run first).
+#[test]
+fn a_repeated_checksum_record_is_refused_and_the_ghost_search_on_it_stops_at_once() {
+    use scanline_racer::input::ghost::{GhostFound, GhostSearch};
+    use scanline_racer::input::trace::TraceWriter;
+    use scanline_racer::shell::race::header_for;
+    use std::io::Write;
+    use std::time::{Duration, Instant};
+    let w = World::with_laps(circuit(), 8, 3);
+    let p = tmp("same-tick.trace");
+    TraceWriter::create(&p, &header_for(&w)).unwrap().finish().unwrap();
+    let header_end = std::fs::metadata(&p).unwrap().len();
+    let mut rec = [0u8; 17];
+    rec[0] = 2;
+    rec[9..17].copy_from_slice(&w.checksum().to_le_bytes());
+    // Ten million records: 170 MB, within the 256 MiB a trace may have.
+    let run: Vec<u8> = rec.iter().copied().cycle().take(17 * 1_000_000).collect();
+    let mut f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
+    for _ in 0..10 {
+        f.write_all(&run).unwrap();
+    }
+    let err = replay(&p).unwrap_err();
+    let second = header_end + 17;
+    assert!(err.contains(&format!("{}: checksum record at byte {second} for tick 0,", p.display())), "{err}");
+    // The ghost search stops there too, and says so at once.
+    let mut search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let t = Instant::now();
+    match search.wait() {
+        Some(GhostFound::Failed(e)) => assert_eq!(e.to_string(), err),
+        other => panic!("{other:?}"),
+    }
+    assert!(t.elapsed() < Duration::from_secs(1), "the search took {:?} to fail", t.elapsed());
+    assert!(search.wait().is_none(), "nothing after the failure");
+    // Dropped at once, the search returns at once (reading the run took about half a second before).
+    let search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let t = Instant::now();
+    drop(search);
+    assert!(t.elapsed() < Duration::from_millis(250), "dropping took {:?}", t.elapsed());
+    let _ = std::fs::remove_file(&p);
+}
+
+/// The search keeps one lap for the race, the fastest not yet taken, not a queue of every faster lap: a race
+/// that looks only after the search has ended gets that lap and the end, and nothing more.
+#[test]
+fn the_ghost_search_keeps_only_the_fastest_lap_for_a_race_that_does_not_look() {
+    use scanline_racer::input::ghost::{GhostFound, GhostSearch, LapRecorder, best_lap_of_trace};
+    use scanline_racer::input::replay::Replay;
+    use std::time::{Duration, Instant};
+    // Three laps by the AI: the first, from the standing start, is the slowest.
+    let p = tmp("three-laps.trace");
+    record(&p, 120 * 300);
+    let mut replay = Replay::open(&p, circuit(), 8).unwrap();
+    let (mut laps, mut faster) = (LapRecorder::default(), 0);
+    while replay.advance().unwrap() {
+        faster += usize::from(laps.observe(&replay.world));
+    }
+    assert!(faster >= 2, "the trace has {faster} laps each faster than the one before: the test needs two");
+    let at_once = best_lap_of_trace(&p, circuit(), 8).unwrap().unwrap();
+    let mut search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let t = Instant::now();
+    while !search.done() {
+        assert!(t.elapsed() < Duration::from_secs(60), "the search still runs");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    match search.poll().as_slice() {
+        [GhostFound::Faster(lap), GhostFound::End { laps: true }] => assert_eq!(lap, &at_once),
+        other => panic!("{} reports: {other:?}", other.len()),
+    }
+    assert!(search.poll().is_empty());
+    assert!(search.wait().is_none());
+}

@@ -161,3 +161,22 @@ fn a_recording_that_cannot_start_is_one_line_and_touches_nothing() {
     names.sort();
     assert_eq!(names, ["a-folder.trace", "best.trace"], "no temporary file is left");
 }
+
+/// A scale the file cannot hold as a whole number is one warning naming it, not a refused file.
+#[test]
+fn a_scale_that_is_not_a_whole_number_is_named_in_one_warning() {
+    for (scale, shown) in [("-1", "-1"), ("2.5", "2.5"), ("5e9", "5000000000.0")] {
+        let settings = tmp(&format!("scale-{scale}.json"));
+        std::fs::write(&settings, format!("{{\"scale\": {scale}, \"deadzone\": 0.2}}")).unwrap();
+        let o = run(&["play", "--settings", settings.to_str().unwrap()], 20);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let lines: Vec<&str> = err.lines().collect();
+        assert_eq!((o.status.code(), lines.len()), (Some(1), 2), "{err}");
+        let want = format!(
+            "warning: settings {}: scale {shown} is not a whole number from 1 to 8: 1 used",
+            settings.display()
+        );
+        assert_eq!(lines[0], want);
+        assert!(lines[1].contains("no display"), "{err}");
+    }
+}

@@ -9,12 +9,13 @@
 //! Why a background thread: finding the fastest lap means replaying the whole trace, and a long trace (a
 //! 50 MB one is about 22 hours of racing) took over 30 s with nothing on the screen. The header is checked
 //! at once (a file that is not a trace of this track is refused before the window opens); the laps arrive
-//! as they are found, the first after about one lap of replay (a fraction of a second).
+//! as they are found, the first after about one lap of replay (a fraction of a second). Only the fastest
+//! lap not yet taken waits for the race (a one-lap slot, not a queue), and the thread stops within one tick
+//! of replay when the search is dropped.
 
 use std::path::Path;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 
 use glam::Vec3;
 
@@ -115,7 +116,7 @@ pub fn best_lap_of_trace(path: &Path, track: Arc<Track>, cars: usize) -> Result<
 /// What a [`GhostSearch`] reports.
 #[derive(Debug)]
 pub enum GhostFound {
-    /// A lap faster than any found before in the trace.
+    /// The fastest lap found in the trace so far (faster than any reported before).
     Faster(GhostLap),
     /// The trace is replayed to its end; `laps` says whether it held a complete lap.
     End {
@@ -126,74 +127,129 @@ pub enum GhostFound {
     Failed(ReplayError),
 }
 
-/// The fastest lap of a trace, searched for on a background thread (see the module documentation); the
-/// thread stops when the search is dropped.
-pub struct GhostSearch {
-    found: Receiver<GhostFound>,
-    stop: Arc<AtomicBool>,
-    thread: Option<std::thread::JoinHandle<()>>,
+/// What the search thread leaves for the race: one lap at most, so memory stays bounded however many
+/// faster laps the trace holds and however rarely the race looks.
+#[derive(Debug, Default)]
+struct Slot {
+    /// The fastest lap found and not yet taken (a faster one replaces it).
+    faster: Option<GhostLap>,
+    /// How the search ended ([`GhostFound::End`] or [`GhostFound::Failed`]), until taken.
+    end: Option<GhostFound>,
+    /// Whether the thread has returned (for any reason, a panic included).
+    done: bool,
 }
 
-/// Ticks replayed between looks at the stop flag (a few milliseconds).
-const STOP_CHECK_TICKS: u64 = 256;
+/// The state the search thread and its [`GhostSearch`] share.
+#[derive(Debug, Default)]
+struct Shared {
+    slot: Mutex<Slot>,
+    /// Signalled whenever the slot changes.
+    changed: Condvar,
+    /// Set when the search is dropped: the thread returns before its next tick.
+    stop: AtomicBool,
+}
+
+impl Shared {
+    /// The slot, even after a panic while it was held (its contents are whole at every step).
+    fn slot(&self) -> MutexGuard<'_, Slot> {
+        self.slot.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Changes the slot with `f` and wakes a waiting [`GhostSearch::wait`].
+    fn update(&self, f: impl FnOnce(&mut Slot)) {
+        f(&mut self.slot());
+        self.changed.notify_all();
+    }
+}
+
+/// Marks the search done when the thread returns, however it returns.
+struct Done(Arc<Shared>);
+
+impl Drop for Done {
+    fn drop(&mut self) {
+        self.0.update(|s| s.done = true);
+    }
+}
+
+/// The fastest lap of a trace, searched for on a background thread (see the module documentation); the
+/// thread stops when the search is dropped.
+///
+/// Only the fastest lap found and not yet taken is kept for the race (one slot, replaced by each faster
+/// lap), and the thread looks at its stop flag before every tick it replays; a tick reads at most one
+/// checksum record (the trace reader refuses a checksum not after the previous one), so stopping takes one
+/// tick of replay whatever the trace holds.
+pub struct GhostSearch {
+    shared: Arc<Shared>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
 
 impl GhostSearch {
     /// Opens the trace at `path` for a race of `cars` cars on `track`, refusing at once a file that is not a
     /// trace of that track and field, and replays it on a background thread.
     pub fn start(path: &Path, track: Arc<Track>, cars: usize) -> Result<Self, ReplayError> {
         let mut replay = Replay::open(path, track, cars)?;
-        let (tx, found) = channel();
-        let stop = Arc::new(AtomicBool::new(false));
-        let stopped = Arc::clone(&stop);
+        let shared = Arc::new(Shared::default());
+        let done = Done(Arc::clone(&shared));
         let thread = std::thread::spawn(move || {
+            let shared = &done.0;
             let mut laps = LapRecorder::default();
-            loop {
-                if replay.world.tick.is_multiple_of(STOP_CHECK_TICKS) && stopped.load(Ordering::Relaxed) {
+            let end = loop {
+                if shared.stop.load(Ordering::Relaxed) {
                     return;
                 }
-                let report = match replay.advance() {
-                    Ok(true) if laps.observe(&replay.world) => laps.best.clone().map(GhostFound::Faster),
-                    Ok(true) => None,
-                    Ok(false) => {
-                        let _ = tx.send(GhostFound::End { laps: laps.best.is_some() });
-                        return;
+                match replay.advance() {
+                    Ok(true) => {
+                        if laps.observe(&replay.world)
+                            && let Some(best) = &laps.best
+                        {
+                            let lap = best.clone();
+                            shared.update(|s| s.faster = Some(lap));
+                        }
                     }
-                    Err(e) => {
-                        let _ = tx.send(GhostFound::Failed(e));
-                        return;
-                    }
-                };
-                if let Some(r) = report
-                    && tx.send(r).is_err()
-                {
-                    return;
+                    Ok(false) => break GhostFound::End { laps: laps.best.is_some() },
+                    Err(e) => break GhostFound::Failed(e),
                 }
-            }
+            };
+            shared.update(|s| s.end = Some(end));
         });
-        Ok(Self { found, stop, thread: Some(thread) })
+        Ok(Self { shared, thread: Some(thread) })
     }
 
-    /// What the search reported since the last call, without waiting.
+    /// What the search reported since the last call, without waiting: the fastest lap found since (if
+    /// any), then how the search ended (once it has).
     pub fn poll(&mut self) -> Vec<GhostFound> {
-        let mut out = vec![];
-        loop {
-            match self.found.try_recv() {
-                Ok(f) => out.push(f),
-                Err(TryRecvError::Empty | TryRecvError::Disconnected) => return out,
-            }
-        }
+        let mut slot = self.shared.slot();
+        slot.faster.take().map(GhostFound::Faster).into_iter().chain(slot.end.take()).collect()
     }
 
     /// Waits for the next report (`None` once the search has ended and everything was taken).
     pub fn wait(&mut self) -> Option<GhostFound> {
-        self.found.recv().ok()
+        let mut slot = self.shared.slot();
+        loop {
+            if let Some(lap) = slot.faster.take() {
+                return Some(GhostFound::Faster(lap));
+            }
+            if let Some(end) = slot.end.take() {
+                return Some(end);
+            }
+            if slot.done {
+                return None;
+            }
+            slot = self.shared.changed.wait(slot).unwrap_or_else(PoisonError::into_inner);
+        }
+    }
+
+    /// Whether the search thread has finished (its last reports may still wait to be taken).
+    #[must_use]
+    pub fn done(&self) -> bool {
+        self.shared.slot().done
     }
 }
 
 impl Drop for GhostSearch {
-    /// Stops the thread and waits for it (at most [`STOP_CHECK_TICKS`] ticks of replay).
+    /// Stops the thread and waits for it (one tick of replay).
     fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
+        self.shared.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }

@@ -124,6 +124,22 @@ pub enum TraceError {
         /// The tag found.
         tag: u8,
     },
+    /// A checksum record for a tick at or before the previous checksum record's: checksum ticks only move
+    /// forward, so a run of records for one tick (which a replay would otherwise read all within that tick)
+    /// stops at its second record.
+    #[error(
+        "{path}: checksum record at byte {offset} for tick {tick}, not after the previous checksum's tick {previous}"
+    )]
+    ChecksumOrder {
+        /// The file.
+        path: String,
+        /// Byte offset of the record.
+        offset: u64,
+        /// Tick in the record.
+        tick: u64,
+        /// Tick of the checksum record before it.
+        previous: u64,
+    },
 }
 
 /// Rounds controls to what a trace stores: steer in 1/32767 steps, throttle and brake in 1/255 steps.
@@ -226,6 +242,8 @@ pub struct TraceReader {
     input: BufReader<Box<dyn Read + Send>>,
     path: String,
     offset: u64,
+    /// The tick of the last checksum record read.
+    last_checksum: Option<u64>,
 }
 
 impl TraceReader {
@@ -269,10 +287,11 @@ impl TraceReader {
         if !(1..=64).contains(&header.cars) || !(1..=99).contains(&header.laps) || header.checksum_every == 0 {
             return Err(bad("cars, laps or checksum interval out of range"));
         }
-        Ok((header, Self { input, path: name, offset: 14 + u64::from(len) }))
+        Ok((header, Self { input, path: name, offset: 14 + u64::from(len), last_checksum: None }))
     }
 
-    /// The next record, `Ok(None)` at the end (including a record cut short by a crash).
+    /// The next record, `Ok(None)` at the end (including a record cut short by a crash); a checksum record
+    /// whose tick is not after the previous checksum record's is an error naming its byte offset.
     pub fn next_record(&mut self) -> Result<Option<Record>, TraceError> {
         let mut tag = [0u8; 1];
         if self.input.read_exact(&mut tag).is_err() {
@@ -296,6 +315,10 @@ impl TraceReader {
                 self.offset += 17;
                 let tick = u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]);
                 let sum = u64::from_le_bytes([b[8], b[9], b[10], b[11], b[12], b[13], b[14], b[15]]);
+                if let Some(previous) = self.last_checksum.filter(|&p| tick <= p) {
+                    return Err(TraceError::ChecksumOrder { path: self.path.clone(), offset: at, tick, previous });
+                }
+                self.last_checksum = Some(tick);
                 Ok(Some(Record::Checksum { tick, sum }))
             }
             other => Err(TraceError::Corrupt { path: self.path.clone(), offset: at, tag: other }),

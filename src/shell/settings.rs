@@ -2,15 +2,22 @@
 //! runs.
 //!
 //! JSON, at `--settings FILE`, else `$SCANLINE_RACER_SETTINGS`, else
-//! `$XDG_CONFIG_HOME/scanline-racer/settings.json` (or `~/.config/...`). A missing file means defaults and
-//! is created at the first change. A file that cannot be read or does not parse means defaults and one line
-//! saying why, and it is never written in that run: one typo must not cost the user the rest of the file.
-//! A change is saved by updating only the changed settings in the file's JSON object as read (keys this
-//! build does not know, and settings left alone, stay as they were), written to a temporary file beside it
-//! and renamed over it (through a symbolic link, which stays a link), so a crash never leaves half a file.
+//! `$XDG_CONFIG_HOME/scanline-racer/settings.json` (or `~/.config/...`). A missing or empty file means
+//! defaults and is created at the first change. A field of the wrong type or out of range (`"scale": -1`,
+//! `2.5`, `"deadzone": "wide"`) gets its default and is named in one warning line; the rest of the file is
+//! used. A file that cannot be read or is not a JSON object means defaults and one line saying why, and it
+//! is never written in that run: one typo must not cost the user the rest of the file.
+//!
+//! A change is saved by reading the file again (a hand edit made while the game runs is kept) and setting
+//! only the settings changed since the last save in its JSON object (keys this build does not know, and
+//! settings left alone, stay as they are), written to a temporary file beside it and renamed over it
+//! (through a symbolic link, which stays a link), so a crash never leaves half a file. A file that no
+//! longer reads as a JSON object at that moment is left alone, said once, and not written again in that
+//! run; a file deleted meanwhile is created again with the changes.
 
 use std::path::{Path, PathBuf};
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use thiserror::Error;
@@ -71,9 +78,35 @@ impl Settings {
     }
 }
 
+/// Why a settings file could not be used at all (it is then never written).
+#[derive(Debug, Error)]
+pub enum UnusableSettings {
+    /// The path is not a regular file, is too big, is not UTF-8 text, or cannot be read.
+    #[error(transparent)]
+    File(#[from] UserFileError),
+    /// The text is not JSON.
+    #[error("{path}: {reason}")]
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// What serde_json said (with the line and column).
+        reason: String,
+    },
+    /// The JSON is not an object (an array, a number, a string).
+    #[error("{path}: not a JSON object")]
+    NotObject {
+        /// The file.
+        path: PathBuf,
+    },
+}
+
 /// Why the settings could not be saved.
 #[derive(Debug, Error)]
 pub enum SettingsError {
+    /// The file no longer reads as a JSON object (edited or replaced while the game ran): it is left as it
+    /// is, and nothing more is saved in this run.
+    #[error("settings {0} (it changed while the game ran); the file is left as it is and changes will not be saved")]
+    Unusable(#[source] UnusableSettings),
     /// The settings' folder could not be created.
     #[error("cannot save settings: cannot create {path}: {reason}")]
     Folder {
@@ -95,17 +128,101 @@ pub enum SettingsError {
     },
 }
 
-/// The settings file as read at start: where it is, its JSON object, what was last loaded or saved, and
-/// whether it may be written.
+/// The settings file: where it is, what was last loaded or saved, and whether it may be written.
 #[derive(Clone, Debug)]
 pub struct SettingsFile {
     path: PathBuf,
-    /// The file's top-level object as read (empty when the file did not exist), updated by each save.
-    doc: Map<String, Value>,
-    /// The settings as the file holds them now; a setting that differs from this is saved.
+    /// The settings as this run last loaded or saved them; a setting that differs from this is saved.
     saved: Settings,
-    /// False when the file exists but could not be read or parsed: it is then left alone.
+    /// False when the file could not be read as a JSON object (at start, or at a save): it is then left
+    /// alone for the rest of the run.
     writable: bool,
+}
+
+/// The file's top-level JSON object as it is now: `None` when the file does not exist, an empty object when
+/// it is empty (or only white space); only a regular file within the budget is read (a FIFO would block,
+/// `/dev/zero` would never end).
+fn read_object(path: &Path) -> Result<Option<Map<String, Value>>, UnusableSettings> {
+    let text = match crate::userfile::read_regular_text(path, MAX_BYTES, "a settings file") {
+        Ok(t) => t,
+        Err(e) if e.is_not_found() => return Ok(None),
+        Err(e) => return Err(e.into()),
+    };
+    if text.trim().is_empty() {
+        return Ok(Some(Map::new()));
+    }
+    match serde_json::from_str::<Value>(&text) {
+        Ok(Value::Object(doc)) => Ok(Some(doc)),
+        Ok(_) => Err(UnusableSettings::NotObject { path: path.to_path_buf() }),
+        Err(e) => Err(UnusableSettings::Json { path: path.to_path_buf(), reason: e.to_string() }),
+    }
+}
+
+/// A JSON value as a warning shows it: at most 40 characters.
+fn shown(v: &Value) -> String {
+    let text = v.to_string();
+    match text.char_indices().nth(40) {
+        Some((end, _)) => format!("{}...", &text[..end]),
+        None => text,
+    }
+}
+
+/// Sets `slot` from the field `name` of `doc` when it is there and of `slot`'s type; else leaves the
+/// default in `slot` and says so in `notes` (`what` names the type wanted: "a number").
+fn field<T: DeserializeOwned + std::fmt::Display>(
+    doc: &Map<String, Value>,
+    name: &str,
+    slot: &mut T,
+    what: &str,
+    notes: &mut Vec<String>,
+) {
+    if let Some(v) = doc.get(name) {
+        match T::deserialize(v) {
+            Ok(x) => *slot = x,
+            Err(_) => notes.push(format!("{name} {} is not {what}: {slot} used", shown(v))),
+        }
+    }
+}
+
+/// The key bindings of the `keys` field, action by action: an entry that is not a known action with a list
+/// of key names is dropped and said (the action then gets its default keys, see [`Bindings::repaired`]).
+fn keys_of(v: &Value, notes: &mut Vec<String>) -> Bindings {
+    let Value::Object(map) = v else {
+        notes.push(format!("keys {} is not an object of actions and their keys: default keys used", shown(v)));
+        return Bindings::default();
+    };
+    let mut good = Map::new();
+    for (action, keys) in map {
+        if crate::input::bindings::Action::deserialize(Value::String(action.clone())).is_err() {
+            notes.push(format!("keys: {} is not an action: dropped", shown(&Value::String(action.clone()))));
+        } else if Vec::<String>::deserialize(keys).is_err() {
+            notes.push(format!("keys: {action} {} is not a list of key names: dropped", shown(keys)));
+        } else {
+            good.insert(action.clone(), keys.clone());
+        }
+    }
+    // Every entry left is an action with a list of names, so this cannot fail; defaults if it somehow did.
+    Bindings::deserialize(Value::Object(good)).unwrap_or_default()
+}
+
+impl Settings {
+    /// The settings in a settings file's object, field by field: a field that is not of its type gets its
+    /// default and a note naming it, and the others are used (keys this build does not know are ignored).
+    /// Ranges are checked after, by [`Settings::sanitized`].
+    #[must_use]
+    pub fn from_object(doc: &Map<String, Value>) -> (Self, Vec<String>) {
+        let mut s = Settings::default();
+        let mut notes = vec![];
+        if let Some(v) = doc.get("keys") {
+            s.keys = keys_of(v, &mut notes);
+        }
+        field(doc, "deadzone", &mut s.deadzone, "a number", &mut notes);
+        field(doc, "curve", &mut s.curve, "a number", &mut notes);
+        let whole = format!("a whole number from {MIN_SCALE} to {MAX_SCALE}");
+        field(doc, "scale", &mut s.scale, &whole, &mut notes);
+        field(doc, "ghost", &mut s.ghost, "true or false", &mut notes);
+        (s, notes)
+    }
 }
 
 impl SettingsFile {
@@ -113,34 +230,23 @@ impl SettingsFile {
     /// changes to, and one line for the user when something in it was not used (`None` when all was well).
     #[must_use]
     pub fn load(path: &Path) -> (Self, Settings, Option<String>) {
-        let shown = path.display();
-        let mut file = Self { path: path.to_path_buf(), doc: Map::new(), saved: Settings::default(), writable: false };
-        let refused = |file: Self, why: String| {
-            let note =
-                format!("settings {why}; defaults used; the file is left as it is and changes will not be saved");
-            (file, Settings::default(), Some(note))
-        };
-        // Only a regular file within the budget is read: a FIFO would block, /dev/zero would never end.
-        let text = match crate::userfile::read_regular_text(path, MAX_BYTES, "a settings file") {
-            Ok(t) => t,
-            Err(e) if e.is_not_found() => {
+        let mut file = Self { path: path.to_path_buf(), saved: Settings::default(), writable: false };
+        let doc = match read_object(path) {
+            Ok(Some(doc)) => doc,
+            Ok(None) => {
                 file.writable = true;
                 return (file, Settings::default(), None);
             }
-            Err(e) => return refused(file, e.to_string()),
+            Err(e) => {
+                let note =
+                    format!("settings {e}; defaults used; the file is left as it is and changes will not be saved");
+                return (file, Settings::default(), Some(note));
+            }
         };
-        let doc = match serde_json::from_str::<Value>(&text) {
-            Ok(Value::Object(doc)) => doc,
-            Ok(_) => return refused(file, format!("{shown}: not a JSON object")),
-            Err(e) => return refused(file, format!("{shown}: {e}")),
-        };
-        let settings = match Settings::deserialize(Value::Object(doc.clone())) {
-            Ok(s) => s,
-            Err(e) => return refused(file, format!("{shown}: {e}")),
-        };
-        let (settings, notes) = settings.sanitized();
-        let note = (!notes.is_empty()).then(|| format!("settings {shown}: {}", notes.join("; ")));
-        file.doc = doc;
+        let (settings, mut notes) = Settings::from_object(&doc);
+        let (settings, range_notes) = settings.sanitized();
+        notes.extend(range_notes);
+        let note = (!notes.is_empty()).then(|| format!("settings {}: {}", path.display(), notes.join("; ")));
         file.saved = settings.clone();
         file.writable = true;
         (file, settings, note)
@@ -152,7 +258,8 @@ impl SettingsFile {
         &self.path
     }
 
-    /// Whether changes are saved (false when the file could not be read or parsed at start).
+    /// Whether changes are saved (false once the file could not be read as a JSON object, at start or at a
+    /// save).
     #[must_use]
     pub fn writable(&self) -> bool {
         self.writable
@@ -164,9 +271,11 @@ impl SettingsFile {
         self.saved = settings;
     }
 
-    /// Saves the settings in `now` that differ from the file's, leaving everything else in the file as it is;
-    /// returns whether the file was written (not when nothing changed or the file is left alone). After a
-    /// failure the change counts as saved, so that it is reported once, not at every frame.
+    /// Saves the settings in `now` that changed since the last save onto the file as it is now (read again,
+    /// so a hand edit made meanwhile is kept), leaving everything else in it as it is; returns whether the
+    /// file was written (not when nothing changed or the file is left alone). A file that no longer reads as
+    /// a JSON object is not written, now or later in this run ([`SettingsError::Unusable`], returned once).
+    /// After a failure the change counts as saved, so that it is reported once, not at every frame.
     pub fn save(&mut self, now: &Settings) -> Result<bool, SettingsError> {
         if !self.writable || *now == self.saved {
             return Ok(false);
@@ -177,14 +286,21 @@ impl SettingsFile {
         let value = |s: &Settings| serde_json::to_string(s).and_then(|t| serde_json::from_str::<Value>(&t));
         let (old, new) = (value(&self.saved).map_err(json)?, value(now).map_err(json)?);
         self.saved = now.clone();
+        let mut doc = match read_object(&self.path) {
+            Ok(doc) => doc.unwrap_or_default(),
+            Err(e) => {
+                self.writable = false;
+                return Err(SettingsError::Unusable(e));
+            }
+        };
         if let (Value::Object(old), Value::Object(new)) = (old, new) {
             for (key, value) in new {
                 if old.get(&key) != Some(&value) {
-                    self.doc.insert(key, value);
+                    doc.insert(key, value);
                 }
             }
         }
-        let mut text = serde_json::to_string_pretty(&self.doc).map_err(json)?;
+        let mut text = serde_json::to_string_pretty(&doc).map_err(json)?;
         text.push('\n');
         let target = crate::userfile::write_target(&self.path);
         if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -240,7 +356,6 @@ mod tests {
         for (name, text) in [
             ("garbage.json", "{not json"),
             ("comma.json", "{\"scale\": 2,}"),
-            ("types.json", r#"{"deadzone":"wide"}"#),
             ("array.json", "[1, 2]"),
             ("binary.json", "\u{0}\u{1}\u{2}"),
         ] {
@@ -301,5 +416,103 @@ mod tests {
         assert!(file.save(&Settings { scale: 3, ..s }).unwrap());
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "{\n  \"ghost\": false,\n  \"scale\": 3\n}\n");
+    }
+
+    #[test]
+    fn a_hand_edit_made_while_the_game_runs_is_kept() {
+        let p = tmp("hand.json");
+        std::fs::write(&p, "{\"scale\": 2}\n").unwrap();
+        let (mut file, s, _) = SettingsFile::load(&p);
+        assert!(file.save(&Settings { ghost: false, ..s.clone() }).unwrap());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"ghost\": false,\n  \"scale\": 2\n}\n");
+        // By hand, while the game runs: a key of the user's own, and the scale back to 1.
+        std::fs::write(&p, "{\"ghost\": false, \"scale\": 1, \"theme\": \"dark\"}").unwrap();
+        assert!(file.save(&Settings { ghost: false, deadzone: 0.25, ..s }).unwrap());
+        let want = "{\n  \"deadzone\": 0.25,\n  \"ghost\": false,\n  \"scale\": 1,\n  \"theme\": \"dark\"\n}\n";
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), want, "the game's two changes and the hand edit");
+    }
+
+    #[test]
+    fn a_file_that_stops_parsing_while_the_game_runs_is_left_alone_and_said_once() {
+        let p = tmp("broken-later.json");
+        std::fs::write(&p, "{}").unwrap();
+        let (mut file, s, _) = SettingsFile::load(&p);
+        std::fs::write(&p, "{\"scale\": 2,}").unwrap();
+        let e = file.save(&Settings { scale: 3, ..s.clone() }).unwrap_err();
+        let want = format!(
+            "settings {}: trailing comma at line 1 column 13 (it changed while the game ran); the file is left as \
+             it is and changes will not be saved",
+            p.display()
+        );
+        assert_eq!(e.to_string(), want);
+        assert!(!file.writable());
+        // Said once: a later change is not saved either, and not said again, even once the file is fixed.
+        std::fs::write(&p, "{\"scale\": 2}").unwrap();
+        assert!(!file.save(&Settings { scale: 4, ..s.clone() }).unwrap());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\"scale\": 2}");
+        // A file turned into a folder is not written either.
+        let d = tmp("folder-later.json");
+        let _ = std::fs::remove_dir(&d);
+        let _ = std::fs::remove_file(&d);
+        let (mut file, s, _) = SettingsFile::load(&d);
+        std::fs::create_dir(&d).unwrap();
+        let e = file.save(&Settings { scale: 3, ..s }).unwrap_err();
+        assert!(e.to_string().contains("is a folder, not a regular file (it changed"), "{e}");
+        assert!(std::fs::read_dir(&d).unwrap().next().is_none(), "nothing written into the folder");
+    }
+
+    #[test]
+    fn a_file_deleted_while_the_game_runs_is_written_again_with_the_changes() {
+        let p = tmp("deleted.json");
+        std::fs::write(&p, "{\"theme\": \"dark\", \"scale\": 2}").unwrap();
+        let (mut file, s, _) = SettingsFile::load(&p);
+        std::fs::remove_file(&p).unwrap();
+        assert!(file.save(&Settings { ghost: false, ..s }).unwrap());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"ghost\": false\n}\n");
+    }
+
+    #[test]
+    fn an_empty_file_is_no_settings_yet() {
+        let p = tmp("empty.json");
+        std::fs::write(&p, "").unwrap();
+        let (mut file, s, note) = SettingsFile::load(&p);
+        assert_eq!((&s, note, file.writable()), (&Settings::default(), None, true));
+        assert!(file.save(&Settings { scale: 2, ..s }).unwrap());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"scale\": 2\n}\n");
+    }
+
+    #[test]
+    fn a_field_of_the_wrong_type_gets_its_default_and_the_rest_of_the_file_is_used() {
+        for (scale, written) in [("-1", "-1"), ("2.5", "2.5"), ("5e9", "5000000000.0"), ("\"big\"", "\"big\"")] {
+            let p = tmp("wrong-scale.json");
+            std::fs::write(&p, format!("{{\"theme\": \"dark\", \"scale\": {scale}, \"deadzone\": 0.2}}")).unwrap();
+            let (mut file, s, note) = SettingsFile::load(&p);
+            assert_eq!((s.scale, s.deadzone, file.writable()), (1, 0.2, true), "{scale}");
+            let want = format!("settings {}: scale {written} is not a whole number from 1 to 8: 1 used", p.display());
+            assert_eq!(note.as_deref(), Some(want.as_str()));
+            // Saved like any file: the unknown key stays, and so does the scale no change touched.
+            assert!(file.save(&Settings { ghost: false, ..s }).unwrap());
+            let want = format!(
+                "{{\n  \"deadzone\": 0.2,\n  \"ghost\": false,\n  \"scale\": {written},\n  \"theme\": \"dark\"\n}}\n"
+            );
+            assert_eq!(std::fs::read_to_string(&p).unwrap(), want, "{scale}");
+        }
+        let p = tmp("wrong-types.json");
+        let text = r#"{"deadzone": "wide", "curve": 2, "ghost": "no", "keys": {"fly": ["KeyF"], "brake": "Space", "throttle": ["KeyT"]}}"#;
+        std::fs::write(&p, text).unwrap();
+        let (file, s, note) = SettingsFile::load(&p);
+        assert_eq!((s.deadzone, s.curve, s.ghost, file.writable()), (DEFAULT_DEADZONE, 2.0, true, true));
+        assert_eq!(s.keys.keys(Action::Throttle), ["KeyT"]);
+        assert_eq!(s.keys.keys(Action::Brake), Bindings::default().keys(Action::Brake));
+        let note = note.unwrap();
+        for part in [
+            "keys: \"fly\" is not an action: dropped",
+            "keys: brake \"Space\" is not a list of key names: dropped",
+            &format!("deadzone \"wide\" is not a number: {DEFAULT_DEADZONE} used"),
+            "ghost \"no\" is not true or false: true used",
+        ] {
+            assert!(note.contains(part), "{part} in {note}");
+        }
+        assert!(!note.contains('\n'), "{note}");
     }
 }

@@ -1,5 +1,6 @@
 //! An Xvfb server for the window tests, and xdotool to type into the window.
 
+use std::os::unix::net::UnixStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -49,10 +50,14 @@ impl Xvfb {
                 if let Ok(Some(_)) = child.try_wait() {
                     break; // this display was taken after all: try another
                 }
-                if Path::new(&socket).exists() {
-                    // The socket appears just before the server accepts; give it a moment.
+                // A socket left by a killed server refuses connections: wait until one is accepted, then make
+                // sure the server is ours (another one on this display would make ours exit).
+                if UnixStream::connect(&socket).is_ok() {
                     std::thread::sleep(Duration::from_millis(100));
-                    return Some(Xvfb { child, display: format!(":{num}") });
+                    if let Ok(None) = child.try_wait() {
+                        return Some(Xvfb { child, display: format!(":{num}") });
+                    }
+                    break;
                 }
                 std::thread::sleep(Duration::from_millis(50));
             }

@@ -101,7 +101,7 @@ pub struct Race {
     /// The trace path typed in the main menu.
     replay_input: String,
     /// The main menu's recording toggle and the file it records to.
-    record_to: (bool, String),
+    record_to: record::RecordTo,
     /// Whether a recorded race has replaced its target in this run.
     kept_a_race: bool,
     /// Window pixels per rendered pixel: shown in Settings, `Some` when changed there.
@@ -172,7 +172,7 @@ impl Race {
             pads: crate::input::gamepad::Gamepads::new(),
             pad_ui: Vec::new(),
             replay_input: String::new(),
-            record_to: (false, "race.trace".into()),
+            record_to: record::RecordTo::default(),
             kept_a_race: false,
             scale: (1, None),
             bindings: Bindings::default(),
@@ -224,12 +224,15 @@ impl Race {
         }
     }
 
-    /// Saves the settings if they changed since the last save (a failure is shown, not fatal).
+    /// Saves the settings if they changed since the last save; a failure is not fatal: it is shown in the
+    /// menu and said in one warning line (once: a change that failed counts as saved, and a file that no
+    /// longer parses is not written again).
     fn save_settings(&mut self) {
         let now = self.current_settings();
         if let Some(file) = &mut self.settings_file
             && let Err(e) = file.save(&now)
         {
+            eprintln!("warning: {e}");
             self.notice = Some(e.to_string());
         }
     }
@@ -566,8 +569,8 @@ impl Content for Race {
                             self.restart();
                         }
                         ui.horizontal(|ui| {
-                            ui.checkbox(&mut self.record_to.0, "record the race to");
-                            ui.add(egui::TextEdit::singleline(&mut self.record_to.1).desired_width(150.0));
+                            ui.checkbox(&mut self.record_to.on, "record the race to");
+                            ui.add(egui::TextEdit::singleline(&mut self.record_to.text).desired_width(150.0));
                         });
                         ui.horizontal(|ui| {
                             if ui.button("Race").clicked() {
@@ -649,5 +652,46 @@ impl Content for Race {
             quit = true;
         }
         quit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A race on the main menu with the shipped assets.
+    pub(super) fn race_on_the_menu() -> Race {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+        Race::new(RaceScene::load(&dir).unwrap(), RenderOptions::default(), 1, true)
+    }
+
+    /// Settings changed in the game are saved onto the file as it is at that moment: a key added by hand
+    /// while the game runs stays, with both changes; a file broken by hand is then left alone, said once.
+    #[test]
+    fn settings_saved_by_the_game_keep_a_hand_edit_made_meanwhile() {
+        let dir = std::env::temp_dir().join(format!("scanline-racer-race-settings-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("settings.json");
+        std::fs::write(&p, "{\"scale\": 2}").unwrap();
+        let (file, settings, note) = SettingsFile::load(&p);
+        let mut race = race_on_the_menu().with_settings(settings, Some(file), None, note);
+        race.show_ghost = false;
+        race.save_settings();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"ghost\": false,\n  \"scale\": 2\n}\n");
+        std::fs::write(&p, "{\n  \"ghost\": false,\n  \"scale\": 2,\n  \"theme\": \"dark\"\n}\n").unwrap();
+        race.pads.deadzone = 0.25;
+        race.save_settings();
+        let want = "{\n  \"deadzone\": 0.25,\n  \"ghost\": false,\n  \"scale\": 2,\n  \"theme\": \"dark\"\n}\n";
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), want);
+        assert_eq!(race.notice, None);
+        // Broken by hand: not written, said once.
+        std::fs::write(&p, "{\"theme\": ").unwrap();
+        race.pads.curve = 2.0;
+        race.save_settings();
+        let said = race.notice.take().unwrap_or_default();
+        assert!(said.ends_with("the file is left as it is and changes will not be saved"), "{said}");
+        race.pads.curve = 2.5;
+        race.save_settings();
+        assert_eq!((race.notice.as_deref(), std::fs::read_to_string(&p).unwrap().as_str()), (None, "{\"theme\": "));
     }
 }

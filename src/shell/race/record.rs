@@ -5,12 +5,45 @@
 //! ends with at least one tick raced: at a restart, on the way back to the main menu, when a write fails,
 //! and when the window closes whatever closed it ([`Race::finish_recording`], called after the window's
 //! loop returns). Quitting from the main menu before racing leaves the target as it was. A race left
-//! half-way is kept: its trace replays up to where it stopped.
+//! half-way is kept: its trace replays up to where it stopped. Each race is a recording of its own, and the
+//! last one raced wins: a race of one tick started from the menu replaces a full race recorded earlier in
+//! the session (the README says so; keeping the longest would make the file depend on races no longer
+//! shown anywhere).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{Race, Screen, header_for};
 use crate::input::recording::{Kept, RecordError, Recording};
+
+/// The main menu's "record the race to" switch and the file it records to.
+#[derive(Clone, Debug)]
+pub(super) struct RecordTo {
+    /// Whether a race started from the main menu is recorded.
+    pub(super) on: bool,
+    /// The file name in the menu's text field.
+    pub(super) text: String,
+    /// The path given with `--record` and the text the field showed for it: while the field still shows
+    /// that text, the race is recorded to this path exactly (a name with spaces around it, or one that is
+    /// not UTF-8, would be another file once turned into text and trimmed).
+    given: Option<(PathBuf, String)>,
+}
+
+impl Default for RecordTo {
+    fn default() -> Self {
+        Self { on: false, text: "race.trace".into(), given: None }
+    }
+}
+
+impl RecordTo {
+    /// The file to record to: the path given on the command line, unless a name was typed in the menu
+    /// since (trimmed: spaces typed around a name are a slip).
+    pub(super) fn path(&self) -> PathBuf {
+        match &self.given {
+            Some((path, shown)) if *shown == self.text => path.clone(),
+            _ => PathBuf::from(self.text.trim()),
+        }
+    }
+}
 
 impl Race {
     /// Records races to `path`: at once when the race starts without the menu, else each race started from
@@ -18,7 +51,8 @@ impl Race {
     /// (a folder, a missing folder) is refused now, before the window opens; `path` itself is not touched.
     pub fn record_to(mut self, path: &Path) -> Result<Self, RecordError> {
         let recording = Recording::start(path, &header_for(&self.world))?;
-        self.record_to = (true, path.display().to_string());
+        let shown = path.display().to_string();
+        self.record_to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
         if self.screen == Screen::Race {
             self.recorder = Some(recording);
         } else {
@@ -30,10 +64,10 @@ impl Race {
 
     /// Starts recording a race about to start from the grid, when the main menu's switch asks for it.
     pub(super) fn start_recording(&mut self) {
-        if !self.record_to.0 || self.recorder.is_some() || self.source.is_some() || self.world.tick != 0 {
+        if !self.record_to.on || self.recorder.is_some() || self.source.is_some() || self.world.tick != 0 {
             return;
         }
-        let path = std::path::PathBuf::from(self.record_to.1.trim());
+        let path = self.record_to.path();
         match Recording::start(&path, &header_for(&self.world)) {
             Ok(r) => {
                 self.notice = Some(format!("recording to {}", path.display()));
@@ -63,10 +97,92 @@ impl Race {
     pub fn finish_recording(&mut self) -> Result<Option<Kept>, RecordError> {
         match self.recorder.take() {
             Some(mut rec) => rec.finish().map(Some),
-            None if self.record_to.0 && !self.kept_a_race => {
-                Ok(Some(Kept::Nothing { path: std::path::PathBuf::from(self.record_to.1.trim()) }))
-            }
+            None if self.record_to.on && !self.kept_a_race => Ok(Some(Kept::Nothing { path: self.record_to.path() })),
             None => Ok(None),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::race_on_the_menu;
+    use super::*;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("scanline-racer-record-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn names(dir: &Path) -> Vec<std::ffi::OsString> {
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect()
+    }
+
+    /// A path given with `--record` is recorded to exactly as given when the race starts from the main menu:
+    /// spaces around the name and bytes that are not UTF-8 are kept, not trimmed or replaced.
+    #[test]
+    fn a_path_from_the_command_line_is_recorded_to_exactly_as_given() {
+        let d = dir("exact");
+        let mut odd: Vec<std::ffi::OsString> = vec![" spaced name.trace ".into()];
+        #[cfg(unix)]
+        odd.push(std::os::unix::ffi::OsStringExt::from_vec(b"not \xff utf-8.trace".to_vec()));
+        for name in odd {
+            let path = d.join(&name);
+            // Quit on the main menu: nothing written, and the message names the file as given.
+            let mut race = race_on_the_menu().record_to(&path).unwrap();
+            assert_eq!(race.finish_recording().unwrap(), Some(Kept::Nothing { path: path.clone() }));
+            assert!(names(&d).is_empty(), "{name:?}: {:?}", names(&d));
+            // One tick raced from the menu: the race is kept under that very name.
+            let mut race = race_on_the_menu().record_to(&path).unwrap();
+            race.start_race();
+            race.tick();
+            assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: path.clone(), ticks: 1 }));
+            assert_eq!(names(&d), std::slice::from_ref(&name));
+            assert!(std::fs::read(&path).unwrap().starts_with(b"SRTRACE\0"));
+            std::fs::remove_file(&path).unwrap();
+        }
+    }
+
+    /// A name typed in the menu's field replaces the one from the command line, spaces around it trimmed.
+    #[test]
+    fn a_name_typed_in_the_menu_is_recorded_to_trimmed() {
+        let d = dir("typed");
+        let mut race = race_on_the_menu().record_to(&d.join("given.trace")).unwrap();
+        race.record_to.text = format!("  {}  ", d.join("typed.trace").display());
+        race.start_race();
+        race.tick();
+        let typed = d.join("typed.trace");
+        assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: typed, ticks: 1 }));
+        assert_eq!(names(&d), ["typed.trace"]);
+    }
+
+    /// Controls records in the trace at `path`.
+    fn ticks_in(path: &Path) -> usize {
+        let (_, mut r) = crate::input::trace::TraceReader::open(path).unwrap();
+        std::iter::from_fn(|| r.next_record().unwrap())
+            .filter(|r| matches!(r, crate::input::trace::Record::Controls(_)))
+            .count()
+    }
+
+    /// The last race raced wins, as the README says: a race of 300 ticks is kept on the way back to the main
+    /// menu, and a second race from the menu quit after one tick replaces it.
+    #[test]
+    fn the_last_race_raced_replaces_the_file_even_when_quit_at_once() {
+        let d = dir("last");
+        let path = d.join("best.trace");
+        let mut race = race_on_the_menu().record_to(&path).unwrap();
+        race.start_race();
+        for _ in 0..300 {
+            race.tick();
+        }
+        // The pause menu's "Main menu".
+        race.restart();
+        race.screen = Screen::Menu;
+        assert_eq!(ticks_in(&path), 300);
+        race.start_race();
+        race.tick();
+        assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: path.clone(), ticks: 1 }));
+        assert_eq!(ticks_in(&path), 1);
     }
 }

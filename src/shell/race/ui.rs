@@ -68,7 +68,7 @@ impl Race {
             }
             match &self.settings_file {
                 Some(f) if f.writable() => ui.label(format!("Saved to {}", f.path().display())),
-                Some(f) => ui.label(format!("Not saved: {} could not be read at start", f.path().display())),
+                Some(f) => ui.label(format!("Not saved: {} could not be read", f.path().display())),
                 None => ui.label("Not saved: no settings file"),
             };
             let mut scale = self.scale.0;
