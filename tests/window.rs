@@ -122,6 +122,7 @@ fn no_display_is_one_line_naming_the_headless_command() {
         assert_eq!(out.status.code(), Some(1), "{err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(err.contains("no display") && err.contains("scanline-racer render"), "{err}");
+        assert!(err.contains("scanline-racer replay TRACE --headless"), "{err}");
     }
 }
 

@@ -16,8 +16,9 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Fullscreen, Window, WindowId};
 
-/// The hint printed when no window can be opened.
-pub const HEADLESS_HINT: &str = "for headless frames use: scanline-racer render SCENE.gltf --out frame.png";
+/// The hint printed when no window can be opened: the headless commands for a race and for a scene.
+pub const HEADLESS_HINT: &str = "without a window use: scanline-racer replay TRACE --headless --frames DIR \
+     (a race, e.g. assets/replays/demo-race.trace) or scanline-racer render SCENE.gltf --out frame.png";
 
 /// Why the window could not run.
 #[derive(Debug, thiserror::Error)]
