@@ -202,12 +202,35 @@ pub fn read_xwd(bytes: &[u8]) -> Option<(Vec<u32>, usize, usize)> {
     Some((px, width, height))
 }
 
-/// Runs `cmd` with its output captured and kills it after `secs` seconds: a child still running then fails
-/// the test, naming `what` (a hang is a failure, never a stuck test run).
+/// The address space a child of [`run_bounded`] may take, in MiB: a runaway allocation (a file read without
+/// a budget, `/dev/zero`) fails the child at once instead of swapping the machine.
+pub const CHILD_MEMORY_MIB: u64 = 2048;
+
+/// Runs `cmd` with its output captured, its address space limited to [`CHILD_MEMORY_MIB`] (`ulimit -v`,
+/// with `MALLOC_ARENA_MAX=2` so that the limit does not depend on the core count), and kills it after
+/// `secs` seconds: a child still running then fails the test, naming `what` (a hang is a failure, never a
+/// stuck test run).
 pub fn run_bounded(cmd: &mut std::process::Command, secs: u64, what: &str) -> std::process::Output {
     use std::io::Read;
     use std::process::Stdio;
-    let mut child = cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    let mut bounded = std::process::Command::new("sh");
+    bounded
+        .arg("-c")
+        .arg("ulimit -v \"$0\" && exec \"$@\"")
+        .arg((CHILD_MEMORY_MIB * 1024).to_string())
+        .arg(cmd.get_program())
+        .args(cmd.get_args())
+        .env("MALLOC_ARENA_MAX", "2");
+    for (k, v) in cmd.get_envs() {
+        match v {
+            Some(v) => bounded.env(k, v),
+            None => bounded.env_remove(k),
+        };
+    }
+    if let Some(d) = cmd.get_current_dir() {
+        bounded.current_dir(d);
+    }
+    let mut child = bounded.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
     let pipe = |mut r: Box<dyn Read + Send>| {
         std::thread::spawn(move || {
             let mut v = vec![];
