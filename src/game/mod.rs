@@ -7,9 +7,11 @@ pub mod ai;
 pub mod car;
 pub mod controls;
 pub mod rules;
+pub mod timestep;
 pub mod track;
 pub mod world;
 
 pub use controls::Controls;
+pub use timestep::{DT, TICK_HZ};
 pub use track::Track;
-pub use world::{DT, TICK_HZ, World, step};
+pub use world::{World, step};

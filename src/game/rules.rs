@@ -6,7 +6,7 @@
 //! two intermediate checkpoints of that lap in order, so cutting back across the line or reversing over it
 //! never scores.
 
-use super::world::TICK_HZ;
+use super::timestep::TICK_HZ;
 
 /// Sectors per lap (checkpoints at each third of the lap; the line closes the last).
 pub const SECTORS: usize = 3;
@@ -49,9 +49,10 @@ pub struct Standing {
     pub finished: Option<u64>,
 }
 
-/// The rules' state for a race.
+/// A race's progress under the rules: phase, laps, checkpoints, times and positions. (Named apart from the
+/// shell's `Race`, the race session in the window.)
 #[derive(Clone, Debug, PartialEq)]
-pub struct Race {
+pub struct RaceProgress {
     /// Laps to run.
     pub laps: u32,
     /// Phase.
@@ -64,7 +65,7 @@ pub struct Race {
     pub finish_order: Vec<usize>,
 }
 
-impl Race {
+impl RaceProgress {
     /// A race of `laps` laps for cars starting at lap distances `start_s` (the grid, behind the line).
     #[must_use]
     pub fn new(laps: u32, start_s: &[f32], length: f32) -> Self {
@@ -179,7 +180,7 @@ mod tests {
     #[test]
     fn countdown_then_laps_through_checkpoints() {
         let len = 300.0;
-        let mut r = Race::new(2, &[290.0], len);
+        let mut r = RaceProgress::new(2, &[290.0], len);
         let mut tick = 0;
         let mut s = 290.0f32;
         while r.holding() {
@@ -204,7 +205,7 @@ mod tests {
     #[test]
     fn reversing_over_the_line_does_not_score() {
         let len = 300.0;
-        let mut r = Race::new(3, &[5.0], len);
+        let mut r = RaceProgress::new(3, &[5.0], len);
         r.phase = Phase::Racing;
         let mut s = 5.0f32;
         // Back 20 m over the line, then forwards 40 m over it again: no lap.
@@ -217,7 +218,7 @@ mod tests {
 
     #[test]
     fn positions_are_a_permutation() {
-        let mut r = Race::new(3, &[10.0, 20.0, 30.0, 40.0], 1000.0);
+        let mut r = RaceProgress::new(3, &[10.0, 20.0, 30.0, 40.0], 1000.0);
         r.standings[2].progress = 55.0;
         let mut p: Vec<usize> = (0..4).map(|i| r.position(i)).collect();
         assert_eq!(p, [4, 3, 1, 2]);

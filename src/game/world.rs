@@ -8,13 +8,9 @@ use std::sync::Arc;
 use super::ai::{Driver, drive};
 use super::car::{Car, CarParams, collide};
 use super::controls::Controls;
-use super::rules::Race;
+use super::rules::RaceProgress;
+use super::timestep::DT;
 use super::track::Track;
-
-/// Simulation ticks per second.
-pub const TICK_HZ: u32 = 120;
-/// Seconds per tick.
-pub const DT: f32 = 1.0 / TICK_HZ as f32;
 
 /// Everything that changes during a race.
 #[derive(Clone, Debug)]
@@ -32,7 +28,7 @@ pub struct World {
     /// True when car 0 is driven by the AI too (attract mode, tests).
     pub player_is_ai: bool,
     /// The race rules' state: countdown, laps, times, positions.
-    pub race: Race,
+    pub race: RaceProgress,
 }
 
 impl World {
@@ -41,7 +37,7 @@ impl World {
     pub fn with_laps(track: Arc<Track>, cars: usize, laps: u32) -> Self {
         let mut w = Self::new(track, cars);
         let s: Vec<f32> = w.cars.iter().map(|c| c.loc.s).collect();
-        w.race = Race::new(laps, &s, w.track.length());
+        w.race = RaceProgress::new(laps, &s, w.track.length());
         w
     }
 
@@ -67,7 +63,7 @@ impl World {
         Self {
             tick: 0,
             drivers: (0..cars.saturating_sub(1)).map(Driver::field).collect(),
-            race: Race::new(3, &starts, track.length()),
+            race: RaceProgress::new(3, &starts, track.length()),
             cars: list,
             track,
             params: CarParams::default(),
