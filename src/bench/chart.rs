@@ -54,18 +54,35 @@ impl Panel {
     }
 }
 
+/// Why a chart could not be drawn.
+#[derive(Debug, thiserror::Error)]
+pub enum ChartError {
+    /// No configuration has a finite time and error to place on the chart.
+    #[error("no measured configuration to chart")]
+    Empty,
+    /// The bundled font for the chart's text did not load.
+    #[error("the bundled chart font does not load")]
+    Font,
+    /// The plotting backend failed.
+    #[error("drawing the chart: {reason}")]
+    Draw {
+        /// What the backend reported.
+        reason: String,
+    },
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     rows: &[Row],
     title: &str,
     panel: Panel,
-) -> Result<(), String> {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+) -> Result<(), ChartError> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| ChartError::Draw { reason: x.to_string() };
     root.fill(&WHITE).map_err(e)?;
     let finite: Vec<&Row> =
         rows.iter().filter(|r| panel.shows(r) && r.ms.is_finite() && r.ms > 0.0 && panel.y(r).is_finite()).collect();
     if finite.is_empty() {
-        return Err("no measured configuration to chart".into());
+        return Err(ChartError::Empty);
     }
     let (mut x0, mut x1) = (f64::INFINITY, 0.0f64);
     let mut y1 = 0.0f64;
@@ -129,7 +146,7 @@ fn draw<DB: DrawingBackend>(
 }
 
 /// The chart as an SVG document.
-pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, String> {
+pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, ChartError> {
     fonts()?;
     let mut out = String::new();
     {
@@ -158,16 +175,16 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// Registers the bundled font for chart text once (both backends measure text with it).
-fn fonts() -> Result<(), String> {
+fn fonts() -> Result<(), ChartError> {
     static FONT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *FONT.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT).is_ok()
     });
-    if ok { Ok(()) } else { Err("the bundled chart font does not load".into()) }
+    if ok { Ok(()) } else { Err(ChartError::Font) }
 }
 
 /// The chart as `0x00RRGGBB` pixels of [`SIZE`].
-pub fn pixels(rows: &[Row], title: &str, panel: Panel) -> Result<Vec<u32>, String> {
+pub fn pixels(rows: &[Row], title: &str, panel: Panel) -> Result<Vec<u32>, ChartError> {
     fonts()?;
     let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     {

@@ -64,7 +64,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         };
     let frames = collect_frames(&scene, &trace, frames)?;
     if frames.is_empty() {
-        return Err(CliError::Replay(format!("{}: no racing frames to measure", trace.display())));
+        return Err(CliError::NoRacingFrames { trace: trace.clone() });
     }
     let configs = configs(main, &buckets, &resolutions);
     let mut err = std::io::stderr();
@@ -119,8 +119,14 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         ("visibility", Panel::Visibility, "visibility error alone"),
     ] {
         let title = format!("{title}: {what}");
-        write(&format!("{name}.svg"), chart::svg(&rows, &title, panel).map_err(CliError::BadArgument)?.as_bytes())?;
-        let px = chart::pixels(&rows, &title, panel).map_err(CliError::BadArgument)?;
+        write(
+            &format!("{name}.svg"),
+            chart::svg(&rows, &title, panel)
+                .map_err(|source| CliError::Chart { name: name.to_string(), source })?
+                .as_bytes(),
+        )?;
+        let px =
+            chart::pixels(&rows, &title, panel).map_err(|source| CliError::Chart { name: name.to_string(), source })?;
         write_png(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
     }
     print_summary(&rows);

@@ -37,20 +37,18 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     while replay.world.tick < args.tick {
         if !replay.advance()? {
-            return Err(CliError::Replay(format!(
-                "{}: the trace ends at tick {}, before tick {}",
-                args.trace.display(),
-                replay.world.tick,
-                args.tick
-            )));
+            return Err(CliError::TraceTooShort {
+                trace: args.trace.clone(),
+                ends_at: replay.world.tick,
+                wanted: args.tick,
+            });
         }
     }
     let camera = camera_for(&replay.world, View::ChaseNear);
     let instances = scene.instances(&replay.world, None);
     let list = scene.draw_list(&instances);
     let chosen = Renderer::new().frame_meshes(args.width, args.height, &camera, &list, &RenderOptions::default());
-    let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))
-        .map_err(|e| CliError::BadArgument(e.to_string()))?;
+    let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))?;
     crate::userfile::replace_atomically(&args.out, &bytes)
         .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
     eprintln!(

@@ -97,15 +97,39 @@ pub enum CliError {
         /// The operating system's reason.
         reason: String,
     },
-    /// An argument value is out of range in a way clap cannot check.
-    #[error("{0}")]
-    BadArgument(String),
+    /// The shipped assets folder was not found where the game looks for it.
+    #[error("cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)")]
+    NoAssets,
+    /// A frame could not be written out as GLB.
+    #[error("export-frame: {0}")]
+    Export(#[from] crate::asset::export::ExportError),
+    /// A bench chart could not be drawn.
+    #[error("bench chart '{name}': {source}")]
+    Chart {
+        /// The chart's file name stem.
+        name: String,
+        /// Why.
+        source: crate::bench::chart::ChartError,
+    },
     /// The window could not be opened or failed.
     #[error(transparent)]
     Shell(#[from] crate::shell::window::ShellError),
-    /// A trace could not be replayed (unreadable, corrupt, another version, or diverging).
-    #[error("{0}")]
-    Replay(String),
+    /// `export-frame --tick` asks for a tick after the trace's end.
+    #[error("{trace}: the trace ends at tick {ends_at}, before tick {wanted}")]
+    TraceTooShort {
+        /// The trace.
+        trace: std::path::PathBuf,
+        /// The last tick it reaches.
+        ends_at: u64,
+        /// The tick asked for.
+        wanted: u64,
+    },
+    /// `bench --trace` names a trace with no racing frames to measure.
+    #[error("{trace}: no racing frames to measure")]
+    NoRacingFrames {
+        /// The trace.
+        trace: std::path::PathBuf,
+    },
     /// A race could not be recorded, or its recording could not be kept.
     #[error(transparent)]
     Record(#[from] crate::input::recording::RecordError),
@@ -128,11 +152,7 @@ pub enum CliError {
 /// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that
 /// says where it was looked for.
 fn assets_dir() -> Result<std::path::PathBuf, CliError> {
-    crate::shell::race_scene::find_assets().ok_or_else(|| {
-        CliError::BadArgument(
-            "cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)".into(),
-        )
-    })
+    crate::shell::race_scene::find_assets().ok_or(CliError::NoAssets)
 }
 
 /// Makes `dir` (named by `flag`, to hold `what`) a folder the command can write into, before any long work:
