@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use gltf::accessor::{DataType, Dimensions};
+use thiserror::Error;
 
 /// Most elements one accessor may hold (16 Mi): bounds memory for hostile counts.
 pub const MAX_ELEMENTS: usize = 1 << 24;
@@ -77,17 +78,94 @@ fn read_index(bytes: &[u8], t: DataType) -> Option<u32> {
     }
 }
 
+/// Why an accessor could not be read: the accessor, and what about its ranges is wrong.
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+#[error("accessor {accessor}: {problem}")]
+pub struct AccessorError {
+    /// glTF accessor index.
+    pub accessor: usize,
+    /// What is wrong.
+    pub problem: AccessorProblem,
+}
+
+/// What is wrong with an accessor's ranges or types.
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+pub enum AccessorProblem {
+    /// A buffer view names a buffer the file does not have.
+    #[error("buffer view refers to a missing buffer")]
+    MissingBuffer,
+    /// A buffer view's offset plus length overflows.
+    #[error("buffer view range overflows")]
+    ViewOverflow,
+    /// A buffer view runs past the end of its buffer.
+    #[error("buffer view {view} (bytes {start}..{end}) runs past its buffer of {buffer_len} bytes")]
+    ViewPastBuffer {
+        /// glTF buffer view index.
+        view: usize,
+        /// First byte.
+        start: usize,
+        /// One past the last byte.
+        end: usize,
+        /// The buffer's length.
+        buffer_len: usize,
+    },
+    /// The accessor's last byte overflows.
+    #[error("accessor range overflows")]
+    RangeOverflow,
+    /// The accessor needs more bytes than its view has.
+    #[error("accessor needs {needed} bytes of its buffer view, which has {available}")]
+    PastView {
+        /// Bytes needed.
+        needed: usize,
+        /// Bytes in the view.
+        available: usize,
+    },
+    /// More elements than any accessor may hold.
+    #[error("{count} elements exceed the limit of {limit}")]
+    TooMany {
+        /// Elements declared.
+        count: usize,
+        /// [`MAX_ELEMENTS`].
+        limit: usize,
+    },
+    /// The byte stride is smaller than one element.
+    #[error("byte stride {stride} is smaller than the element size {element}")]
+    StrideTooSmall {
+        /// Declared stride.
+        stride: usize,
+        /// Element size in bytes.
+        element: usize,
+    },
+    /// A sparse accessor overrides more elements than the accessor has.
+    #[error("sparse accessor overrides {overrides} of only {count} elements")]
+    SparseTooMany {
+        /// Overridden elements.
+        overrides: usize,
+        /// The accessor's elements.
+        count: usize,
+    },
+    /// A sparse index names an element past the accessor's end.
+    #[error("sparse index {index} is out of range for {count} elements")]
+    SparseIndex {
+        /// The index.
+        index: usize,
+        /// The accessor's elements.
+        count: usize,
+    },
+    /// An index accessor is not an unsigned scalar.
+    #[error("indices must be unsigned scalars")]
+    NotUnsignedScalars,
+}
+
 /// The bytes of a buffer view, checked against its buffer.
-fn view_bytes<'b>(view: &gltf::buffer::View<'_>, buffers: &[&'b [u8]]) -> Result<&'b [u8], String> {
-    let buf: &'b [u8] = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
-    let end = view.offset().checked_add(view.length()).ok_or("buffer view range overflows")?;
-    buf.get(view.offset()..end).ok_or_else(|| {
-        format!(
-            "buffer view {} (bytes {}..{end}) runs past its buffer of {} bytes",
-            view.index(),
-            view.offset(),
-            buf.len()
-        )
+fn view_bytes<'b>(view: &gltf::buffer::View<'_>, buffers: &[&'b [u8]]) -> Result<&'b [u8], AccessorProblem> {
+    let buf: &'b [u8] = buffers.get(view.buffer().index()).ok_or(AccessorProblem::MissingBuffer)?;
+    let end = view.offset().checked_add(view.length()).ok_or(AccessorProblem::ViewOverflow)?;
+    buf.get(view.offset()..end).ok_or(AccessorProblem::ViewPastBuffer {
+        view: view.index(),
+        start: view.offset(),
+        end,
+        buffer_len: buf.len(),
     })
 }
 
@@ -98,15 +176,15 @@ fn strided<'b>(
     stride: usize,
     elem: usize,
     count: usize,
-) -> Result<impl Iterator<Item = &'b [u8]> + 'b, String> {
+) -> Result<impl Iterator<Item = &'b [u8]> + 'b, AccessorProblem> {
     if count > 0 {
         let last = stride
             .checked_mul(count - 1)
             .and_then(|v| v.checked_add(offset))
             .and_then(|v| v.checked_add(elem))
-            .ok_or("accessor range overflows")?;
+            .ok_or(AccessorProblem::RangeOverflow)?;
         if last > bytes.len() {
-            return Err(format!("accessor needs {last} bytes of its buffer view, which has {}", bytes.len()));
+            return Err(AccessorProblem::PastView { needed: last, available: bytes.len() });
         }
     }
     Ok((0..count).map(move |i| &bytes[offset + i * stride..offset + i * stride + elem]))
@@ -120,14 +198,14 @@ pub struct AccessorCache {
 }
 
 /// Reads an accessor as `f32` components; errors name the accessor.
-pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, String> {
-    read_floats_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
+pub fn read_floats(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, AccessorError> {
+    read_floats_inner(acc, buffers).map_err(|problem| AccessorError { accessor: acc.index(), problem })
 }
 
-fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, String> {
+fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elements, AccessorProblem> {
     let count = acc.count();
     if count > MAX_ELEMENTS {
-        return Err(format!("{count} elements exceed the limit of {MAX_ELEMENTS}"));
+        return Err(AccessorProblem::TooMany { count, limit: MAX_ELEMENTS });
     }
     let width = acc.dimensions().multiplicity();
     let t = acc.data_type();
@@ -138,7 +216,7 @@ fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elem
         let bytes = view_bytes(&view, buffers)?;
         let stride = view.stride().unwrap_or(elem);
         if stride < elem {
-            return Err(format!("byte stride {stride} is smaller than the element size {elem}"));
+            return Err(AccessorProblem::StrideTooSmall { stride, element: elem });
         }
         for (i, e) in strided(bytes, acc.offset(), stride, elem, count)?.enumerate() {
             for c in 0..width {
@@ -149,7 +227,7 @@ fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elem
     if let Some(sparse) = acc.sparse() {
         let n = sparse.count();
         if n > count {
-            return Err(format!("sparse accessor overrides {n} of only {count} elements"));
+            return Err(AccessorProblem::SparseTooMany { overrides: n, count });
         }
         let iv = sparse.indices();
         let it = match iv.index_type() {
@@ -166,7 +244,7 @@ fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elem
         for (k, e) in strided(vbytes, vv.offset(), elem, elem, n)?.enumerate() {
             let i = indices[k] as usize;
             if i >= count {
-                return Err(format!("sparse index {i} is out of range for {count} elements"));
+                return Err(AccessorProblem::SparseIndex { index: i, count });
             }
             for c in 0..width {
                 values[i * width + c] = read_component(&e[c * cs..], t, acc.normalized());
@@ -177,24 +255,25 @@ fn read_floats_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Elem
 }
 
 /// Reads an index accessor (unsigned scalar) as `u32`; errors name the accessor.
-pub fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, String> {
-    read_indices_inner(acc, buffers).map_err(|e| format!("accessor {}: {e}", acc.index()))
+pub fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, AccessorError> {
+    read_indices_inner(acc, buffers).map_err(|problem| AccessorError { accessor: acc.index(), problem })
 }
 
-fn read_indices_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, String> {
+fn read_indices_inner(acc: &gltf::Accessor<'_>, buffers: &[&[u8]]) -> Result<Vec<u32>, AccessorProblem> {
     if acc.dimensions() != Dimensions::Scalar
         || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
     {
-        return Err("indices must be unsigned scalars".into());
+        return Err(AccessorProblem::NotUnsignedScalars);
     }
     if acc.sparse().is_some() {
-        // Rare for indices; read through the float path is lossy above 2^24, so decode exactly instead.
+        // Rare for indices: read through the float path, exact here because an accessor holds at most
+        // MAX_ELEMENTS (2^24) elements, so a valid index is below 2^24.
         let e = read_floats_inner(acc, buffers)?;
         return Ok(e.values.iter().map(|&v| v as u32).collect());
     }
     let count = acc.count();
     if count > MAX_ELEMENTS {
-        return Err(format!("{count} indices exceed the limit of {MAX_ELEMENTS}"));
+        return Err(AccessorProblem::TooMany { count, limit: MAX_ELEMENTS });
     }
     let Some(view) = acc.view() else {
         return Ok(vec![0; count]);
