@@ -68,7 +68,7 @@ impl LoadedScene {
 
     /// Builds the drawing orders `view-lists` uses, for every mesh of at most `max_polygons` polygons
     /// (rigid objects; a whole-world mesh is left to per-polygon ordering), at `level` (see
-    /// [`crate::render::view_lists::directions`]).
+    /// [`crate::render::order::view_lists::directions`]).
     pub fn prepare_view_lists(&mut self, level: u32, max_polygons: usize) {
         self.view_lists = Some(ViewLists::build(&self.meshes, level, max_polygons));
     }

@@ -97,7 +97,7 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
         }
     }
     for level in 0..=2u32 {
-        let dirs = crate::render::view_lists::directions(level).len();
+        let dirs = crate::render::order::view_lists::directions(level).len();
         v.push(Config {
             group: "visibility",
             label: format!("view-lists {dirs} dirs"),

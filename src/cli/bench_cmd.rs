@@ -8,7 +8,7 @@ use clap::Args;
 use super::{CliError, values};
 use crate::bench::chart::Panel;
 use crate::bench::{Row, chart, collect_frames, configs, csv, run};
-use crate::render::view_lists::DEFAULT_MAX_POLYGONS;
+use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
 use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
 use crate::shell::png::write_png;
 use crate::shell::race_scene::RaceScene;

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 
 use super::{CliError, values};
 use crate::asset::{LoadedScene, load};
-use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
     BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats, TextureMode,
 };

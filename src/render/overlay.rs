@@ -7,9 +7,10 @@
 //! texel (also premultiplied) is multiplied by the vertex colour, then `dst = src + dst * (1 - src_alpha)`.
 //! Texture coordinates are interpolated linearly (there is no perspective in 2D) and sampled bilinearly.
 
-use super::fixed::Fx28_4;
-use super::scanline::{ATTRS, ScreenVertex, fill_spans, slot};
-use super::texture::{Sampler, Texture, Wrap};
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::texture::{Sampler, Texture, Wrap};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, slot};
+use crate::render::fill::scanline::fill_spans;
 
 /// One UI vertex.
 #[derive(Clone, Copy, Debug, PartialEq)]

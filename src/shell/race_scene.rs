@@ -10,7 +10,7 @@ use crate::asset::{AssetError, LoadedScene, load};
 use crate::game::track::TrackError;
 use crate::game::{Track, World};
 use crate::input::ghost::Pose;
-use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{Camera, DrawList, Instance, Method, RenderError, RenderOptions, Renderer, Stats, ViewLists};
 use crate::userfile::UserFileError;
 

@@ -116,7 +116,7 @@ impl Content for Viewer {
         let camera = self.camera();
         let t = std::time::Instant::now();
         if self.options.method == crate::render::Method::ViewLists && self.scene.view_lists.is_none() {
-            use crate::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+            use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
             self.scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
         }
         let stats = self.renderer.render(frame, width, height, &camera, &self.scene.draw_list(), &self.options)?;

@@ -3,37 +3,18 @@
 //! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
-use super::DrawList;
-use super::RenderOptions;
-use super::cpu::use_avx2;
-use super::pipeline::DrawPolygon;
-use super::project::Screens;
+use super::row::{FLAT, Row, Run, SpanCounts, Visibility};
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small_triangle::{self, BandPixels, NextFlat, SmallTriangle, TexPlanes};
-use super::span::{Row, Shading, SpanCounts, Visibility, draw_prepared};
-use super::span_lanes::{FLAT, Fill, Paint, Run, Source, dispatch, walk};
-
-/// The rows of one band and their colour.
-pub(super) struct Band<'a> {
-    y0: usize,
-    rows: usize,
-    color: &'a mut [u32],
-}
-
-/// Cuts the frame into bands of `rows_per_band` rows (the last may be shorter).
-pub(super) fn split_bands(mut color: &mut [u32], width: usize, rows_per_band: usize) -> Vec<Band<'_>> {
-    let height = color.len() / width.max(1);
-    let mut bands = Vec::new();
-    let mut y0 = 0;
-    while y0 < height {
-        let rows = rows_per_band.max(1).min(height - y0);
-        let (c, rest) = std::mem::take(&mut color).split_at_mut(rows * width);
-        color = rest;
-        bands.push(Band { y0, rows, color: c });
-        y0 += rows;
-    }
-    bands
-}
+use super::small::{self, BandPixels, NextFlat};
+use super::span::{Shading, draw_prepared};
+use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
+use crate::render::core::band::Band;
+use crate::render::core::batch::Screens;
+use crate::render::core::draw_list::DrawList;
+use crate::render::core::options::RenderOptions;
+use crate::render::core::polygon::DrawPolygon;
+use crate::render::core::small::{SmallTriangle, TexPlanes};
+use crate::render::simd::{self, Avx2};
 
 /// A thread's depth and coverage rows for the band it is drawing.
 #[derive(Default)]
@@ -57,9 +38,9 @@ thread_local! {
 /// as they finish, on the set-up's threads, and the fill reads the polygons where set-up left them; the
 /// painter's orders bin pieces of their sorted order over the frame's polygon list.
 #[derive(Clone, Copy)]
-pub(super) struct BinnedRun<'a> {
-    pub(super) polys: &'a [DrawPolygon],
-    pub(super) bins: &'a [Vec<u32>],
+pub(crate) struct BinnedRun<'a> {
+    pub(crate) polys: &'a [DrawPolygon],
+    pub(crate) bins: &'a [Vec<u32>],
 }
 
 /// The polygons of one band's bin in every run, in turn.
@@ -96,48 +77,21 @@ impl<'a> Iterator for BinIter<'a> {
 }
 
 /// Read-only state shared by the fill workers.
-pub(super) struct FillContext<'a> {
+pub(crate) struct FillContext<'a> {
     /// The drawing order: its runs in turn.
-    pub(super) runs: &'a [BinnedRun<'a>],
-    pub(super) background: Option<u32>,
-    pub(super) screens: Screens<'a>,
-    pub(super) list: &'a DrawList<'a>,
-    pub(super) options: &'a RenderOptions,
-    pub(super) visibility: Visibility,
-    pub(super) width: usize,
-    pub(super) words: usize,
-}
-
-/// Puts each polygon of `order` (indices into `polys`, in order) into the bin of every band of
-/// `rows_per_band` rows it touches.
-pub(super) fn bin(
-    polys: &[DrawPolygon],
-    order: impl Iterator<Item = u32>,
-    (height, rows_per_band): (usize, usize),
-    bins: &mut Vec<Vec<u32>>,
-) {
-    let rows_per_band = rows_per_band.max(1);
-    let count = height.div_ceil(rows_per_band);
-    bins.resize_with(count, Vec::new);
-    bins.truncate(count);
-    bins.iter_mut().for_each(Vec::clear);
-    for pi in order {
-        let Some(p) = polys.get(pi as usize) else { continue };
-        // The rows were found at set-up, where the vertices were at hand: here they would be a cache miss.
-        let first = p.rows.0.max(0) as usize;
-        let end = (p.rows.1.max(0) as usize).min(height);
-        if first >= end {
-            continue;
-        }
-        for b in bins.iter_mut().take((end - 1) / rows_per_band + 1).skip(first / rows_per_band) {
-            b.push(pi);
-        }
-    }
+    pub(crate) runs: &'a [BinnedRun<'a>],
+    pub(crate) background: Option<u32>,
+    pub(crate) screens: Screens<'a>,
+    pub(crate) list: &'a DrawList<'a>,
+    pub(crate) options: &'a RenderOptions,
+    pub(crate) visibility: Visibility,
+    pub(crate) width: usize,
+    pub(crate) words: usize,
 }
 
 impl FillContext<'_> {
     /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
-    pub(super) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
+    pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
         SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
     }
 
@@ -216,7 +170,7 @@ impl FillContext<'_> {
     }
 }
 
-/// [`small_triangle::fill_flat_run`] for `VIS` (depth-tested, each pixel once, or overwriting), with AVX2
+/// [`small::fill_flat_run`] for `VIS` (depth-tested, each pixel once, or overwriting), with AVX2
 /// when `avx2` (from [`use_avx2`]).
 #[inline(always)]
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
@@ -225,15 +179,13 @@ fn fill_flat_run<'t, const VIS: u8>(
     next: &mut impl NextFlat<'t>,
     band: (i32, i32),
     px: &mut BandPixels<'_>,
-    avx2: bool,
+    avx2: Option<Avx2>,
 ) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
     #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        // SAFETY: `fill_flat_run` only needs the CPU to have AVX2, which was detected (`use_avx2`).
-        #[allow(unsafe_code)]
-        return unsafe { super::small_avx2::fill_flat_run::<VIS>(start, next, band, px) };
+    if let Some(avx2) = avx2 {
+        return crate::render::fill::small_avx2::fill_flat_run::<VIS>(avx2, start, next, band, px);
     }
-    small_triangle::fill_flat_run(start, next, band, px, small_triangle::fill_flat_narrow::<VIS>)
+    small::fill_flat_run(start, next, band, px, small::fill_flat_narrow::<VIS>)
 }
 
 /// The colour, depth and coverage rows of the band being drawn.
@@ -294,12 +246,12 @@ fn next_alike<'c, const SRC: u8>(
 
 impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
     /// Draws a group of flat small triangles (any visibility): runs of narrow ones by
-    /// [`small_triangle::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
+    /// [`small::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
     fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
         let SmallGroup { first: (first, (tri, _)), rest, ctx, band, rows } = self;
         let mut total = SpanCounts::default();
         // Asked once per group: the detection's cached answer cost 5% of the fill when asked per triangle.
-        let avx2 = use_avx2();
+        let avx2 = simd::avx2();
         let mut next = AlikeFlat { rest, ctx, first };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {

@@ -7,7 +7,7 @@
 use glam::{Vec2, Vec3, Vec4};
 use thiserror::Error;
 
-use super::texture::Sampler;
+use crate::render::core::texture::Sampler;
 
 /// How a material's alpha is used (glTF `alphaMode`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -11,18 +11,18 @@
 //! how many pixels are in flight. Writes are selects (the old value where the visibility test failed), so
 //! a rejected pixel keeps its colour and depth bit for bit.
 
+use super::row::{
+    COVERAGE, DEPTH_TEST, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
+};
+use super::scanline::Span;
+use crate::render::core::texture::{Sampler, Texture};
+use crate::render::core::vertex::slot;
 #[cfg(target_arch = "x86_64")]
-use super::cpu::use_avx2;
-use super::scanline::{Span, slot};
-use super::span::{Row, SpanCounts, Visibility};
-use super::texture::{Sampler, Texture, floor_i32};
-
-/// Pixels per chunk: eight `f32` fill one AVX register or two SSE registers.
-pub const LANES: usize = 8;
+use crate::render::simd;
 
 /// Where a fast-path pixel's colour comes from.
 #[derive(Clone, Copy)]
-pub(super) enum Source<'a> {
+pub(crate) enum Source<'a> {
     /// One packed colour for the whole span.
     Flat(u32),
     /// The nearest texel, perspective-correct, used as is.
@@ -34,7 +34,7 @@ pub(super) enum Source<'a> {
 }
 
 /// Draws a span with a fast-path source under a visibility rule.
-pub(super) fn draw(
+pub(crate) fn draw(
     span: &Span,
     source: Source<'_>,
     alpha: Option<(f32, f32)>,
@@ -78,7 +78,7 @@ pub(super) fn draw(
 /// A fast-path source resolved for the pixel loops: the texture (if any) and
 /// `(flat colour, tint, alpha mask)`.
 #[derive(Clone, Copy)]
-pub(super) struct Paint<'a> {
+pub(crate) struct Paint<'a> {
     tex: Option<(&'a Texture, Sampler)>,
     colors: (u32, [u32; 3], Option<(f32, f32)>),
 }
@@ -86,26 +86,26 @@ pub(super) struct Paint<'a> {
 impl Paint<'_> {
     /// The same paint with flat colour `c` (for the next of a group of flat polygons drawn by one loop).
     #[inline(always)]
-    pub(super) fn with_flat(&self, c: u32) -> Self {
+    pub(crate) fn with_flat(&self, c: u32) -> Self {
         Self { tex: self.tex, colors: (c, self.colors.1, self.colors.2) }
     }
 
     /// The flat colour (for a flat source).
     #[inline(always)]
-    pub(super) fn flat(&self) -> u32 {
+    pub(crate) fn flat(&self) -> u32 {
         self.colors.0
     }
 }
 
 /// Work done by a loop monomorphised for one (visibility, source) pair; [`dispatch`] picks the pair.
-pub(super) trait Fill {
+pub(crate) trait Fill {
     /// Runs the work with visibility `VIS` and source `SRC`, returning the pixel counts.
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts;
 }
 
 /// Calls `job` with the loop for `source` under `vis`, so nothing is decided per pixel.
 #[inline(always)]
-pub(super) fn dispatch(source: Source<'_>, alpha: Option<(f32, f32)>, vis: Visibility, job: impl Fill) -> SpanCounts {
+pub(crate) fn dispatch(source: Source<'_>, alpha: Option<(f32, f32)>, vis: Visibility, job: impl Fill) -> SpanCounts {
     macro_rules! by_vis {
         ($src:expr, $paint:expr) => {
             match vis {
@@ -119,59 +119,6 @@ pub(super) fn dispatch(source: Source<'_>, alpha: Option<(f32, f32)>, vis: Visib
         Source::Flat(c) => by_vis!(FLAT, Paint { tex: None, colors: (c, [0; 3], None) }),
         Source::Texel(t, s) => by_vis!(TEXEL, Paint { tex: Some((t, s)), colors: (0, [0; 3], alpha) }),
         Source::Tinted(t, s, tint) => by_vis!(TINTED, Paint { tex: Some((t, s)), colors: (0, tint, alpha) }),
-    }
-}
-
-/// Pixels `x0..x1` of one row, with depth, `1/w`, `s/w` and `t/w` at the centre of `x0` and their change
-/// per pixel.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Run {
-    /// First pixel.
-    pub(super) x0: usize,
-    /// End pixel (exclusive).
-    pub(super) x1: usize,
-    /// Depth, `1/w`, `s/w`, `t/w` at the centre of `x0`.
-    pub(super) a0: [f32; 4],
-    /// Their change per pixel.
-    pub(super) da: [f32; 4],
-}
-
-pub(super) const OVERWRITE: u8 = 0;
-pub(super) const DEPTH_TEST: u8 = 1;
-pub(super) const COVERAGE: u8 = 2;
-pub(super) const FLAT: u8 = 0;
-pub(super) const TEXEL: u8 = 1;
-pub(super) const TINTED: u8 = 2;
-
-/// Attribute values of one span, hoisted out of the loops.
-#[derive(Clone, Copy)]
-pub(super) struct Setup {
-    pub(super) d0: f32,
-    pub(super) dd: f32,
-    pub(super) q0: f32,
-    pub(super) dq: f32,
-    pub(super) s0: f32,
-    pub(super) ds: f32,
-    pub(super) t0: f32,
-    pub(super) dt: f32,
-    pub(super) w: f32,
-    pub(super) h: f32,
-}
-
-impl Setup {
-    /// The depth at pixel offset `k` from the span's start.
-    #[inline(always)]
-    fn depth(&self, k: f32) -> f32 {
-        self.d0 + k * self.dd
-    }
-
-    /// The texel coordinates at pixel offset `k` (perspective-correct), floored.
-    #[inline(always)]
-    fn texel_xy(&self, k: f32) -> (i32, i32) {
-        let q = 1.0 / (self.q0 + k * self.dq);
-        let u = (self.s0 + k * self.ds) * q;
-        let v = (self.t0 + k * self.dt) * q;
-        (floor_i32(u * self.w), floor_i32(v * self.h))
     }
 }
 
@@ -191,7 +138,7 @@ fn shade<const SRC: u8>(t: u32, (flat, [cr, cg, cb]): (u32, [u32; 3])) -> u32 {
 /// Draws a run: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
 /// per-pixel loop is the reference the chunk loop must match bit for bit.
 #[inline(always)]
-pub(super) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
+pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
     let Paint { tex, colors } = *paint;
     let (a0, da) = (&run.a0, &run.da);
     let (w, h) = tex.map_or((0.0, 0.0), |(t, _)| (t.width() as f32, t.height() as f32));
@@ -205,12 +152,10 @@ pub(super) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     #[cfg(target_arch = "x86_64")]
     // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up
     // (measured: 4% of the small-polygon scene, whose spans are 1-3 pixels).
-    if x1.saturating_sub(x0) >= LANES && use_avx2() {
-        // SAFETY: `chunks` only needs the CPU to have AVX2, which was just detected.
-        #[allow(unsafe_code)]
-        {
-            x = unsafe { super::span_avx2::chunks::<VIS, SRC>((x0, x1), &setup, tex, colors, row, &mut counts) };
-        }
+    if x1.saturating_sub(x0) >= LANES
+        && let Some(avx2) = simd::avx2()
+    {
+        x = crate::render::fill::span_avx2::chunks::<VIS, SRC>(avx2, (x0, x1), &setup, tex, colors, row, &mut counts);
     }
     let (flat, tint, alpha) = colors;
     for x in x..x1 {
@@ -266,36 +211,14 @@ pub(super) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     }
 }
 
-/// The 'already drawn' bits of pixels `x..x + 8`, bit `i` for pixel `x + i` (missing words read as drawn).
-#[inline(always)]
-pub(super) fn coverage_byte(coverage: &[u64], x: usize) -> u8 {
-    let (word, shift) = (x >> 6, (x & 63) as u32);
-    let lo = coverage.get(word).copied().unwrap_or(u64::MAX) >> shift;
-    let hi = if shift > 56 { coverage.get(word + 1).copied().unwrap_or(u64::MAX) << (64 - shift) } else { 0 };
-    (lo | hi) as u8
-}
-
-/// Marks pixel `x + i` as drawn for every bit `i` set in `bits`.
-#[inline(always)]
-pub(super) fn cover_bits(coverage: &mut [u64], x: usize, bits: u8) {
-    let (word, shift) = (x >> 6, (x & 63) as u32);
-    if let Some(w) = coverage.get_mut(word) {
-        *w |= u64::from(bits) << shift;
-    }
-    if shift > 56
-        && let Some(w) = coverage.get_mut(word + 1)
-    {
-        *w |= u64::from(bits) >> (64 - shift);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::cpu::{force_portable, has_avx2};
-    use crate::render::scanline::ATTRS;
+    use crate::render::core::texture::Wrap;
+    use crate::render::core::vertex::ATTRS;
+    use crate::render::fill::row::{cover_bits, coverage_byte};
+    use crate::render::simd::{force_portable, has_avx2};
     use crate::render::test_rng::Lcg;
-    use crate::render::texture::Wrap;
 
     /// A random attribute value; when `hostile`, one in six is NaN, infinite, huge or zero.
     fn float(rng: &mut Lcg, hostile: bool) -> f32 {

@@ -1,7 +1,7 @@
 //! The span fast paths' full chunks with AVX2: eight pixels per instruction, written out by hand because
 //! the compiler keeps the saturating float-to-integer conversions scalar.
 //!
-//! Each step repeats the portable loop in [`super::span_lanes`] operation for operation (the same IEEE
+//! Each step repeats the portable loop in [`crate::render::fill::span_lanes`] operation for operation (the same IEEE
 //! operations in the same order, no fused multiply-add; `floor_i32`'s saturation and NaN rule are rebuilt
 //! with compares and blends), so the two produce bit-identical frames; a unit test compares them on
 //! random and hostile spans.
@@ -14,24 +14,10 @@ use std::arch::x86_64::{
     _mm256_set1_ps, _mm256_setr_epi32, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
 };
 
-use super::span::{Row, SpanCounts};
-use super::span_lanes::{COVERAGE, DEPTH_TEST, FLAT, LANES, Setup, TINTED, cover_bits, coverage_byte};
-use super::texture::{Sampler, Texture, Wrap};
-
-/// Loads eight values from the start of a slice (`None` when it is shorter).
-#[inline(always)]
-fn load<T: bytemuck::Pod, V: bytemuck::Pod>(s: &[T]) -> Option<V> {
-    let a: &[T; LANES] = s.get(..LANES)?.try_into().ok()?;
-    Some(bytemuck::cast::<[T; LANES], V>(*a))
-}
-
-/// Stores eight values at the start of a slice (nothing when it is shorter).
-#[inline(always)]
-fn store<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
-    if let Some(d) = s.get_mut(..LANES) {
-        d.copy_from_slice(&bytemuck::cast::<V, [T; LANES]>(v));
-    }
-}
+use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
+use crate::render::core::texture::{Sampler, Texture, Wrap};
+use crate::render::simd::Avx2;
+use crate::render::simd::x86::{load, store};
 
 // The helpers are macros rather than functions: a `#[target_feature]` function cannot be `inline(always)`,
 // and the compiler left them as calls, passing every vector through memory.
@@ -132,8 +118,25 @@ macro_rules! tint_x8 {
 /// than a chunk). The last chunk is moved back to end inside the row where it would pass the row's end, and
 /// lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable loop's
 /// visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for `alphaMode` MASK.
+pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
+    _: Avx2,
+    span: (usize, usize),
+    s: &Setup,
+    tex: Option<(&Texture, Sampler)>,
+    colors: (u32, [u32; 3], Option<(f32, f32)>),
+    row: &mut Row<'_>,
+    counts: &mut SpanCounts,
+) -> usize {
+    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `chunks_avx2` needs.
+    #[allow(unsafe_code)]
+    unsafe {
+        chunks_avx2::<VIS, SRC>(span, s, tex, colors, row, counts)
+    }
+}
+
+/// [`chunks`]'s body, compiled for AVX2.
 #[target_feature(enable = "avx2")]
-pub(super) fn chunks<const VIS: u8, const SRC: u8>(
+fn chunks_avx2<const VIS: u8, const SRC: u8>(
     (x0, x1): (usize, usize),
     s: &Setup,
     tex: Option<(&Texture, Sampler)>,

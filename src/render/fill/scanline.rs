@@ -14,35 +14,8 @@
 //! across the span, directly from the start values rather than by accumulated stepping, so a row comes out
 //! bit-identical whichever band (thread) draws it.
 
-use super::fixed::Fx28_4;
-
-/// Number of interpolated attributes per vertex.
-pub const ATTRS: usize = 8;
-
-/// Attribute slots in [`ScreenVertex::attrs`].
-pub mod slot {
-    /// Depth for the z-buffer, larger is nearer (`1/w` for perspective, `(1 - z_ndc) / 2` for orthographic).
-    pub const DEPTH: usize = 0;
-    /// `1/w`, for perspective-correct interpolation (1 in affine mode).
-    pub const Q: usize = 1;
-    /// `u/w` (or `u` in affine mode).
-    pub const S: usize = 2;
-    /// `v/w` (or `v` in affine mode).
-    pub const T: usize = 3;
-    /// Red, green, blue, alpha divided by `w` (or plain in affine mode).
-    pub const RGBA: usize = 4;
-}
-
-/// A projected vertex: snapped screen position and the attributes interpolated across the polygon.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ScreenVertex {
-    /// Screen x (pixels, right).
-    pub x: Fx28_4,
-    /// Screen y (pixels, down).
-    pub y: Fx28_4,
-    /// Interpolated attributes, see [`slot`].
-    pub attrs: [f32; ATTRS],
-}
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
 
 /// A horizontal run of covered pixels `x0..x1` on row `y`, with attributes at the centre of `x0` and their
 /// change per pixel.
@@ -58,37 +31,6 @@ pub struct Span {
     pub a0: [f32; ATTRS],
     /// Change of the attributes per pixel.
     pub da: [f32; ATTRS],
-}
-
-/// Twice the signed area of a screen polygon in raw fixed-point units; positive when the vertex order
-/// runs clockwise on screen (y down), which is glTF's back face.
-#[must_use]
-pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
-    // Each vertex with the next, the last with the first (no `% n`: a division per vertex showed in profiles).
-    let next = v.iter().skip(1).chain(v.first());
-    v.iter().zip(next).map(|(p, q)| i64::from(p.x.0) * i64::from(q.y.0) - i64::from(q.x.0) * i64::from(p.y.0)).sum()
-}
-
-/// True when every horizontal line cuts the polygon outline at most twice (y goes down once and up once).
-#[must_use]
-pub fn is_y_monotone(v: &[ScreenVertex]) -> bool {
-    if v.len() <= 3 {
-        return true; // a triangle (or less) always is
-    }
-    let next = || v.iter().skip(1).chain(v.first());
-    let dirs = || v.iter().zip(next()).map(|(p, q)| (q.y.0 - p.y.0).signum());
-    let mut changes = 0;
-    // Start from the last non-zero direction so the count is cyclic.
-    let mut last = dirs().filter(|&d| d != 0).last().unwrap_or(0);
-    for d in dirs() {
-        if d != 0 {
-            if d != last {
-                changes += 1;
-            }
-            last = d;
-        }
-    }
-    changes <= 2
 }
 
 /// One edge of a chain, from an upper vertex to a lower one, positioned at a row.
@@ -303,14 +245,5 @@ mod tests {
         // Between x = 2.52 and 2.9 nothing is covered.
         let t = [sv(41, 0), sv(46, 0), sv(44, 160)];
         assert!(covered(&t, 8, 12).is_empty());
-    }
-
-    #[test]
-    fn monotone_detection() {
-        let convex = [sv(0, 0), sv(10, 0), sv(10, 10), sv(0, 10)];
-        assert!(is_y_monotone(&convex));
-        // A 'W' shape dips down twice.
-        let w = [sv(0, 0), sv(5, 10), sv(10, 2), sv(15, 10), sv(20, 0), sv(10, 20)];
-        assert!(!is_y_monotone(&w));
     }
 }

@@ -1,104 +1,15 @@
-//! Orders made in advance (seed 004, Canon EP 0 612 031): for each rigid mesh and each of a fixed set of
-//! view directions, a drawing order computed once by a topological sort of 'may occlude' relations; at run
-//! time the list of the nearest stored direction is drawn as is, and whole objects are placed with the
-//! ordering table (by the nearest depth of their bounding sphere, when seen from at least twice its radius;
-//! nearer than that, or for meshes without lists, polygons are ordered one by one as in `bucket-far`).
-//!
-//! Building one list (direction `d`, depth = `p·d`, larger is farther): a *favourite* polygon, at first the
-//! farthest not yet placed, is compared with every candidate not yet placed. A candidate the favourite may
-//! occlude (their projections along `d` overlap and the favourite is in front somewhere) must be drawn
-//! first: it *prevents* the favourite, so the favourite goes on a last-in-first-out stack of favourites and
-//! the candidate becomes the favourite. A favourite nothing prevents is appended to the list, and the last
-//! favourite on the stack is taken up again. A candidate that is already on the stack closes a cycle (three
-//! planks over each other, or two polygons that intersect): the cycle is broken by splitting one polygon of
-//! it by the other's plane, and the pieces go back among the candidates.
-//!
-//! 'May occlude' is decided conservatively, as Newell, Newell and Sancha did: projections that do not
-//! overlap (separating axis on their convex hulls) cannot; otherwise P may be in front of Q unless Q lies
-//! wholly on the viewer's side of P's plane or P wholly beyond Q's plane.
-//!
-//! Directions are the vertices of an icosahedron subdivided `level` times (12, 42, 162, 642 directions):
-//! evenly spread, so the angle from any view to the nearest stored direction is bounded: at worst 37°, 21°
-//! and 11° at levels 0, 1 and 2 (measured in the tests). The bench charts the error against the level.
+//! Building one mesh's stored orders (seed 004): the 'may occlude' relation, the favourite stack and the
+//! splits that break cycles, as the parent module's doc describes.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
-use super::mesh::{Mesh, MeshBuilder, Vertex};
-
-/// Meshes of at most this many polygons get orders made in advance by default: cars, trees, buildings;
-/// not whole-world road and terrain meshes, which are not rigid objects seen from outside.
-pub const DEFAULT_MAX_POLYGONS: usize = 600;
-/// Default icosahedron subdivision level of the stored directions: 42 directions, no view more than 21°
-/// from one (the bench compares levels 0-2: 12 were as good on the demo race, 162 cost 8% more time).
-pub const DEFAULT_LEVEL: u32 = 1;
+use crate::render::core::draw_list::MeshLists;
+use crate::render::core::mesh::{Mesh, MeshBuilder, Vertex};
 
 /// Tolerance of plane-side and overlap tests, relative to the mesh's size.
 const EPS_REL: f32 = 1e-4;
 /// Splits allowed per list, as a multiple of the mesh's polygons (a bound on pathological meshes).
 const MAX_SPLITS_PER_POLYGON: usize = 2;
-
-/// The view directions of an icosahedron subdivided `level` times (unit vectors, deterministic order).
-#[must_use]
-pub fn directions(level: u32) -> Vec<Vec3> {
-    let t = (1.0 + 5.0f32.sqrt()) / 2.0;
-    let mut verts: Vec<Vec3> = [
-        (-1.0, t, 0.0),
-        (1.0, t, 0.0),
-        (-1.0, -t, 0.0),
-        (1.0, -t, 0.0),
-        (0.0, -1.0, t),
-        (0.0, 1.0, t),
-        (0.0, -1.0, -t),
-        (0.0, 1.0, -t),
-        (t, 0.0, -1.0),
-        (t, 0.0, 1.0),
-        (-t, 0.0, -1.0),
-        (-t, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    let mut faces: Vec<[usize; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level.min(4) {
-        let mut mid = std::collections::BTreeMap::new();
-        let mut next = Vec::with_capacity(faces.len() * 4);
-        let mut midpoint = |a: usize, b: usize, verts: &mut Vec<Vec3>| -> usize {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                verts.push((verts[a] + verts[b]).normalize());
-                verts.len() - 1
-            })
-        };
-        for [a, b, c] in faces {
-            let ab = midpoint(a, b, &mut verts);
-            let bc = midpoint(b, c, &mut verts);
-            let ca = midpoint(c, a, &mut verts);
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        faces = next;
-    }
-    verts
-}
 
 /// A polygon being ordered: its vertices (position, uv, colour) and material; `source` is the mesh
 /// polygon it is or was cut from.
@@ -130,78 +41,7 @@ impl Prim {
     }
 }
 
-/// The stored lists of one mesh.
-#[derive(Clone, Debug)]
-pub struct MeshLists {
-    /// The mesh with every split piece appended after its own polygons; lists index its polygons.
-    pub mesh: Mesh,
-    /// The stored view directions (model space).
-    pub directions: Vec<Vec3>,
-    /// For each direction, the polygons of [`MeshLists::mesh`] in drawing order.
-    pub lists: Vec<Vec<u32>>,
-    /// Polygons split to break cycles, over all directions.
-    pub splits: usize,
-    /// Cycles left unbroken (no plane of the cycle cut another of its polygons), over all directions.
-    pub unbroken: usize,
-}
-
-impl MeshLists {
-    /// The list for the stored direction nearest to `dir` (model space, from the eye towards the object).
-    #[must_use]
-    pub fn nearest(&self, dir: Vec3) -> &[u32] {
-        let mut best = (f32::NEG_INFINITY, 0);
-        for (i, d) in self.directions.iter().enumerate() {
-            let c = d.dot(dir);
-            if c > best.0 {
-                best = (c, i);
-            }
-        }
-        self.lists.get(best.1).map_or(&[], Vec::as_slice)
-    }
-}
-
-/// Stored lists for the meshes of a draw list (by mesh index; `None` for meshes without lists).
-#[derive(Clone, Debug, Default)]
-pub struct ViewLists {
-    /// Per mesh.
-    pub meshes: Vec<Option<MeshLists>>,
-}
-
-impl ViewLists {
-    /// Builds lists for every mesh of at most `max_polygons` polygons, for the directions of `level`.
-    #[must_use]
-    pub fn build(meshes: &[Mesh], level: u32, max_polygons: usize) -> Self {
-        let dirs = directions(level);
-        Self {
-            meshes: meshes
-                .iter()
-                .map(|m| (m.polygons().len() <= max_polygons).then(|| build_mesh(m, &dirs)).flatten())
-                .collect(),
-        }
-    }
-
-    /// The lists of mesh `index`, if it has any.
-    #[must_use]
-    pub fn get(&self, index: usize) -> Option<&MeshLists> {
-        self.meshes.get(index).and_then(Option::as_ref)
-    }
-}
-
-/// The direction from `eye` to an object's centre in the object's model space, or `None` when it is not
-/// defined (eye at the centre, a singular model matrix).
-#[must_use]
-pub fn model_direction(model: &Mat4, center_world: Vec3, eye_or_forward: Result<Vec3, Vec3>) -> Option<Vec3> {
-    let world_dir = match eye_or_forward {
-        Ok(eye) => center_world - eye,
-        Err(forward) => forward,
-    };
-    let inv = model.inverse();
-    let d = inv.transform_vector3(world_dir);
-    let len = d.length();
-    (len > 0.0 && len.is_finite()).then(|| d / len)
-}
-
-fn build_mesh(mesh: &Mesh, dirs: &[Vec3]) -> Option<MeshLists> {
+pub(super) fn build_mesh(mesh: &Mesh, dirs: &[Vec3]) -> Option<MeshLists> {
     let originals: Vec<Prim> = mesh
         .polygons()
         .iter()
@@ -514,35 +354,8 @@ fn order_for(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn directions_are_unit_and_spread() {
-        // Worst angle from any view to the nearest stored direction, over 20,000 evenly spread views.
-        let views: Vec<Vec3> = (0..20_000)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (i as f32 + 0.5) / 20_000.0;
-                let r = (1.0 - z * z).sqrt();
-                let a = i as f32 * 2.399_963;
-                Vec3::new(r * libm::cosf(a), r * libm::sinf(a), z)
-            })
-            .collect();
-        for (level, n, worst_deg) in [(0, 12, 37.5), (1, 42, 21.0), (2, 162, 11.0)] {
-            let d = directions(level);
-            assert_eq!(d.len(), n);
-            assert!(d.iter().all(|v| (v.length() - 1.0).abs() < 1e-5));
-            let worst = views
-                .iter()
-                .map(|v| libm::acosf(d.iter().map(|s| s.dot(*v)).fold(-1.0f32, f32::max).clamp(-1.0, 1.0)).to_degrees())
-                .fold(0.0f32, f32::max);
-            assert!(worst <= worst_deg && worst > worst_deg - 2.0, "level {level}: worst {worst} degrees");
-        }
-    }
-}
-
-#[cfg(test)]
-mod order_tests {
-    use super::*;
     use crate::render::Material;
+    use crate::render::core::draw_list::ViewLists;
 
     fn cube() -> Mesh {
         let mut b = MeshBuilder::new();

@@ -3,37 +3,13 @@
 //! This is the `d_*` half of the renderer (as Quake split it): it knows spans, textures and the buffers of one
 //! row, nothing of polygons, cameras or meshes.
 
-use glam::Vec4;
-
-use super::scanline::{ATTRS, Span, slot};
+use super::row::{Row, SpanCounts, Visibility};
+use super::scanline::Span;
 use super::span_lanes::{self, Source};
-use super::texture::{Filter, Sampler, Texture};
-
-/// How texture coordinates (and colours) are interpolated across a span.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum TextureMode {
-    /// Exact: `u/w`, `v/w`, `1/w` interpolated and divided at every pixel (the default).
-    #[default]
-    Perspective,
-    /// Exact every [`SUBDIVISION`] pixels, linear in between (as Quake did).
-    Subdivided,
-    /// Linear in screen space (as the PlayStation did): cheap, warps on polygons seen at an angle.
-    Affine,
-}
-
-/// Span length between exact perspective divides in [`TextureMode::Subdivided`].
-pub const SUBDIVISION: i32 = 16;
-
-/// How a pixel decides whether it may be written.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Visibility {
-    /// Always write (painter's order: later polygons cover earlier ones).
-    Overwrite,
-    /// Write when nearer than the depth buffer, then store the depth (`zbuffer`).
-    DepthTest,
-    /// Write only where nothing was drawn yet, then mark the pixel (`bucket-near`, front to back).
-    Coverage,
-}
+use crate::render::core::options::{SUBDIVISION, TextureMode};
+use crate::render::core::polygon::{FastPathRule, pack_rgb};
+use crate::render::core::texture::{Filter, Sampler, Texture};
+use crate::render::core::vertex::{ATTRS, slot};
 
 /// Everything a span needs to shade its pixels.
 #[derive(Clone, Copy, Debug)]
@@ -54,61 +30,6 @@ pub struct Shading<'a> {
     pub constant_color: Option<[f32; 4]>,
     /// See-through: only pixels with `x + y` even are drawn (nothing is written or marked on the others).
     pub screen_door: bool,
-}
-
-/// The buffers of one frame row.
-pub struct Row<'a> {
-    /// Colour, `0x00RRGGBB`, one per pixel.
-    pub color: &'a mut [u32],
-    /// Depth (larger is nearer), one per pixel; may be empty unless [`Visibility::DepthTest`].
-    pub depth: &'a mut [f32],
-    /// 'Already drawn' bits, 64 pixels a word; may be empty unless [`Visibility::Coverage`].
-    pub coverage: &'a mut [u64],
-}
-
-/// Pixel counts from drawing spans.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SpanCounts {
-    /// Pixels whose colour was computed (texture fetch and colour multiply).
-    pub shaded: u64,
-    /// Pixels written to the frame.
-    pub written: u64,
-    /// Pixels skipped by the visibility test before shading.
-    pub rejected: u64,
-}
-
-impl std::ops::Add for SpanCounts {
-    type Output = Self;
-
-    /// The counts of two sets of spans together.
-    fn add(self, o: Self) -> Self {
-        Self { shaded: self.shaded + o.shaded, written: self.written + o.written, rejected: self.rejected + o.rejected }
-    }
-}
-
-impl std::ops::AddAssign for SpanCounts {
-    /// Adds another set of spans' counts.
-    fn add_assign(&mut self, o: Self) {
-        *self = *self + o;
-    }
-}
-
-/// Packs RGBA in `0..=1` into `0x00RRGGBB`, rounding to nearest; NaN becomes 0.
-#[inline]
-#[must_use]
-pub fn pack_rgb(c: [f32; 4]) -> u32 {
-    // The channels four at a time (set-up packs every flat polygon's colour, a small triangle's among them,
-    // and four scalar clamps and saturating conversions showed in its profile). The vector clamp sends NaN
-    // to 0, as the conversion of a NaN does.
-    let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0));
-    // Truncation of values in 0..=255 without a conversion per channel: adding 2^23 rounds to the nearest
-    // integer (exactly, the spacing of floats there being 1), one less where that rounded up. The channels
-    // are then whole numbers below 256, so `r * 65536 + g * 256 + b` is exact in f32 (below 2^24) and one
-    // conversion packs them.
-    let magic = Vec4::splat(8_388_608.0);
-    let rounded = (v + magic) - magic;
-    let whole = rounded - Vec4::select(rounded.cmpgt(v), Vec4::ONE, Vec4::ZERO);
-    (whole.x * 65_536.0 + whole.y * 256.0 + whole.z) as u32
 }
 
 /// Texture coordinate and colour at one pixel: `[u, v, r, g, b, a]`.
@@ -132,27 +53,8 @@ pub struct Prepared<'a> {
 impl Prepared<'_> {
     /// The fast path's colour source and alpha mask, if one applies (spans then need only the first four
     /// attributes, depth, `1/w`, `u/w`, `v/w`, or only depth for a flat colour).
-    pub(super) fn fast(&self) -> Option<(Source<'_>, Option<(f32, f32)>)> {
+    pub(crate) fn fast(&self) -> Option<(Source<'_>, Option<(f32, f32)>)> {
         self.fast
-    }
-}
-
-/// What decides whether a polygon's spans take a fast path, known before any span is drawn: polygon set-up
-/// asks it to prepare small triangles only for polygons the fill will draw that way.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct FastPathRule {
-    /// The texture filter of the frame.
-    pub(super) filter: Filter,
-    /// The texture mode of the frame.
-    pub(super) mode: TextureMode,
-}
-
-impl FastPathRule {
-    /// Whether a polygon with (or without) a texture, a constant colour and an alpha cutoff, drawn with or
-    /// without the screen door, takes a fast path: exactly when [`Shading::prepare`] gives it one.
-    pub(super) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
-        !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
     }
 }
 
@@ -160,18 +62,26 @@ impl<'a> Shading<'a> {
     /// Chooses the fast path (if any) for spans with this shading.
     #[must_use]
     pub fn prepare(&self) -> Prepared<'a> {
-        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
-        let source = match (self.texture, self.constant_color, self.alpha_cutoff) {
-            _ if self.screen_door => None,
-            (None, Some(c), None) => Some(Source::Flat(pack_rgb(c))),
-            (Some(t), Some([1.0, 1.0, 1.0, _]), _) if nearest_perspective => Some(Source::Texel(t, self.sampler)),
-            (Some(t), Some(c), _) if nearest_perspective => {
+        let rule = FastPathRule { filter: self.filter, mode: self.mode };
+        let fast = rule.applies(
+            self.texture.is_some(),
+            self.constant_color.is_some(),
+            self.alpha_cutoff.is_some(),
+            self.screen_door,
+        );
+        // Which fast path, for a polygon the rule gives one.
+        let source = match (self.texture, self.constant_color) {
+            _ if !fast => None,
+            (None, Some(c)) => Some(Source::Flat(pack_rgb(c))),
+            (Some(t), Some([1.0, 1.0, 1.0, _])) => Some(Source::Texel(t, self.sampler)),
+            (Some(t), Some(c)) => {
                 // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
                 let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
                 Some(Source::Tinted(t, self.sampler, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
             }
-            _ => None,
+            (_, None) => None,
         };
+        debug_assert_eq!(source.is_some(), fast);
         let alpha = self.alpha_cutoff.zip(self.constant_color).map(|(cutoff, c)| (c[3], cutoff));
         Prepared { fast: source.map(|s| (s, alpha)) }
     }
@@ -277,7 +187,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_fast_path_rule_agrees_with_prepare_on_every_combination() {
+    fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_nearest_perspective_textures() {
         let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
         let mut fast = 0;
         for bits in 0..128u32 {

@@ -25,15 +25,7 @@ pub enum Direction {
     NearToFar,
 }
 
-/// How a depth is mapped to a bucket.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum BucketMapping {
-    /// Buckets of equal depth range between near and far.
-    #[default]
-    Linear,
-    /// Buckets of equal `1/z` range: thin near the eye, wide far away (like a perspective z-buffer).
-    Reciprocal,
-}
+use crate::render::core::options::BucketMapping;
 
 const NONE: u32 = u32::MAX;
 

@@ -1,76 +1,14 @@
-//! Small triangles: coverage by edge functions over the bounding box, attributes from the triangle's plane.
+//! Small triangles' fill: each band draws the rows of a small triangle set up in advance
+//! ([`SmallTriangle`], set up by `geometry::small_setup`) from its edge functions and attribute plane.
 //!
-//! A triangle a few pixels across costs the scanline walker ([`super::scanline`]) more in set-up than in
-//! pixels: each edge is positioned with 64-bit divisions, each row samples both edges and divides for the
-//! attribute steps, and each row's span goes through the span dispatch on its own. Here a triangle whose
-//! bounding box is at most [`MAX_SIDE`] pixels each way, and whose shading takes a fast path, is set up once,
-//! at polygon set-up: three integer edge functions and the plane of its attributes (one division for the
-//! whole triangle). Each band's fill then draws its rows in one call of the pixel loop chosen for the polygon
-//! ([`super::span_lanes::dispatch`]). A flat triangle whose box is at most [`NARROW`] columns wide is drawn
-//! a row's four columns at a time instead ([`fill_flat_narrow`], and with AVX2 [`super::small_avx2`]).
-//!
-//! **Sub-pixel and fill rules** are the scanline walker's, decided with exact integers on the same
-//! [`Fx28_4`] grid: pixel `(x, y)` is sampled at its centre `(x + 0.5, y + 0.5)`, rows whose centre lies in
-//! `[top, bottom)` are covered, and within a row a centre on a left edge is in, on a right edge out. An edge
-//! from an upper vertex `a` to a lower vertex `b` has the edge function
-//! `F = (X - a.x)(b.y - a.y) - (b.x - a.x)(Y - a.y)` (raw units, `(X, Y)` the centre): the centre is right of
-//! or on the edge when `F >= 0`. A triangle is convex, so a centre is inside when it is right of or on every
-//! left edge and strictly left of every right edge; horizontal edges are decided by the row rule. This is
-//! exactly the set of pixels the walker's quotient-and-remainder steps give (a test compares the two), so a
-//! shared edge between a small and a large triangle has no gap and no overlap.
-//!
-//! Attributes come from the plane through the three vertices, `a(x, y) = a0 + dadx (x - x0) + dady (y - y0)`,
-//! evaluated at each row's first covered centre from the first vertex rather than stepped from row to row,
-//! so a row's values do not depend on which band draws it. They differ from the walker's only by rounding.
+//! A row's covered centres are found by the three integer edge functions a row at a time and drawn in one
+//! call of the pixel loop chosen for the polygon ([`super::span_lanes::dispatch`]). A flat triangle whose box
+//! is at most [`NARROW`] columns wide is drawn a row's four columns at a time instead ([`fill_flat_narrow`],
+//! and with AVX2 `small_avx2`). Attributes are evaluated at each row's first covered centre from the first
+//! vertex rather than stepped from row to row, so a row's values do not depend on which band draws it.
 
-use super::fixed::Fx28_4;
-use super::scanline::{ScreenVertex, signed_area2};
-use super::span_lanes::{COVERAGE, DEPTH_TEST, Run, cover_bits, coverage_byte};
-
-/// Largest bounding box side, in pixels (rows or columns whose centres it may cover), taken by this path.
-pub const MAX_SIDE: i32 = 16;
-
-/// Columns of a box drawn four lanes at a time by [`fill_flat_narrow`].
-pub const NARROW: usize = 4;
-
-/// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
-/// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct EdgeFn {
-    /// Value at the first pixel centre of the box on the current row.
-    at_row: i32,
-    /// Change per pixel to the right.
-    step_x: i32,
-    /// Change per row down.
-    step_y: i32,
-}
-
-impl EdgeFn {
-    /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area` (not 0),
-    /// with the function evaluated at raw centre `(cx, cy)`; a horizontal edge gives a function positive
-    /// everywhere (the row rule decides those).
-    #[inline(always)]
-    fn new(p: &Corner, q: &Corner, area: i64, (cx, cy): (i32, i32)) -> Self {
-        let (dx, dy) = (q.x.0 - p.x.0, q.y.0 - p.y.0);
-        // F taken from p to q; from the upper end to the lower, as above, it is the same or its negative.
-        let f = (cx - p.x.0) * dy - dx * (cy - p.y.0);
-        // With y down and a positive area the polygon's forward order runs down its right side. A centre is
-        // inside a left edge when F >= 0, that is F + 1 > 0, and inside a right edge when -F > 0. Either
-        // way the F taken from p to q is negated exactly when the area is positive, and a right edge is one
-        // going down in a positive area or up in a negative one.
-        // Selects rather than branches or multiplications: which edges are left or right is random from one
-        // triangle to the next (mispredicted branches showed in profiles), and set-up is bound by its
-        // instruction count.
-        let flip = area > 0;
-        let right = (dy > 0) == flip;
-        let (f, dx, dy) = if flip { (-f, -dx, -dy) } else { (f, dx, dy) };
-        let one = Fx28_4::ONE;
-        if dy == 0 {
-            return Self { at_row: 1, step_x: 0, step_y: 0 };
-        }
-        Self { at_row: f + 1 - i32::from(right), step_x: dy * one, step_y: -dx * one }
-    }
-}
+use super::row::{COVERAGE, DEPTH_TEST, Run, cover_bits, coverage_byte};
+use crate::render::core::small::{EdgeFn, NARROW, SmallTriangle, TexPlanes};
 
 /// The first `N` columns of the box (bit `k` for column `k`) whose centres are inside all three edges on the
 /// current row. Past the box the values stay in range (at most [`MAX_SIDE`] columns are evaluated).
@@ -87,171 +25,11 @@ fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
     m
 }
 
-/// The first column and row whose centres a triangle with corners at `(x, y)` may cover and the first
-/// after them: `(col0, col1, row0, row1)`.
-#[inline(always)]
-fn bounds([(x0, y0), (x1, y1), (x2, y2)]: [(Fx28_4, Fx28_4); 3]) -> (i32, i32, i32, i32) {
-    let first = |a: i32| Fx28_4(a).first_centre_at_or_after();
-    let (x, y) = ([x0.0, x1.0, x2.0], [y0.0, y1.0, y2.0]);
-    let (min, max) = (|v: [i32; 3]| v[0].min(v[1]).min(v[2]), |v: [i32; 3]| v[0].max(v[1]).max(v[2]));
-    (first(min(x)), first(max(x)), first(min(y)), first(max(y)))
-}
-
-/// A corner of a small triangle: its snapped position and the four attributes this path interpolates
-/// (depth, `1/w`, `s/w`, `t/w`: the first four of a [`ScreenVertex`]).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Corner {
-    /// Screen position.
-    pub(super) x: Fx28_4,
-    pub(super) y: Fx28_4,
-    /// Depth, `1/w`, `s/w`, `t/w`.
-    pub(super) attrs: [f32; 4],
-}
-
-/// A small triangle set up once, at polygon set-up, for every band that draws it.
-///
-/// Polygon set-up has the corners in cache and has just computed the area; setting the triangle up there
-/// (rather than in each band's fill, from the corners read back) also replaces its three 40-byte screen
-/// vertices with this one record.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct SmallTriangle {
-    /// The edge functions at the centre of pixel `(x_start, rows.0)`.
-    edges: [EdgeFn; 3],
-    /// First column of the box (clipped to the frame, so below 2^20) in the low 24 bits, and how many
-    /// columns it has there (at most [`MAX_SIDE`]) in the high 8: packed so that the record is 64 bytes.
-    x_columns: u32,
-    /// Rows of the box (not clipped to a band).
-    rows: (i32, i32),
-    /// The first vertex's y, in pixels.
-    y0: f32,
-    /// Depth at the centre of column `x_start` on the line through the first vertex's y, and its change per
-    /// pixel and per row.
-    depth: [f32; 3],
-}
-
-// Set-up writes one record per small triangle and the fill reads it back: measured on the small-polygon
-// scene, 64 more bytes cost 0.05 ms of a 0.64 ms set-up. A flat triangle's record is one cache line.
-const _: () = assert!(size_of::<SmallTriangle>() == 64);
-
-/// The planes of a textured small triangle's `1/w`, `s/w` and `t/w` (at the centre of column `x_start` on
-/// the line through the first vertex's y, and their change per pixel and per row), kept beside its
-/// [`SmallTriangle`]: a flat colour needs only the depth.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(super) struct TexPlanes {
-    a0: [f32; 3],
-    dadx: [f32; 3],
-    dady: [f32; 3],
-}
-
-impl TexPlanes {
-    /// The planes of a flat triangle (all zero).
-    pub(super) const NONE: Self = Self { a0: [0.0; 3], dadx: [0.0; 3], dady: [0.0; 3] };
-}
-
 impl SmallTriangle {
-    /// Sets up triangle `v` of signed area `area` ([`signed_area2`]) for a frame `width` pixels wide; `None`
-    /// when `v` is not a triangle or its bounding box is larger than [`MAX_SIDE`] (the caller uses the
-    /// scanline walker then). A zero-area triangle, or one wholly left or right of the frame, is set up with
-    /// no rows. Only the first `N` attributes are set up (the others are 0): a flat colour needs only the
-    /// depth, and its texture planes are [`TexPlanes::NONE`].
-    #[inline]
-    pub(super) fn new<const N: usize>(v: &[ScreenVertex], area: i64, width: i32) -> Option<(Self, TexPlanes)> {
-        let [p0, p1, p2] = v else { return None };
-        debug_assert_eq!(area, signed_area2(v));
-        let corner =
-            |p: &ScreenVertex| Corner { x: p.x, y: p.y, attrs: [p.attrs[0], p.attrs[1], p.attrs[2], p.attrs[3]] };
-        Self::from_corners::<N>(&[corner(p0), corner(p1), corner(p2)], area, width)
-    }
-
-    /// Whether a triangle with corners at `(x, y)` has a bounding box this path takes (at most
-    /// [`MAX_SIDE`] pixel centres each way).
-    #[inline]
-    pub(super) fn fits(xy: [(Fx28_4, Fx28_4); 3]) -> bool {
-        let (col0, col1, row0, row1) = bounds(xy);
-        col1 - col0 <= MAX_SIDE && row1 - row0 <= MAX_SIDE
-    }
-
-    /// [`Self::new`] from the three corners' positions and first four attributes (depth, `1/w`, `s/w`,
-    /// `t/w`), for set-up that has them without building screen vertices; `area` is [`signed_area2`] of the
-    /// corners.
-    #[inline(always)]
-    pub(super) fn from_corners<const N: usize>(v: &[Corner; 3], area: i64, width: i32) -> Option<(Self, TexPlanes)> {
-        let [p0, p1, p2] = v;
-        let (col0, col1, row0, row1) = bounds([(p0.x, p0.y), (p1.x, p1.y), (p2.x, p2.y)]);
-        if col1 - col0 > MAX_SIDE || row1 - row0 > MAX_SIDE {
-            return None;
-        }
-        let (x_start, x_end) = (col0.max(0), col1.min(width));
-        if area == 0 || x_start >= x_end || row0 >= row1 {
-            let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
-            let empty = Self { edges, x_columns: 0, rows: (row0, row0), y0: 0.0, depth: [0.0; 3] };
-            return Some((empty, TexPlanes::NONE));
-        }
-        let centre = |i: i32| i * Fx28_4::ONE + Fx28_4::HALF;
-        let origin = (centre(x_start), centre(row0));
-        let edges =
-            [EdgeFn::new(p0, p1, area, origin), EdgeFn::new(p1, p2, area, origin), EdgeFn::new(p2, p0, area, origin)];
-        // The attributes' plane, from the vertices' exact grid positions.
-        let (x0, y0) = (p0.x.to_f32(), p0.y.to_f32());
-        let (e1x, e1y) = (p1.x.to_f32() - x0, p1.y.to_f32() - y0);
-        let (e2x, e2y) = (p2.x.to_f32() - x0, p2.y.to_f32() - y0);
-        // The area in square pixels is `area / 256`. For corners within 2^20 pixels of the origin (every
-        // triangle that can draw a pixel in a frame smaller than that) it equals `e1x * e2y - e2x * e1y`
-        // bit for bit, every product being a whole number of 1/256ths below 2^24; it is known sooner, and
-        // beyond that range it is the exact one.
-        let inv_det = 256.0 / area as f32;
-        let ox = x_start as f32 + 0.5 - x0;
-        let columns = (x_end - x_start) as u32;
-        debug_assert!(x_start < 1 << 24 && columns <= MAX_SIDE as u32);
-        let (mut a0, mut dadx, mut dady) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
-        for i in 0..N.min(4) {
-            let (d1, d2) = (p1.attrs[i] - p0.attrs[i], p2.attrs[i] - p0.attrs[i]);
-            dadx[i] = (d1 * e2y - d2 * e1y) * inv_det;
-            dady[i] = (d2 * e1x - d1 * e2x) * inv_det;
-            a0[i] = p0.attrs[i] + dadx[i] * ox;
-        }
-        let t = Self {
-            edges,
-            x_columns: x_start as u32 | columns << 24,
-            rows: (row0, row1),
-            y0,
-            depth: [a0[0], dadx[0], dady[0]],
-        };
-        let planes = TexPlanes {
-            a0: [a0[1], a0[2], a0[3]],
-            dadx: [dadx[1], dadx[2], dadx[3]],
-            dady: [dady[1], dady[2], dady[3]],
-        };
-        Some((t, planes))
-    }
-
-    /// First column of the box.
-    #[inline(always)]
-    fn x_start(&self) -> usize {
-        (self.x_columns & 0x00ff_ffff) as usize
-    }
-
-    /// How many columns the box has in the frame.
-    #[inline(always)]
-    fn columns(&self) -> u32 {
-        self.x_columns >> 24
-    }
-
-    /// Bits of the box's columns.
-    #[inline(always)]
-    fn column_mask(&self) -> u32 {
-        ((1u64 << self.columns()) - 1) as u32
-    }
-
-    /// The rows whose centres the triangle may cover, `rows().0..rows().1`.
-    pub(super) fn rows(&self) -> (i32, i32) {
-        self.rows
-    }
-
     /// Calls `f` with each row of `band` (`band.0..band.1`) and the run of pixels the triangle covers on it,
     /// top to bottom, with the first `N` attributes (the depth, then those of the texture planes `tex`).
     #[inline(always)]
-    pub(super) fn for_each_run<const N: usize>(&self, tex: &TexPlanes, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
+    pub(crate) fn for_each_run<const N: usize>(&self, tex: &TexPlanes, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
         let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
         if y_start >= y_end {
             return;
@@ -294,16 +72,16 @@ impl SmallTriangle {
 
 /// The band's colour and depth buffers as one slice each, rows `y0..` of a frame `width` pixels wide, for
 /// [`fill_flat_narrow`].
-pub(super) struct BandPixels<'a> {
+pub(crate) struct BandPixels<'a> {
     /// First frame row of the band.
-    pub(super) y0: usize,
-    pub(super) width: usize,
-    pub(super) color: &'a mut [u32],
+    pub(crate) y0: usize,
+    pub(crate) width: usize,
+    pub(crate) color: &'a mut [u32],
     /// Depths (larger is nearer), empty unless the band is depth tested.
-    pub(super) depth: &'a mut [f32],
+    pub(crate) depth: &'a mut [f32],
     /// 'Already drawn' bits, `words` words a row, empty unless the band draws each pixel once.
-    pub(super) coverage: &'a mut [u64],
-    pub(super) words: usize,
+    pub(crate) coverage: &'a mut [u64],
+    pub(crate) words: usize,
 }
 
 impl BandPixels<'_> {
@@ -311,7 +89,7 @@ impl BandPixels<'_> {
     /// drawn, which are marked drawn now ([`COVERAGE`]: each pixel drawn once); pixels whose coverage word
     /// is missing count as drawn, as in the per-pixel loop.
     #[inline(always)]
-    pub(super) fn claim(&mut self, row: usize, x_start: usize, m: u32) -> u32 {
+    pub(crate) fn claim(&mut self, row: usize, x_start: usize, m: u32) -> u32 {
         let words = self.coverage.get_mut(row * self.words..(row + 1) * self.words).unwrap_or(&mut []);
         let pass = m & !u32::from(coverage_byte(words, x_start));
         cover_bits(words, x_start, pass as u8);
@@ -323,7 +101,7 @@ impl SmallTriangle {
     /// The triangle's rows in `band` when its box is at most [`NARROW`] columns wide, the case drawn four
     /// columns at a time ([`fill_flat_narrow`]); `None` for a wider box or no rows in the band.
     #[inline(always)]
-    pub(super) fn narrow_rows(&self, band: (i32, i32)) -> Option<NarrowRows> {
+    pub(crate) fn narrow_rows(&self, band: (i32, i32)) -> Option<NarrowRows> {
         let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
         if self.columns() > NARROW as u32 || y_start >= y_end {
             return None;
@@ -349,18 +127,18 @@ impl SmallTriangle {
 /// A narrow small triangle's rows in one band: its edge functions at the box's first column on the band's
 /// first row, and its depth plane.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct NarrowRows {
+pub(crate) struct NarrowRows {
     /// The three edge functions at the centre of pixel `(x_start, rows.0)`, and their change per column
     /// and per row.
-    pub(super) at_row: [i32; 3],
-    pub(super) step_x: [i32; 3],
-    pub(super) step_y: [i32; 3],
+    pub(crate) at_row: [i32; 3],
+    pub(crate) step_x: [i32; 3],
+    pub(crate) step_y: [i32; 3],
     /// Bits of the box's columns (at most [`NARROW`]).
-    pub(super) column_mask: u32,
+    pub(crate) column_mask: u32,
     /// First column of the box.
-    pub(super) x_start: usize,
+    pub(crate) x_start: usize,
     /// The rows to draw, `rows.0..rows.1`.
-    pub(super) rows: (i32, i32),
+    pub(crate) rows: (i32, i32),
     /// Depth at column `x_start` on the line through the first vertex, its change per column and per
     /// row, and that vertex's y.
     depth: [f32; 4],
@@ -370,7 +148,7 @@ impl NarrowRows {
     /// The depth at the centre of column `first` (of the box) on row `y`, exactly as
     /// [`SmallTriangle::for_each_run`] gives a run starting there.
     #[inline(always)]
-    pub(super) fn run_depth(&self, y: i32, first: u32) -> f32 {
+    pub(crate) fn run_depth(&self, y: i32, first: u32) -> f32 {
         let [a0, dadx, dady, y0] = self.depth;
         let dy = y as f32 + 0.5 - y0;
         a0 + (dady * dy + first as f32 * dadx)
@@ -378,21 +156,21 @@ impl NarrowRows {
 
     /// The depth's change per column.
     #[inline(always)]
-    pub(super) fn depth_step(&self) -> f32 {
+    pub(crate) fn depth_step(&self) -> f32 {
         self.depth[1]
     }
 }
 
 /// Draws a narrow triangle's rows in colour `color` with visibility `VIS` (depth-tested: strictly nearer
-/// wins; each pixel once; or overwriting, as in [`super::span_lanes::walk`]); returns `(written,
-/// rejected)`. The AVX2 version is [`super::small_avx2::fill_flat_narrow`], held to this one bit for bit.
+/// wins; each pixel once; or overwriting, as in [`crate::render::fill::span_lanes::walk`]); returns `(written,
+/// rejected)`. The AVX2 version is [`crate::render::fill::small_avx2::fill_flat_narrow`], held to this one bit for bit.
 ///
 /// Each row is its four box columns at once: coverage, depths, the test and the writes as four-lane
 /// selects, where the per-pixel loop spent more on a run of 1-3 pixels (its set-up and a call per row) than
 /// on the pixels. The depth of a pixel is computed as the per-pixel loop computes it, from the row's first
 /// covered pixel, so the frame is bit for bit the same.
 #[inline(always)]
-pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
     let edge = |i: usize| EdgeFn { at_row: r.at_row[i], step_x: r.step_x[i], step_y: r.step_y[i] };
     let mut edges = [edge(0), edge(1), edge(2)];
@@ -453,7 +231,7 @@ pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
 /// One loop for the run of triangles (rather than a call per triangle) lets the AVX2 version keep its
 /// constants in registers across triangles.
 #[inline(always)]
-pub(super) fn fill_flat_run<'t>(
+pub(crate) fn fill_flat_run<'t>(
     first: (&'t SmallTriangle, u32),
     next: &mut impl NextFlat<'t>,
     band: (i32, i32),
@@ -482,7 +260,7 @@ pub(super) fn fill_flat_run<'t>(
 /// A trait rather than a closure so that its method can be marked `inline(always)`: passed as a closure,
 /// the group's iteration became a call per triangle inside the AVX2 function once that grew (fill 0.48 ->
 /// 0.53 ms on the small-polygon scene).
-pub(super) trait NextFlat<'t> {
+pub(crate) trait NextFlat<'t> {
     /// The next triangle and its colour.
     fn next_flat(&mut self) -> Option<(&'t SmallTriangle, u32)>;
 }
@@ -492,7 +270,7 @@ pub(super) trait NextFlat<'t> {
 /// the end of the buffers (on a band's last row, near the right edge of the frame); returns `(written,
 /// rejected)`.
 #[inline(always)]
-pub(super) fn fill_row_pixels<const VIS: u8>(
+pub(crate) fn fill_row_pixels<const VIS: u8>(
     m: u32,
     d0: f32,
     dd: f32,
@@ -529,8 +307,10 @@ pub(super) fn fill_row_pixels<const VIS: u8>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::scanline::{Span, fill_spans};
-    use crate::render::span_lanes::OVERWRITE;
+    use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::vertex::{ScreenVertex, signed_area2};
+    use crate::render::fill::row::OVERWRITE;
+    use crate::render::fill::scanline::{Span, fill_spans};
     use crate::render::test_rng::Lcg;
 
     fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {

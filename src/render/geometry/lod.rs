@@ -6,81 +6,16 @@
 //! height (in pixels) its middle and long models take over. A choice only changes when the size moves
 //! [`HYSTERESIS`] past a threshold, so an object hovering at one does not flicker between models.
 
-use std::fmt;
-use std::str::FromStr;
+use crate::render::core::camera::Camera;
+use crate::render::core::draw_list::{DrawList, Instance};
+use crate::render::core::options::{Level, LodMode, RenderOptions};
+use crate::render::core::stats::Stats;
 
-/// One of the three models of a set.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Level {
-    /// The close-up model (about 200-300 polygons for a car).
-    Close = 0,
-    /// The middle-range model (about 20-30).
-    Mid = 1,
-    /// The long-shot model (6: a hexahedron).
-    Long = 2,
-}
-
-impl Level {
-    /// All levels, finest first.
-    pub const ALL: [Level; 3] = [Level::Close, Level::Mid, Level::Long];
-
-    /// The name used on the command line and in statistics.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Level::Close => "close",
-            Level::Mid => "mid",
-            Level::Long => "long",
-        }
-    }
-
-    fn from_index(i: u8) -> Option<Level> {
-        Level::ALL.get(usize::from(i)).copied()
-    }
-}
-
-impl fmt::Display for Level {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// How levels are chosen for a frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum LodMode {
-    /// By projected size, with hysteresis (the default).
-    #[default]
-    Auto,
-    /// The same level for every set (for comparisons and the chart).
-    Force(Level),
-}
-
-impl FromStr for LodMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "auto" => Ok(LodMode::Auto),
-            "close" => Ok(LodMode::Force(Level::Close)),
-            "mid" => Ok(LodMode::Force(Level::Mid)),
-            "long" => Ok(LodMode::Force(Level::Long)),
-            _ => Err(format!("unknown level of detail '{s}' (expected auto, close, mid or long)")),
-        }
-    }
-}
+use crate::render::geometry::cull::world_sphere;
 
 /// Relative margin around each threshold: switching to a finer model needs the size to exceed the threshold
 /// by this much, switching to a coarser one to fall this much below it.
 pub const HYSTERESIS: f32 = 0.15;
-
-/// The three models of one object and where they switch.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LodSet {
-    /// Mesh indices (into the draw list's meshes) of the close, middle and long models.
-    pub meshes: [usize; 3],
-    /// Projected heights in pixels: below `switch_px[0]` the middle model is used, below `switch_px[1]` the
-    /// long one.
-    pub switch_px: [f32; 2],
-}
 
 /// The level for a projected height, given the level used last frame (if any).
 #[must_use]
@@ -137,6 +72,54 @@ impl LodState {
     pub fn clear(&mut self) {
         self.levels.clear();
     }
+
+    /// Picks the mesh instance `index` draws this frame: its own, or the level of its LOD set for its
+    /// projected size (seed 003's rule), remembered for the next frame's hysteresis; `None` when it names a
+    /// set or a close model that does not exist. `y_scale_px` is the projected diameter in pixels of a unit
+    /// radius at unit depth.
+    pub(crate) fn pick(
+        &mut self,
+        index: usize,
+        inst: &Instance,
+        list: &DrawList<'_>,
+        (camera, y_scale_px): (&Camera, f32),
+        options: &RenderOptions,
+        stats: &mut Stats,
+    ) -> Option<usize> {
+        let Some(set) = inst.lod.map(|s| list.lod_sets.get(s)) else {
+            return Some(inst.mesh);
+        };
+        let set = set?;
+        let close = list.meshes.get(set.meshes[0])?;
+        let level = match options.lod {
+            LodMode::Force(level) => level,
+            LodMode::Auto => {
+                let (center, radius) = world_sphere(close.bounds(), &inst.model);
+                let size = projected_size((center, radius), camera, y_scale_px) * libm::exp2f(options.lod_bias);
+                choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, self.previous(index))
+            }
+        };
+        self.set(index, level);
+        let chosen = set.meshes[level as usize];
+        match level {
+            Level::Close => stats.lod_close += 1,
+            Level::Mid => stats.lod_mid += 1,
+            Level::Long => stats.lod_long += 1,
+        }
+        let used = list.meshes.get(chosen).map_or(0, |m| m.polygons().len());
+        stats.polygons_saved_by_lod += close.polygons().len().saturating_sub(used) as u64;
+        Some(chosen)
+    }
+}
+
+/// The projected height in pixels of a sphere (world `center`, `radius`) seen by `camera`: infinite when the
+/// eye is inside it or it is behind the eye.
+fn projected_size((center, radius): (glam::Vec3, f32), camera: &Camera, y_scale_px: f32) -> f32 {
+    if !camera.is_perspective() {
+        return radius * y_scale_px;
+    }
+    let depth = -(camera.view.transform_point3(center).z);
+    if depth > radius { radius * y_scale_px / depth } else { f32::INFINITY }
 }
 
 #[cfg(test)]

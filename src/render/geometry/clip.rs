@@ -4,7 +4,7 @@
 //! it, or wholly outside any side of the view volume, is rejected. Sides are not clipped at the frame edge:
 //! only polygons reaching past a guard band of [`GUARD_PIXELS`] beyond the frame are cut, so ordinary
 //! polygons keep their exact vertices and the span stage scissors the rest. After this stage every vertex
-//! projects to within the guard band, so its snapped [`super::fixed::Fx28_4`] position cannot overflow.
+//! projects to within the guard band, so its snapped [`crate::render::core::fixed::Fx28_4`] position cannot overflow.
 
 use glam::Vec4;
 

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec4};
 
-use super::mesh::Sphere;
+use crate::render::core::mesh::Sphere;
 
 /// The frustum planes of a clip-from-world matrix, normalised, inside positive.
 #[derive(Clone, Copy, Debug)]

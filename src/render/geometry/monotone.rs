@@ -5,7 +5,7 @@
 //! predicates. Each triangle is y-monotone, so the scanline fill can draw it, and the triangles tile the
 //! polygon exactly, so the coverage is the polygon's.
 
-use super::scanline::ScreenVertex;
+use crate::render::core::vertex::ScreenVertex;
 
 fn cross(o: &ScreenVertex, a: &ScreenVertex, b: &ScreenVertex) -> i64 {
     let (ox, oy) = (i64::from(o.x.0), i64::from(o.y.0));
@@ -65,11 +65,33 @@ pub fn triangulate(v: &[ScreenVertex], area_sign: i64, out: &mut Vec<[usize; 3]>
     }
 }
 
+/// True when every horizontal line cuts the polygon outline at most twice (y goes down once and up once).
+#[must_use]
+pub fn is_y_monotone(v: &[ScreenVertex]) -> bool {
+    if v.len() <= 3 {
+        return true; // a triangle (or less) always is
+    }
+    let next = || v.iter().skip(1).chain(v.first());
+    let dirs = || v.iter().zip(next()).map(|(p, q)| (q.y.0 - p.y.0).signum());
+    let mut changes = 0;
+    // Start from the last non-zero direction so the count is cyclic.
+    let mut last = dirs().filter(|&d| d != 0).last().unwrap_or(0);
+    for d in dirs() {
+        if d != 0 {
+            if d != last {
+                changes += 1;
+            }
+            last = d;
+        }
+    }
+    changes <= 2
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::fixed::Fx28_4;
-    use crate::render::scanline::{ATTRS, signed_area2};
+    use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::vertex::{ATTRS, signed_area2};
 
     fn sv(x: i32, y: i32) -> ScreenVertex {
         ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [0.0; ATTRS] }
@@ -82,7 +104,7 @@ mod tests {
             .iter()
             .map(|&(x, y)| sv(x * 16, y * 16))
             .collect();
-        assert!(!crate::render::scanline::is_y_monotone(&w));
+        assert!(!is_y_monotone(&w));
         let total = signed_area2(&w);
         let mut tris = vec![];
         triangulate(&w, total.signum(), &mut tris);
@@ -92,5 +114,14 @@ mod tests {
         for t in &tris {
             assert_eq!(signed_area2(&[w[t[0]], w[t[1]], w[t[2]]]).signum(), total.signum());
         }
+    }
+
+    #[test]
+    fn monotone_detection() {
+        let convex = [sv(0, 0), sv(10, 0), sv(10, 10), sv(0, 10)];
+        assert!(is_y_monotone(&convex));
+        // A 'W' shape dips down twice.
+        let w = [sv(0, 0), sv(5, 10), sv(10, 2), sv(15, 10), sv(20, 0), sv(10, 20)];
+        assert!(!is_y_monotone(&w));
     }
 }

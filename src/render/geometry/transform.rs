@@ -4,62 +4,20 @@
 //! [`VertexTransform::vertex`] is the reference, one vertex at a time, with the matrix product and the
 //! depth's dot product written out in a fixed order (glam's, so frames did not change when this moved
 //! here). Where the CPU has AVX2, [`VertexTransform::run`] takes eight vertices per step instead
-//! ([`super::transform_avx2`]): the same IEEE operations in the same order, so the records are bit-identical
+//! ([`crate::render::geometry::transform_avx2`]): the same IEEE operations in the same order, so the records are bit-identical
 //! (a test compares the two on random and hostile positions).
 
-use glam::{Mat4, Vec3, Vec4};
-
-use super::clip::ClipVolume;
-use super::mesh::Vertex;
-use super::project::SetupVertex;
-
-/// What turns an object's model-space positions into [`SetupVertex`] records for one frame.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct VertexTransform {
-    /// Model to clip space.
-    pub(super) clip_from_model: Mat4,
-    /// The row of the model-to-view matrix that gives view z (the view depth is its negation).
-    pub(super) depth_row: Vec4,
-    /// The clip volume.
-    pub(super) volume: ClipVolume,
-    /// Frame width and height in pixels.
-    pub(super) size: (f32, f32),
-    /// Perspective (depth is `1/w`) or orthographic camera.
-    pub(super) perspective: bool,
-}
+use super::vertex::{SetupVertex, VertexTransform};
+use crate::render::core::mesh::Vertex;
+use crate::render::simd;
 
 impl VertexTransform {
-    /// The clip position and view depth of model position `p`, in the reference order of operations.
-    #[inline(always)]
-    pub(super) fn clip_and_depth(&self, p: Vec3) -> (Vec4, f32) {
-        let (m, d) = (&self.clip_from_model, self.depth_row);
-        let row = |x: f32, y: f32, z: f32, w: f32| ((x * p.x + y * p.y) + z * p.z) + w;
-        let pos = Vec4::new(
-            row(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x),
-            row(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y),
-            row(m.x_axis.z, m.y_axis.z, m.z_axis.z, m.w_axis.z),
-            row(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w),
-        );
-        (pos, -((d.x * p.x + d.z * p.z) + (d.y * p.y + d.w)))
-    }
-
-    /// One vertex, the reference the eight-lane path must match bit for bit.
-    #[inline(always)]
-    pub(super) fn vertex(&self, p: Vec3) -> SetupVertex {
-        let (pos, view_depth) = self.clip_and_depth(p);
-        SetupVertex::new(pos, view_depth, &self.volume, self.size, self.perspective)
-    }
-
     /// Transforms `vs` into `out` (as many as the shorter holds).
-    pub(super) fn run(&self, out: &mut [SetupVertex], vs: &[Vertex]) {
+    pub(crate) fn run(&self, out: &mut [SetupVertex], vs: &[Vertex]) {
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if super::cpu::use_avx2() {
-            // SAFETY: `run_avx2` only needs the CPU to have AVX2, which was just detected.
-            #[allow(unsafe_code)]
-            {
-                done = unsafe { super::transform_avx2::run(self, out, vs) };
-            }
+        if let Some(avx2) = simd::avx2() {
+            done = crate::render::geometry::transform_avx2::run(avx2, self, out, vs);
         }
         for (o, v) in out.iter_mut().zip(vs).skip(done) {
             *o = self.vertex(v.position);
@@ -70,8 +28,10 @@ impl VertexTransform {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::cpu::force_portable;
+    use crate::render::geometry::clip::ClipVolume;
+    use crate::render::simd::force_portable;
     use crate::render::test_rng::Lcg;
+    use glam::{Mat4, Vec3};
     use glam::{Quat, Vec2};
 
     /// A random coordinate of any scale; when `hostile`, one in sixteen is NaN, infinite, huge or zero.
@@ -83,7 +43,7 @@ mod tests {
         }
     }
 
-    use crate::render::camera::{Camera, Projection};
+    use crate::render::core::camera::{Camera, Projection};
 
     fn run(t: &VertexTransform, vs: &[Vertex], portable: bool) -> Vec<SetupVertex> {
         let mut out = vec![SetupVertex::default(); vs.len()];

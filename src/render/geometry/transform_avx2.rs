@@ -1,7 +1,7 @@
 //! The vertex transform eight vertices at a time with AVX2, written out by hand because the compiler keeps
 //! the clip codes, the snapping and the record assembly scalar.
 //!
-//! Each step repeats [`super::transform::VertexTransform::vertex`] operation for operation (the same IEEE
+//! Each step repeats [`crate::render::geometry::transform::VertexTransform::vertex`] operation for operation (the same IEEE
 //! operations in the same order, no fused multiply-add; `Fx28_4::from_f32`'s rounding and range checks are
 //! rebuilt with compares), so the records are bit-identical to the one-vertex loop's.
 
@@ -13,18 +13,27 @@ use std::arch::x86_64::{
     _mm256_unpackhi_ps, _mm256_unpacklo_ps, _mm256_xor_ps,
 };
 
-use super::fixed::Fx28_4;
-use super::mesh::Vertex;
-use super::project::SetupVertex;
-use super::transform::VertexTransform;
+use super::vertex::{SetupVertex, VertexTransform};
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::mesh::Vertex;
+use crate::render::simd::Avx2;
 
 /// Vertices per step.
 const LANES: usize = 8;
 
 /// Transforms whole groups of eight of `vs` into `out` and returns how many it did (the caller does the
 /// rest one at a time).
+pub(crate) fn run(_: Avx2, t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
+    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `run_avx2` needs.
+    #[allow(unsafe_code)]
+    unsafe {
+        run_avx2(t, out, vs)
+    }
+}
+
+/// [`run`]'s body, compiled for AVX2.
 #[target_feature(enable = "avx2")]
-pub(super) fn run(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
+fn run_avx2(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
     let n = out.len().min(vs.len()) / LANES * LANES;
     let m = &t.clip_from_model;
     let d = t.depth_row;

@@ -58,3 +58,8 @@ impl Stats {
         self.ms_transform + self.ms_clip + self.ms_order + self.ms_fill
     }
 }
+
+/// Milliseconds since `since`, for the stage timings in [`Stats`].
+pub(crate) fn ms_since(since: std::time::Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}

@@ -1,7 +1,7 @@
 //! Narrow small triangles with AVX2: a row's four box columns per instruction (coverage, depth test and
 //! writes), with no branch per pixel.
 //!
-//! Each step repeats [`super::small_triangle::fill_flat_narrow`] operation for operation: the edge
+//! Each step repeats [`crate::render::fill::small::fill_flat_narrow`] operation for operation: the edge
 //! functions are the same integers (a column's value as a product rather than a sum of steps), the depths
 //! the same IEEE operations in the same order, and the test the same ordered compare, so the two give
 //! bit-identical frames; a unit test compares them on random triangles over random depths.
@@ -12,45 +12,43 @@ use std::arch::x86_64::{
     _mm_mullo_epi32, _mm_set1_epi32, _mm_set1_ps, _mm_setr_epi32, _mm_setr_ps, _mm_setzero_si128, _mm_sub_ps,
 };
 
-use super::small_triangle::{self, BandPixels, NARROW, NarrowRows, NextFlat, SmallTriangle, fill_row_pixels};
-use super::span_lanes::{COVERAGE, DEPTH_TEST};
+use super::row::{COVERAGE, DEPTH_TEST};
+use super::small::{self, BandPixels, NarrowRows, NextFlat, fill_row_pixels};
+use crate::render::core::small::{NARROW, SmallTriangle};
+use crate::render::simd::Avx2;
+use crate::render::simd::x86::{load, store};
 
-/// Four values from the start of a slice (`None` when it is shorter).
-#[inline(always)]
-fn load<T: bytemuck::Pod, V: bytemuck::Pod>(s: &[T]) -> Option<V> {
-    let a: &[T; NARROW] = s.get(..NARROW)?.try_into().ok()?;
-    Some(bytemuck::cast::<[T; NARROW], V>(*a))
-}
-
-/// Stores four values at the start of a slice (nothing when it is shorter).
-#[inline(always)]
-fn store<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
-    if let Some(d) = s.get_mut(..NARROW) {
-        d.copy_from_slice(&bytemuck::cast::<V, [T; NARROW]>(v));
-    }
-}
-
-/// [`super::small_triangle::fill_flat_run`] with the AVX2 narrow fill.
-///
-/// # Safety
-/// Needs a CPU with AVX2 (the caller detects it).
-#[target_feature(enable = "avx2")]
-pub(super) fn fill_flat_run<'t, const VIS: u8>(
+/// [`super::small::fill_flat_run`] with the AVX2 narrow fill.
+pub(crate) fn fill_flat_run<'t, const VIS: u8>(
+    _: Avx2,
     first: (&'t SmallTriangle, u32),
     next: &mut impl NextFlat<'t>,
     band: (i32, i32),
     px: &mut BandPixels<'_>,
 ) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
-    small_triangle::fill_flat_run(first, next, band, px, |r, color, px| fill_flat_narrow::<VIS>(r, color, px))
+    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `fill_flat_run_avx2`
+    // needs.
+    #[allow(unsafe_code)]
+    unsafe {
+        fill_flat_run_avx2::<VIS>(first, next, band, px)
+    }
 }
 
-/// [`super::small_triangle::fill_flat_narrow`] with AVX2; returns `(written, rejected)`.
-///
-/// # Safety
-/// Needs a CPU with AVX2 (the caller detects it).
+/// [`fill_flat_run`]'s body, compiled for AVX2.
+#[target_feature(enable = "avx2")]
+fn fill_flat_run_avx2<'t, const VIS: u8>(
+    first: (&'t SmallTriangle, u32),
+    next: &mut impl NextFlat<'t>,
+    band: (i32, i32),
+    px: &mut BandPixels<'_>,
+) -> ((u64, u64), Option<(&'t SmallTriangle, u32)>) {
+    small::fill_flat_run(first, next, band, px, |r, color, px| fill_flat_narrow::<VIS>(r, color, px))
+}
+
+/// [`super::small::fill_flat_narrow`] with AVX2; returns `(written, rejected)`.
 #[inline]
 #[target_feature(enable = "avx2")]
-pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
+pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &mut BandPixels<'_>) -> (u64, u64) {
     let (mut written, mut rejected) = (0u64, 0u64);
     let columns = _mm_setr_epi32(0, 1, 2, 3);
     // Column k's edge value is the row's value plus k steps; a column outside the box is masked off.
@@ -116,9 +114,9 @@ pub(super) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::fixed::Fx28_4;
-    use crate::render::scanline::{ATTRS, ScreenVertex, signed_area2};
-    use crate::render::span_lanes::OVERWRITE;
+    use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
+    use crate::render::fill::row::OVERWRITE;
     use crate::render::test_rng::Lcg;
 
     /// What one version drew: the buffers and the counts.
@@ -134,9 +132,9 @@ mod tests {
         #[allow(unsafe_code)]
         // SAFETY: the test runs the AVX2 versions only when the CPU has AVX2.
         let counts = match (vis, avx2) {
-            (DEPTH_TEST, false) => small_triangle::fill_flat_narrow::<DEPTH_TEST>(r, c, &mut px),
-            (COVERAGE, false) => small_triangle::fill_flat_narrow::<COVERAGE>(r, c, &mut px),
-            (_, false) => small_triangle::fill_flat_narrow::<OVERWRITE>(r, c, &mut px),
+            (DEPTH_TEST, false) => small::fill_flat_narrow::<DEPTH_TEST>(r, c, &mut px),
+            (COVERAGE, false) => small::fill_flat_narrow::<COVERAGE>(r, c, &mut px),
+            (_, false) => small::fill_flat_narrow::<OVERWRITE>(r, c, &mut px),
             (DEPTH_TEST, true) => unsafe { fill_flat_narrow::<DEPTH_TEST>(r, c, &mut px) },
             (COVERAGE, true) => unsafe { fill_flat_narrow::<COVERAGE>(r, c, &mut px) },
             (_, true) => unsafe { fill_flat_narrow::<OVERWRITE>(r, c, &mut px) },
@@ -146,7 +144,7 @@ mod tests {
 
     #[test]
     fn the_avx2_narrow_fill_equals_the_portable_one_bit_for_bit() {
-        if !crate::render::cpu::has_avx2() {
+        if !crate::render::simd::has_avx2() {
             eprintln!("no AVX2 on this CPU: nothing to compare");
             return;
         }

@@ -1,0 +1,21 @@
+//! The bottom layer: plain records and number formats with no stage logic, which every stage above may
+//! use and which use nothing above them.
+//!
+//! The renderer's inputs ([`options`], [`draw_list`], [`camera`], [`mesh`], [`texture`]), its outputs
+//! ([`stats`], [`error`]), the fixed-point grid ([`fixed`]), and the records the stages hand down: the
+//! screen vertex ([`vertex`]), the polygon and its paint ([`polygon`]), the small triangle ([`small`]), the
+//! set-up batches ([`batch`]) and the bands of the frame ([`band`]).
+
+pub(crate) mod band;
+pub(crate) mod batch;
+pub mod camera;
+pub mod draw_list;
+pub mod error;
+pub mod fixed;
+pub mod mesh;
+pub mod options;
+pub(crate) mod polygon;
+pub(crate) mod small;
+pub mod stats;
+pub mod texture;
+pub mod vertex;

@@ -1,0 +1,236 @@
+//! How a frame is to be drawn: the visibility method and its settings, chosen per frame by the caller.
+
+use std::fmt;
+use std::str::FromStr;
+
+use thiserror::Error;
+
+use crate::render::core::texture::Filter;
+
+/// How visibility is resolved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Per-pixel depth test (`1/w`): the accuracy reference, and the default: the bench measured it exact at
+    /// 1.0-1.1x the time of the painter's methods on the game's frames (see the README).
+    #[default]
+    ZBuffer,
+    /// Exact stable sort of polygons by key, drawn far to near.
+    Sort,
+    /// Ordering table chained far to near, painter's algorithm.
+    BucketFar,
+    /// Ordering table chained near to far, each pixel shaded at most once.
+    BucketNear,
+    /// Orders made in advance per view direction for rigid meshes (seed 004), objects placed with the
+    /// ordering table far to near; meshes without stored lists are ordered per polygon as `bucket-far`.
+    ViewLists,
+}
+
+impl Method {
+    /// Every method, in the order the command line lists them.
+    pub const ALL: [Method; 5] =
+        [Method::ZBuffer, Method::Sort, Method::BucketFar, Method::BucketNear, Method::ViewLists];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::ZBuffer => "zbuffer",
+            Method::Sort => "sort",
+            Method::BucketFar => "bucket-far",
+            Method::BucketNear => "bucket-near",
+            Method::ViewLists => "view-lists",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A setting's name that is not one of its values, as the command line and settings file give them.
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+#[error("unknown {setting} '{given}' (expected {expected})")]
+pub struct UnknownName {
+    /// Which setting: "method", "key", "level of detail".
+    pub setting: &'static str,
+    /// The name given.
+    pub given: String,
+    /// The names it may be.
+    pub expected: &'static str,
+}
+
+impl UnknownName {
+    fn new(setting: &'static str, given: &str, expected: &'static str) -> Self {
+        Self { setting, given: given.to_owned(), expected }
+    }
+}
+
+impl FromStr for Method {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownName::new("method", s, "zbuffer, sort, bucket-far, bucket-near or view-lists"))
+    }
+}
+
+/// The representative depth of a polygon for ordering.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DepthKey {
+    /// Mean of the vertices' depths (seed claim 2).
+    Avg,
+    /// Nearest vertex (seed claim 3).
+    Min,
+    /// Farthest vertex: the default, measured best on the game's frames (fewest pixels differing from the
+    /// z-buffer for `sort` and both bucket methods; a big road polygon sorts by its far end, so the cars
+    /// standing on it are drawn after it).
+    #[default]
+    Max,
+}
+
+impl FromStr for DepthKey {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "avg" => Ok(DepthKey::Avg),
+            "min" => Ok(DepthKey::Min),
+            "max" => Ok(DepthKey::Max),
+            _ => Err(UnknownName::new("key", s, "avg, min or max")),
+        }
+    }
+}
+
+/// Default number of ordering-table buckets; see the README for why.
+pub const DEFAULT_BUCKETS: usize = 1024;
+
+/// Settings for one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Visibility method.
+    pub method: Method,
+    /// Ordering-table buckets (`bucket-far`, `bucket-near`).
+    pub buckets: usize,
+    /// Representative depth (`sort`, `bucket-*`).
+    pub key: DepthKey,
+    /// Depth-to-bucket mapping.
+    pub mapping: BucketMapping,
+    /// Texture-coordinate interpolation.
+    pub texture_mode: TextureMode,
+    /// Texture filtering.
+    pub filter: Filter,
+    /// Worker threads for the fill (0 = the cores available). Frames are identical for every count.
+    pub threads: usize,
+    /// Colour the frame is cleared to first, `0x00RRGGBB`; `None` draws over what is there.
+    pub background: Option<u32>,
+    /// Level-of-detail choice for instances of LOD sets.
+    pub lod: LodMode,
+    /// Multiplies projected sizes by `2^lod_bias` before choosing a level: positive keeps finer models longer.
+    pub lod_bias: f32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::default(),
+            buckets: DEFAULT_BUCKETS,
+            key: DepthKey::default(),
+            mapping: BucketMapping::default(),
+            texture_mode: TextureMode::default(),
+            filter: Filter::default(),
+            threads: 0,
+            background: Some(SKY_BLUE),
+            lod: LodMode::Auto,
+            lod_bias: 0.0,
+        }
+    }
+}
+
+/// The default background, sky blue (135, 206, 235).
+pub const SKY_BLUE: u32 = 0x0087_ceeb;
+
+/// How texture coordinates (and colours) are interpolated across a span.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TextureMode {
+    /// Exact: `u/w`, `v/w`, `1/w` interpolated and divided at every pixel (the default).
+    #[default]
+    Perspective,
+    /// Exact every [`SUBDIVISION`] pixels, linear in between (as Quake did).
+    Subdivided,
+    /// Linear in screen space (as the PlayStation did): cheap, warps on polygons seen at an angle.
+    Affine,
+}
+
+/// Span length between exact perspective divides in [`TextureMode::Subdivided`].
+pub const SUBDIVISION: i32 = 16;
+
+/// How a depth is mapped to a bucket.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BucketMapping {
+    /// Buckets of equal depth range between near and far.
+    #[default]
+    Linear,
+    /// Buckets of equal `1/z` range: thin near the eye, wide far away (like a perspective z-buffer).
+    Reciprocal,
+}
+
+/// One of the three models of a set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Level {
+    /// The close-up model (about 200-300 polygons for a car).
+    Close = 0,
+    /// The middle-range model (about 20-30).
+    Mid = 1,
+    /// The long-shot model (6: a hexahedron).
+    Long = 2,
+}
+
+impl Level {
+    /// All levels, finest first.
+    pub const ALL: [Level; 3] = [Level::Close, Level::Mid, Level::Long];
+
+    /// The name used on the command line and in statistics.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Close => "close",
+            Level::Mid => "mid",
+            Level::Long => "long",
+        }
+    }
+
+    pub(crate) fn from_index(i: u8) -> Option<Level> {
+        Level::ALL.get(usize::from(i)).copied()
+    }
+}
+
+impl fmt::Display for Level {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How levels are chosen for a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum LodMode {
+    /// By projected size, with hysteresis (the default).
+    #[default]
+    Auto,
+    /// The same level for every set (for comparisons and the chart).
+    Force(Level),
+}
+
+impl FromStr for LodMode {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "auto" => Ok(LodMode::Auto),
+            "close" => Ok(LodMode::Force(Level::Close)),
+            "mid" => Ok(LodMode::Force(Level::Mid)),
+            "long" => Ok(LodMode::Force(Level::Long)),
+            _ => Err(UnknownName::new("level of detail", s, "auto, close, mid or long")),
+        }
+    }
+}

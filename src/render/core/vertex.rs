@@ -1,0 +1,55 @@
+//! The screen vertex: a snapped position and the attributes interpolated across a polygon, as set-up hands
+//! them to the fill.
+
+use crate::render::core::fixed::Fx28_4;
+
+/// Number of interpolated attributes per vertex.
+pub const ATTRS: usize = 8;
+
+/// Attribute slots in [`ScreenVertex::attrs`].
+pub mod slot {
+    /// Depth for the z-buffer, larger is nearer (`1/w` for perspective, `(1 - z_ndc) / 2` for orthographic).
+    pub const DEPTH: usize = 0;
+    /// `1/w`, for perspective-correct interpolation (1 in affine mode).
+    pub const Q: usize = 1;
+    /// `u/w` (or `u` in affine mode).
+    pub const S: usize = 2;
+    /// `v/w` (or `v` in affine mode).
+    pub const T: usize = 3;
+    /// Red, green, blue, alpha divided by `w` (or plain in affine mode).
+    pub const RGBA: usize = 4;
+}
+
+/// A projected vertex: snapped screen position and the attributes interpolated across the polygon.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenVertex {
+    /// Screen x (pixels, right).
+    pub x: Fx28_4,
+    /// Screen y (pixels, down).
+    pub y: Fx28_4,
+    /// Interpolated attributes, see [`slot`].
+    pub attrs: [f32; ATTRS],
+}
+
+/// Twice the signed area of a screen polygon in raw fixed-point units; positive when the vertex order
+/// runs clockwise on screen (y down), which is glTF's back face.
+#[must_use]
+pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
+    // Each vertex with the next, the last with the first (no `% n`: a division per vertex showed in profiles).
+    let next = v.iter().skip(1).chain(v.first());
+    v.iter().zip(next).map(|(p, q)| cross((p.x, p.y), (q.x, q.y))).sum()
+}
+
+/// [`signed_area2`] of a triangle given by its corners' positions, for set-up that has them without
+/// building screen vertices.
+#[inline(always)]
+#[must_use]
+pub(crate) fn triangle_area2([a, b, c]: [(Fx28_4, Fx28_4); 3]) -> i64 {
+    cross(a, b) + cross(b, c) + cross(c, a)
+}
+
+/// The cross product of two corners' positions in raw fixed-point units: one term of the area.
+#[inline(always)]
+fn cross(p: (Fx28_4, Fx28_4), q: (Fx28_4, Fx28_4)) -> i64 {
+    i64::from(p.0.0) * i64::from(q.1.0) - i64::from(q.0.0) * i64::from(p.1.0)
+}

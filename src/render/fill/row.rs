@@ -1,0 +1,137 @@
+//! What the pixel loops draw into and count, and the records they share: a band's row of colour, depth and
+//! coverage, a run of pixels with its attributes, and the coverage bits.
+
+use crate::render::core::texture::floor_i32;
+
+/// How a pixel decides whether it may be written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// Always write (painter's order: later polygons cover earlier ones).
+    Overwrite,
+    /// Write when nearer than the depth buffer, then store the depth (`zbuffer`).
+    DepthTest,
+    /// Write only where nothing was drawn yet, then mark the pixel (`bucket-near`, front to back).
+    Coverage,
+}
+
+/// The buffers of one frame row.
+pub struct Row<'a> {
+    /// Colour, `0x00RRGGBB`, one per pixel.
+    pub color: &'a mut [u32],
+    /// Depth (larger is nearer), one per pixel; may be empty unless [`Visibility::DepthTest`].
+    pub depth: &'a mut [f32],
+    /// 'Already drawn' bits, 64 pixels a word; may be empty unless [`Visibility::Coverage`].
+    pub coverage: &'a mut [u64],
+}
+
+/// Pixel counts from drawing spans.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SpanCounts {
+    /// Pixels whose colour was computed (texture fetch and colour multiply).
+    pub shaded: u64,
+    /// Pixels written to the frame.
+    pub written: u64,
+    /// Pixels skipped by the visibility test before shading.
+    pub rejected: u64,
+}
+
+impl std::ops::Add for SpanCounts {
+    type Output = Self;
+
+    /// The counts of two sets of spans together.
+    fn add(self, o: Self) -> Self {
+        Self { shaded: self.shaded + o.shaded, written: self.written + o.written, rejected: self.rejected + o.rejected }
+    }
+}
+
+impl std::ops::AddAssign for SpanCounts {
+    /// Adds another set of spans' counts.
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+/// Pixels per chunk: eight `f32` fill one AVX register or two SSE registers.
+pub const LANES: usize = 8;
+
+/// Pixels `x0..x1` of one row, with depth, `1/w`, `s/w` and `t/w` at the centre of `x0` and their change
+/// per pixel.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Run {
+    /// First pixel.
+    pub(crate) x0: usize,
+    /// End pixel (exclusive).
+    pub(crate) x1: usize,
+    /// Depth, `1/w`, `s/w`, `t/w` at the centre of `x0`.
+    pub(crate) a0: [f32; 4],
+    /// Their change per pixel.
+    pub(crate) da: [f32; 4],
+}
+
+/// [`Visibility`] as a constant for the pixel loops' `VIS` parameter: [`Visibility::Overwrite`].
+pub(crate) const OVERWRITE: u8 = 0;
+/// [`Visibility::DepthTest`].
+pub(crate) const DEPTH_TEST: u8 = 1;
+/// [`Visibility::Coverage`].
+pub(crate) const COVERAGE: u8 = 2;
+/// The pixel loops' colour source, their `SRC` parameter: one flat colour.
+pub(crate) const FLAT: u8 = 0;
+/// The nearest texel as is.
+pub(crate) const TEXEL: u8 = 1;
+/// The nearest texel times the polygon's colour.
+pub(crate) const TINTED: u8 = 2;
+
+/// Attribute values of one span, hoisted out of the loops.
+#[derive(Clone, Copy)]
+pub(crate) struct Setup {
+    pub(crate) d0: f32,
+    pub(crate) dd: f32,
+    pub(crate) q0: f32,
+    pub(crate) dq: f32,
+    pub(crate) s0: f32,
+    pub(crate) ds: f32,
+    pub(crate) t0: f32,
+    pub(crate) dt: f32,
+    pub(crate) w: f32,
+    pub(crate) h: f32,
+}
+
+impl Setup {
+    /// The depth at pixel offset `k` from the span's start.
+    #[inline(always)]
+    pub(crate) fn depth(&self, k: f32) -> f32 {
+        self.d0 + k * self.dd
+    }
+
+    /// The texel coordinates at pixel offset `k` (perspective-correct), floored.
+    #[inline(always)]
+    pub(crate) fn texel_xy(&self, k: f32) -> (i32, i32) {
+        let q = 1.0 / (self.q0 + k * self.dq);
+        let u = (self.s0 + k * self.ds) * q;
+        let v = (self.t0 + k * self.dt) * q;
+        (floor_i32(u * self.w), floor_i32(v * self.h))
+    }
+}
+
+/// The 'already drawn' bits of pixels `x..x + 8`, bit `i` for pixel `x + i` (missing words read as drawn).
+#[inline(always)]
+pub(crate) fn coverage_byte(coverage: &[u64], x: usize) -> u8 {
+    let (word, shift) = (x >> 6, (x & 63) as u32);
+    let lo = coverage.get(word).copied().unwrap_or(u64::MAX) >> shift;
+    let hi = if shift > 56 { coverage.get(word + 1).copied().unwrap_or(u64::MAX) << (64 - shift) } else { 0 };
+    (lo | hi) as u8
+}
+
+/// Marks pixel `x + i` as drawn for every bit `i` set in `bits`.
+#[inline(always)]
+pub(crate) fn cover_bits(coverage: &mut [u64], x: usize, bits: u8) {
+    let (word, shift) = (x >> 6, (x & 63) as u32);
+    if let Some(w) = coverage.get_mut(word) {
+        *w |= u64::from(bits) << shift;
+    }
+    if shift > 56
+        && let Some(w) = coverage.get_mut(word + 1)
+    {
+        *w |= u64::from(bits) >> (64 - shift);
+    }
+}

@@ -1,0 +1,466 @@
+//! Polygon set-up: gather a polygon's vertices, clip it, project and snap it to [`Fx28_4`], cull back faces
+//! and zero areas, and split non-monotone polygons, producing [`DrawPolygon`]s for the ordering stage.
+//!
+//! One object's polygons can be set up in pieces on several threads, each piece into its own [`Batch`];
+//! appending the batches in order gives exactly what one pass would.
+
+use std::ops::Range;
+
+use super::vertex::{SetupVertex, VertexTransform, project};
+use crate::render::core::batch::Batch;
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
+use crate::render::core::options::DepthKey;
+use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint};
+use crate::render::core::small::{Corner, SmallTriangle};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2, slot, triangle_area2};
+use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
+use crate::render::geometry::monotone::{is_y_monotone, triangulate};
+
+/// The screen vertex of a projected point with texture coordinate `uv` and colour `c` (before the divide).
+#[inline]
+fn screen_vertex(
+    (x, y, depth, q): (Fx28_4, Fx28_4, f32, f32),
+    uv: [f32; 2],
+    c: [f32; 4],
+    divide: bool,
+) -> ScreenVertex {
+    let m = if divide { q } else { 1.0 };
+    let mut attrs = [0.0; ATTRS];
+    attrs[slot::DEPTH] = depth;
+    attrs[slot::Q] = m;
+    attrs[slot::S] = uv[0] * m;
+    attrs[slot::T] = uv[1] * m;
+    for (a, c) in attrs[slot::RGBA..].iter_mut().zip(c) {
+        *a = c * m;
+    }
+    ScreenVertex { x, y, attrs }
+}
+
+/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule.
+fn rows(v: &[ScreenVertex]) -> (i32, i32) {
+    let (mut top, mut bottom) = (Fx28_4(i32::MAX), Fx28_4(i32::MIN));
+    for p in v {
+        top = top.min(p.y);
+        bottom = bottom.max(p.y);
+    }
+    if top > bottom { (0, 0) } else { (top.first_centre_at_or_after(), bottom.first_centre_at_or_after()) }
+}
+
+/// The ordering key's starting value for a rule.
+fn key_start(key: DepthKey) -> f32 {
+    match key {
+        DepthKey::Avg => 0.0,
+        DepthKey::Min => f32::INFINITY,
+        DepthKey::Max => f32::NEG_INFINITY,
+    }
+}
+
+/// Folds one corner's view depth into an ordering key.
+#[inline]
+fn key_add(rule: DepthKey, key: f32, d: f32) -> f32 {
+    match rule {
+        DepthKey::Avg => key + d,
+        DepthKey::Min => key.min(d),
+        DepthKey::Max => key.max(d),
+    }
+}
+
+/// One object's transformed vertices and what set-up needs to know about the frame.
+pub(crate) struct ObjectSetup<'a> {
+    /// The mesh drawn (with its split pieces, for `view-lists`).
+    pub(crate) mesh: &'a Mesh,
+    /// The stored drawing order of its polygons, if one applies.
+    pub(crate) stored: Option<&'a [u32]>,
+    /// The mesh's vertices transformed, tested and projected.
+    pub(crate) vertices: &'a [SetupVertex],
+    /// How they were transformed (clipping recomputes clip positions with it).
+    pub(crate) transform: &'a VertexTransform,
+    /// The ordering key rule.
+    pub(crate) key: DepthKey,
+    /// Whether the frame is drawn in an order made from the polygons' keys; the z-buffer's is not, and its
+    /// polygons all get key 0 (a small triangle's set-up then skips reading the corners' view depths).
+    pub(crate) ordered: bool,
+    /// Whether attributes are divided by `w` for perspective-correct interpolation.
+    pub(crate) perspective_attrs: bool,
+    /// The key of every polygon when the object is drawn in a stored order.
+    pub(crate) object_key: Option<f32>,
+    /// How many textures the draw list has.
+    pub(crate) textures: usize,
+    /// Draw with the screen door (the ghost car).
+    pub(crate) see_through: bool,
+    /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
+    pub(crate) fast_path: FastPathRule,
+    /// The frame's width in pixels.
+    pub(crate) width: i32,
+}
+
+/// Set-up's scratch buffers for clipping and splitting, one per batch being written, reused frame after
+/// frame.
+#[derive(Debug, Default)]
+pub(crate) struct SetupScratch {
+    clip_in: Vec<ClipVertex>,
+    clip_out: Vec<ClipVertex>,
+    clip_scratch: Vec<ClipVertex>,
+    piece: Vec<ScreenVertex>,
+    tris: Vec<[usize; 3]>,
+}
+
+/// What set-up needs to know of a material, worked out once for a run of polygons sharing it.
+#[derive(Clone, Copy, Debug)]
+struct MaterialSetup {
+    /// The material's index in the mesh.
+    index: u32,
+    /// Its texture, if the draw list has it.
+    texture: Option<u32>,
+    alpha_cutoff: Option<f32>,
+    /// Whether its polygons of one colour take the direct small-triangle path ([`ObjectSetup::set_up_small`]).
+    small: bool,
+}
+
+/// What gathering a polygon's corners gave: its ordering key and whether all corners share one colour.
+struct Gathered {
+    key: f32,
+    constant_color: Option<[f32; 4]>,
+}
+
+impl ObjectSetup<'_> {
+    /// Sets up polygons `range` (positions in the stored order, or polygon indices) into `out`.
+    pub(crate) fn run(&self, range: Range<usize>, out: &mut Batch, scratch: &mut SetupScratch) {
+        let fallback = Material::default();
+        let mut cached: Option<MaterialSetup> = None;
+        for k in range {
+            let Some(poly) = self.mesh.polygons().get(self.stored.map_or(k, |o| o[k] as usize)) else { continue };
+            let idx = self.mesh.polygon_indices(poly);
+            let material = self.mesh.materials().get(poly.material as usize).unwrap_or(&fallback);
+            // Worked out once for each run of polygons sharing a material.
+            let m = match cached {
+                Some(m) if m.index == poly.material => m,
+                _ => *cached.insert(self.material_setup(poly.material, material)),
+            };
+            let (mut finite, mut outside, mut cut, mut projected) = (true, u8::MAX, 0u8, true);
+            for &i in idx {
+                let v = &self.vertices[i as usize];
+                finite &= v.is_finite();
+                outside &= v.outside;
+                cut |= v.cut;
+                projected &= v.is_projected();
+            }
+            if !finite {
+                out.counts.invalid += 1;
+                continue;
+            }
+            if outside != 0 {
+                out.counts.outside += 1;
+                continue;
+            }
+            if cut == 0 && projected && m.small && self.set_up_small(idx, material, &m, out) {
+                continue;
+            }
+            let first = out.screen.len();
+            let gathered = if cut == 0 {
+                // Inside the guard band: the corners as projected once per vertex.
+                if !projected {
+                    out.counts.invalid += 1;
+                    continue;
+                }
+                self.gather_inside(idx, material, out)
+            } else {
+                self.gather_clipped(idx, material, out, scratch)
+            };
+            let Some(g) = gathered else {
+                out.screen.truncate(first);
+                continue;
+            };
+            self.finish(first, g, (material, &m), out, scratch);
+        }
+    }
+
+    /// The ordering key of a polygon of `n` corners whose corners' view depths fold to `folded` (asked only
+    /// when needed): 0 when the frame is not ordered by keys, the object's key when it is drawn in a stored
+    /// order (which keeps its polygons together), else the folded depths (their mean for [`DepthKey::Avg`]).
+    #[inline(always)]
+    fn polygon_key(&self, n: usize, folded: impl FnOnce() -> f32) -> f32 {
+        match self.object_key {
+            _ if !self.ordered => 0.0,
+            Some(k) => k,
+            None if self.key == DepthKey::Avg => folded() / n as f32,
+            None => folded(),
+        }
+    }
+
+    /// What set-up needs to know of material `index`.
+    fn material_setup(&self, index: u32, material: &Material) -> MaterialSetup {
+        let texture = material.texture.filter(|&t| t < self.textures).map(|t| t as u32);
+        let alpha_cutoff = match material.alpha_mode {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+        };
+        // A depth bias moves the corners' depths, which the direct path does not do.
+        let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
+        MaterialSetup { index, texture, alpha_cutoff, small: fast && material.depth_bias == 0 }
+    }
+
+    /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
+    /// (or culls it), giving exactly what [`Self::gather_inside`] and [`Self::finish`] give; `false`, with
+    /// nothing written or counted, for any other polygon.
+    ///
+    /// The general path writes three 40-byte screen vertices, reads them back for the area, the key and
+    /// the small triangle's set-up, and then drops them; on the small-polygon scene that was a third of the
+    /// set-up stage.
+    #[inline]
+    fn set_up_small(&self, idx: &[u32], material: &Material, m: &MaterialSetup, out: &mut Batch) -> bool {
+        // Arrays built element by element: `[T; N]::map` was not inlined here.
+        let &[i0, i1, i2] = idx else { return false };
+        let ids = [i0 as usize, i1 as usize, i2 as usize];
+        let v = self.vertices;
+        let s = [v[ids[0]].screen_or_zero(), v[ids[1]].screen_or_zero(), v[ids[2]].screen_or_zero()];
+        if !SmallTriangle::fits([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]) {
+            return false;
+        }
+        let mv = self.mesh.vertices();
+        let verts = [&mv[ids[0]], &mv[ids[1]], &mv[ids[2]]];
+        let product = |k: usize| verts[k].color * material.base_color;
+        let p0 = product(0);
+        let color0 = p0.to_array();
+        // Only a polygon of one colour has a fast path (`MaterialSetup::small`). Equal vertex colours give
+        // equal products (as `==` compares them) unless a product is NaN (an infinite channel times 0), which
+        // `gather_inside` finds unequal to itself; otherwise the products are compared, as it does. (`&`, not
+        // `&&`: three compares are cheaper than the branches between them.)
+        let c = verts[0].color;
+        let same = (verts[1].color == c) & (verts[2].color == c) & !p0.is_nan();
+        if !same && (product(1).to_array() != color0 || product(2).to_array() != color0) {
+            return false;
+        }
+        let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
+        let area = triangle_area2([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]);
+        if area == 0 {
+            out.counts.degenerate += 1;
+            return true;
+        }
+        if area > 0 && !material.double_sided {
+            out.counts.backface += 1;
+            return true;
+        }
+        let corner = |k: usize| {
+            let (x, y, depth, q) = s[k];
+            let m = if self.perspective_attrs { q } else { 1.0 };
+            Corner { x, y, attrs: [depth, m, verts[k].uv.x * m, verts[k].uv.y * m] }
+        };
+        let corners = [corner(0), corner(1), corner(2)];
+        let t = match texture {
+            None => SmallTriangle::from_corners::<1>(&corners, area, self.width),
+            Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.width),
+        };
+        let Some((t, planes)) = t else {
+            debug_assert!(false, "a triangle that fits was not set up");
+            return false;
+        };
+        let key = self.polygon_key(3, || {
+            let mut key = key_start(self.key);
+            for &i in &ids {
+                key = key_add(self.key, key, self.vertices[i].view_depth);
+            }
+            key
+        });
+        out.counts.drawn += 1;
+        let paint = PolygonPaint {
+            texture,
+            sampler: material.sampler,
+            alpha_cutoff,
+            constant_color: Some(color0),
+            screen_door: self.see_through,
+        };
+        let first = out.push_small((t, planes), texture.is_some());
+        out.polys.push(DrawPolygon::new(first, 3, out.tag, t.rows(), true, &paint));
+        if self.ordered {
+            out.keys.push(key);
+        }
+        true
+    }
+
+    /// Pushes the projected corners of a polygon that needs no clipping.
+    fn gather_inside(&self, idx: &[u32], material: &Material, out: &mut Batch) -> Option<Gathered> {
+        let mut key = key_start(self.key);
+        let mut colors = [0.0f32; 4];
+        let mut constant = true;
+        for (n, &i) in idx.iter().enumerate() {
+            let i = i as usize;
+            let (v, s) = (&self.mesh.vertices()[i], &self.vertices[i]);
+            key = key_add(self.key, key, s.view_depth);
+            let c = (v.color * material.base_color).to_array();
+            if n == 0 {
+                colors = c;
+            } else {
+                constant &= c == colors;
+            }
+            out.screen.push(screen_vertex(s.screen()?, v.uv.to_array(), c, self.perspective_attrs));
+        }
+        Some(Gathered { key, constant_color: constant.then_some(colors) })
+    }
+
+    /// Clips a polygon crossing a clip plane and pushes the projected corners of what is left; `None` (and
+    /// counted) when nothing is left or a corner does not project.
+    fn gather_clipped(
+        &self,
+        idx: &[u32],
+        material: &Material,
+        out: &mut Batch,
+        scratch: &mut SetupScratch,
+    ) -> Option<Gathered> {
+        scratch.clip_in.clear();
+        for &i in idx {
+            let i = i as usize;
+            let (v, s) = (&self.mesh.vertices()[i], &self.vertices[i]);
+            let c = v.color * material.base_color;
+            let attrs = [v.uv.x, v.uv.y, c.x, c.y, c.z, c.w, s.view_depth];
+            let (pos, _) = self.transform.clip_and_depth(v.position);
+            scratch.clip_in.push(ClipVertex { pos, attrs });
+        }
+        let t = self.transform;
+        match clip_polygon(&scratch.clip_in, &t.volume, &mut scratch.clip_out, &mut scratch.clip_scratch) {
+            ClipResult::Outside => {
+                out.counts.outside += 1;
+                return None;
+            }
+            ClipResult::Clipped => out.counts.clipped += 1,
+            ClipResult::Inside => {}
+        }
+        let mut key = key_start(self.key);
+        for cv in &scratch.clip_out {
+            let Some(p) = project(cv.pos, t.size, t.perspective) else {
+                out.counts.invalid += 1;
+                return None;
+            };
+            let a = &cv.attrs;
+            out.screen.push(screen_vertex(p, [a[0], a[1]], [a[2], a[3], a[4], a[5]], self.perspective_attrs));
+            key = key_add(self.key, key, a[VIEW_DEPTH]);
+        }
+        let color = |v: &ClipVertex| [v.attrs[2], v.attrs[3], v.attrs[4], v.attrs[5]];
+        let first_color = scratch.clip_out.first().map(color);
+        let constant_color = first_color.filter(|c| scratch.clip_out.iter().all(|v| color(v) == *c));
+        Some(Gathered { key, constant_color })
+    }
+
+    /// Culls, keys and (when not y-monotone) splits the polygon whose corners are `out.screen[first..]`.
+    fn finish(
+        &self,
+        first: usize,
+        g: Gathered,
+        (material, m): (&Material, &MaterialSetup),
+        out: &mut Batch,
+        scratch: &mut SetupScratch,
+    ) {
+        let n = out.screen.len() - first;
+        let key = self.polygon_key(n, || g.key);
+        if material.depth_bias > 0 {
+            slope_scaled_bias(&mut out.screen[first..], material.depth_bias);
+        }
+        let area = signed_area2(&out.screen[first..]);
+        if area == 0 {
+            out.screen.truncate(first);
+            out.counts.degenerate += 1;
+            return;
+        }
+        if area > 0 && !material.double_sided {
+            out.screen.truncate(first);
+            out.counts.backface += 1;
+            return;
+        }
+        out.counts.drawn += 1;
+        let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
+        let paint = PolygonPaint {
+            texture,
+            sampler: material.sampler,
+            alpha_cutoff,
+            constant_color: g.constant_color,
+            screen_door: self.see_through,
+        };
+        let tag = out.tag;
+        // Each polygon (or piece) drawn, with its key when the frame is ordered by keys.
+        let ordered = self.ordered;
+        let push = |out: &mut Batch, first: u32, count: u32, rows: (i32, i32), small: bool| {
+            out.polys.push(DrawPolygon::new(first, count, tag, rows, small, &paint));
+            if ordered {
+                out.keys.push(key);
+            }
+        };
+        let fast = self.fast_path.applies(
+            texture.is_some(),
+            g.constant_color.is_some(),
+            alpha_cutoff.is_some(),
+            self.see_through,
+        );
+        // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
+        // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
+        let small = |corners: &[ScreenVertex], area: i64| match (fast, texture) {
+            (false, _) => None,
+            (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
+            (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
+        };
+        if let Some(t) = small(&out.screen[first..], area) {
+            out.screen.truncate(first);
+            let rows = t.0.rows();
+            let f = out.push_small(t, texture.is_some());
+            push(out, f, n as u32, rows, true);
+        } else if is_y_monotone(&out.screen[first..]) {
+            let rows = rows(&out.screen[first..]);
+            push(out, first as u32, n as u32, rows, false);
+        } else {
+            out.counts.split += 1;
+            scratch.tris.clear();
+            scratch.piece.clear();
+            scratch.piece.extend_from_slice(&out.screen[first..]);
+            triangulate(&scratch.piece, area.signum(), &mut scratch.tris);
+            out.screen.truncate(first);
+            for k in 0..scratch.tris.len() {
+                let corners = scratch.tris[k].map(|i| scratch.piece[i]);
+                if let Some(st) = small(&corners, signed_area2(&corners)) {
+                    let rows = st.0.rows();
+                    let f = out.push_small(st, texture.is_some());
+                    push(out, f, 3, rows, true);
+                    continue;
+                }
+                let f = out.screen.len() as u32;
+                out.screen.extend_from_slice(&corners);
+                push(out, f, 3, rows(&corners), false);
+            }
+        }
+    }
+}
+
+/// Moves a decal's depth towards the viewer for the depth test by `steps` times (one pixel of the
+/// polygon's steepest depth slope plus [`DEPTH_BIAS_STEP`] of its nearest depth), as GPUs' polygon offset
+/// does: the slope term covers the depth error of snapping vertices to 1/16 pixel, which at a grazing angle
+/// exceeds any constant offset; the constant covers surfaces seen face on. A constant added to `1/w` keeps
+/// it affine in screen space, so interpolation stays exact.
+pub(crate) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
+    let d = |v: &ScreenVertex| (v.x.to_f32(), v.y.to_f32(), v.attrs[slot::DEPTH]);
+    let mut slope = 0.0f32;
+    let mut nearest = 0.0f32;
+    if let Some(a) = verts.first().map(d) {
+        for i in 1..verts.len().saturating_sub(1) {
+            let (b, c) = (d(&verts[i]), d(&verts[i + 1]));
+            let (e1, e2) = ((b.0 - a.0, b.1 - a.1, b.2 - a.2), (c.0 - a.0, c.1 - a.1, c.2 - a.2));
+            let det = e1.0 * e2.1 - e2.0 * e1.1;
+            if det.abs() > 1e-6 {
+                let gx = (e1.2 * e2.1 - e2.2 * e1.1) / det;
+                let gy = (e2.2 * e1.0 - e1.2 * e2.0) / det;
+                slope = gx.abs().max(gy.abs());
+                break;
+            }
+        }
+    }
+    for v in verts.iter() {
+        nearest = nearest.max(v.attrs[slot::DEPTH].abs());
+    }
+    let offset = f32::from(steps) * (slope + nearest * DEPTH_BIAS_STEP);
+    if offset.is_finite() {
+        for v in verts.iter_mut() {
+            v.attrs[slot::DEPTH] += offset;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

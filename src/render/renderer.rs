@@ -1,0 +1,161 @@
+//! The renderer: ties the stages together for one frame and keeps their scratch buffers and worker pool
+//! from frame to frame.
+//!
+//! A frame is [`geometry`](super::geometry) (once per frame, a big object's polygons set up in pieces on the
+//! pool), then [`order`](super::order) (the painter's methods only), then [`fill`](super::fill) (band by
+//! band on the pool). With more than one thread the whole frame runs on a rayon pool kept between frames, so
+//! the geometry runs on a worker too and does not compete for a core with workers still spinning after the
+//! previous frame's fill.
+
+use std::time::Instant;
+
+use super::core::band::FrameLayout;
+use super::core::camera::Camera;
+use super::core::draw_list::DrawList;
+use super::core::error::RenderError;
+use super::core::options::RenderOptions;
+use super::core::stats::{Stats, ms_since};
+use super::fill::row::SpanCounts;
+use super::fill::{Fill, Polygons};
+use super::geometry::Geometry;
+use super::order::Order;
+
+/// The largest frame side: screen positions are [`Fx28_4`](super::core::fixed::Fx28_4) with room for the
+/// guard band.
+const MAX_SIDE: usize = 1 << 20;
+
+/// A reusable renderer: holds scratch buffers so frames after the first allocate nothing per polygon or
+/// per pixel (only the fill's short lists of bands and runs, a few dozen entries, are made each frame).
+#[derive(Debug, Default)]
+pub struct Renderer {
+    geometry: Geometry,
+    order: Order,
+    fill: Fill,
+    /// The worker pool and its thread count, kept while the count stays the same.
+    pool: Option<(usize, rayon::ThreadPool)>,
+}
+
+impl Renderer {
+    /// A renderer with empty scratch buffers.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Draws `list` seen by `camera` into `frame` (`width * height` pixels, `0x00RRGGBB`, rows from the top).
+    ///
+    /// Any geometry is accepted: NaN, infinite or huge coordinates drop the polygon (counted in
+    /// [`Stats::polygons_invalid`]), a bad mesh index drops the instance, a bad texture index draws untextured.
+    /// A 0x0 frame draws nothing.
+    pub fn render(
+        &mut self,
+        frame: &mut [u32],
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Result<Stats, RenderError> {
+        let needed = width.saturating_mul(height);
+        if frame.len() < needed {
+            return Err(RenderError::FrameTooSmall { len: frame.len(), width, height, needed });
+        }
+        if width > MAX_SIDE || height > MAX_SIDE {
+            return Err(RenderError::FrameTooLarge { width, height });
+        }
+        let mut stats = Stats::default();
+        if needed == 0 {
+            return Ok(stats);
+        }
+        let threads = match options.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n,
+        };
+        let layout = FrameLayout::new(width, height, threads);
+        let pool = self.take_pool(layout.threads)?;
+        let frame = &mut frame[..needed];
+        let counts = match &pool {
+            Some((_, p)) => p.install(|| self.frame(frame, layout, camera, list, options, &mut stats)),
+            None => self.frame(frame, layout, camera, list, options, &mut stats),
+        };
+        self.pool = pool;
+        stats.pixels_shaded = counts.shaded;
+        stats.pixels_written = counts.written;
+        stats.pixels_rejected = counts.rejected;
+        stats.pieces_filled = self.geometry.pieces();
+        Ok(stats)
+    }
+
+    /// How many polygons each ordering-table bucket held in the last frame (nearest first); empty when the
+    /// last frame did not use the ordering table.
+    #[must_use]
+    pub fn bucket_occupancy(&self) -> Vec<u32> {
+        self.order.occupancy()
+    }
+
+    /// Forgets the levels of detail chosen in earlier frames (call on a new scene or a camera cut).
+    pub fn reset_lod(&mut self) {
+        self.geometry.lod.clear();
+    }
+
+    /// The mesh each instance of `list` would draw in a frame `height` pixels tall (after the LOD choice,
+    /// which updates this renderer's LOD history like a frame does), or `None` for an instance culled by the
+    /// view frustum or naming no mesh. For exporting exactly what a frame draws.
+    pub fn frame_meshes(
+        &mut self,
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Vec<Option<usize>> {
+        self.geometry.frame_meshes((width, height), camera, list, options)
+    }
+
+    /// The pool for `threads` workers: the one kept from the last frame when the count is the same, none for
+    /// one thread.
+    fn take_pool(&mut self, threads: usize) -> Result<Option<(usize, rayon::ThreadPool)>, RenderError> {
+        Ok(match self.pool.take() {
+            Some((n, pool)) if n == threads => Some((n, pool)),
+            _ if threads == 1 => None,
+            _ => {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .thread_name(|i| format!("fill-{i}"))
+                    .build()
+                    .map_err(|_| RenderError::WorkerFailed)?;
+                Some((threads, pool))
+            }
+        })
+    }
+
+    /// The frame's stages in turn (inside the pool, when there is one).
+    fn frame(
+        &mut self,
+        frame: &mut [u32],
+        layout: FrameLayout,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+        stats: &mut Stats,
+    ) -> SpanCounts {
+        let t = Instant::now();
+        self.geometry.run(layout, camera, list, options, stats);
+        let t_order = Instant::now();
+        let keys = &self.geometry.main.keys;
+        debug_assert!(keys.is_empty() || keys.len() == self.geometry.main.polys.len());
+        self.order.run(keys, options);
+        stats.ms_order = ms_since(t_order);
+        let t_fill = Instant::now();
+        let polygons = Polygons {
+            main: &self.geometry.main,
+            batches: &self.geometry.batches,
+            stretches: &self.geometry.stretches,
+            order: &self.order.order,
+        };
+        let counts = self.fill.run(frame, layout, &polygons, list, options);
+        stats.ms_fill = ms_since(t_fill);
+        debug_assert!(stats.ms_transform + stats.ms_clip <= ms_since(t) + 1.0);
+        counts
+    }
+}
