@@ -16,7 +16,7 @@ use std::path::PathBuf;
 
 use scanline_racer::asset::{LoadedScene, load};
 use scanline_racer::measure::wrong_pixels;
-use scanline_racer::render::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
+use scanline_racer::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use scanline_racer::render::{Camera, Method, Projection, RenderOptions, Renderer};
 
 const W: usize = 256;

@@ -15,7 +15,7 @@ mod common;
 use common::*;
 use glam::{DMat4, DVec4};
 use scanline_racer::asset::{LoadedScene, load};
-use scanline_racer::render::texture::{unpack, wrap};
+use scanline_racer::render::core::texture::{unpack, wrap};
 use scanline_racer::render::{AlphaMode, Camera, Method, RenderOptions, Renderer};
 
 struct Reference {

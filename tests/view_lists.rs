@@ -9,7 +9,7 @@ mod common;
 use glam::{Mat4, Vec3};
 use scanline_racer::asset::load;
 use scanline_racer::measure::wrong_pixels;
-use scanline_racer::render::view_lists::directions;
+use scanline_racer::render::order::view_lists::directions;
 use scanline_racer::render::{Camera, DrawList, Instance, Level, LodMode, Method, RenderOptions, Renderer, ViewLists};
 
 const W: usize = 320;

@@ -7,8 +7,9 @@ mod common;
 
 use common::*;
 use glam::{Vec3, Vec4};
-use scanline_racer::render::fixed::Fx28_4;
-use scanline_racer::render::scanline::{ATTRS, ScreenVertex, fill_spans};
+use scanline_racer::render::core::fixed::Fx28_4;
+use scanline_racer::render::core::vertex::{ATTRS, ScreenVertex};
+use scanline_racer::render::fill::scanline::fill_spans;
 use scanline_racer::render::{Method, RenderOptions};
 
 fn sv(p: (i64, i64)) -> ScreenVertex {

@@ -134,6 +134,7 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     }
 }
 
+// long: one AVX2 loop body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
 /// [`chunks`]'s body, compiled for AVX2.
 #[target_feature(enable = "avx2")]
 fn chunks_avx2<const VIS: u8, const SRC: u8>(

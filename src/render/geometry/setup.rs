@@ -7,7 +7,7 @@
 use std::ops::Range;
 
 use super::vertex::{SetupVertex, VertexTransform, project};
-use crate::render::core::batch::Batch;
+use crate::render::core::batch::{Batch, Counts};
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
 use crate::render::core::options::DepthKey;
@@ -234,12 +234,7 @@ impl ObjectSetup<'_> {
         }
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
         let area = triangle_area2([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]);
-        if area == 0 {
-            out.counts.degenerate += 1;
-            return true;
-        }
-        if area > 0 && !material.double_sided {
-            out.counts.backface += 1;
+        if !drawn(area, material, &mut out.counts) {
             return true;
         }
         let corner = |k: usize| {
@@ -263,7 +258,6 @@ impl ObjectSetup<'_> {
             }
             key
         });
-        out.counts.drawn += 1;
         let paint = PolygonPaint {
             texture,
             sampler: material.sampler,
@@ -357,17 +351,10 @@ impl ObjectSetup<'_> {
             slope_scaled_bias(&mut out.screen[first..], material.depth_bias);
         }
         let area = signed_area2(&out.screen[first..]);
-        if area == 0 {
+        if !drawn(area, material, &mut out.counts) {
             out.screen.truncate(first);
-            out.counts.degenerate += 1;
             return;
         }
-        if area > 0 && !material.double_sided {
-            out.screen.truncate(first);
-            out.counts.backface += 1;
-            return;
-        }
-        out.counts.drawn += 1;
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
         let paint = PolygonPaint {
             texture,
@@ -426,6 +413,23 @@ impl ObjectSetup<'_> {
                 push(out, f, 3, rows(&corners), false);
             }
         }
+    }
+}
+
+/// Whether a polygon of signed area `area` ([`signed_area2`]) is drawn, counted as drawn, or culled and
+/// counted as degenerate (no area) or a back face (clockwise on screen, unless its material is double
+/// sided).
+#[inline(always)]
+fn drawn(area: i64, material: &Material, counts: &mut Counts) -> bool {
+    if area == 0 {
+        counts.degenerate += 1;
+        false
+    } else if area > 0 && !material.double_sided {
+        counts.backface += 1;
+        false
+    } else {
+        counts.drawn += 1;
+        true
     }
 }
 

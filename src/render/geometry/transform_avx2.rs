@@ -31,6 +31,7 @@ pub(crate) fn run(_: Avx2, t: &VertexTransform, out: &mut [SetupVertex], vs: &[V
     }
 }
 
+// long: one AVX2 loop body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
 /// [`run`]'s body, compiled for AVX2.
 #[target_feature(enable = "avx2")]
 fn run_avx2(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {

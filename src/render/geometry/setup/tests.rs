@@ -73,6 +73,7 @@ fn screen_bits(v: &[ScreenVertex]) -> Vec<(i32, i32, [u32; ATTRS])> {
     v.iter().map(|v| (v.x.0, v.y.0, v.attrs.map(b))).collect()
 }
 
+// long: one scenario: a mesh set up both ways, compared polygon by polygon and then as a whole.
 #[test]
 fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() {
     let mut rng = Lcg(3);

@@ -228,6 +228,7 @@ fn next_favourite(stack: &mut Vec<usize>, on_stack: &mut [bool], alive: &[bool],
     None
 }
 
+// long: the favourite-stack walk of seed 004 is one loop over state (stack, placed, alive, pieces) that every step reads and changes.
 /// One direction's list (indices into the extended mesh); new pieces are appended to `pieces`. Returns the
 /// list, the splits made and the cycles left unbroken.
 fn order_for(
