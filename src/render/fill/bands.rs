@@ -3,9 +3,9 @@
 //! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
-use super::row::{FLAT, Row, Run, SpanCounts, Visibility};
+use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
 use super::scanline::{Span, fill_spans, fill_spans_first};
-use super::small::{self, BandPixels, NextFlat};
+use super::small::{self, NextFlat};
 use super::span::{Shading, draw_prepared};
 use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
 use crate::render::core::band::Band;
@@ -115,7 +115,7 @@ impl FillContext<'_> {
         } else {
             &mut []
         };
-        let mut rows = BandRows { y0, width: w, words, color, depth, coverage };
+        let mut rows = BandPixels { y0, width: w, words, color, depth, coverage };
         let mut total = SpanCounts::default();
         let mut add = |c: SpanCounts| total += c;
         let band_rows = (y0 as i32, (y0 + height) as i32);
@@ -188,29 +188,6 @@ fn fill_flat_run<'t, const VIS: u8>(
     small::fill_flat_run(start, next, band, px, small::fill_flat_narrow::<VIS>)
 }
 
-/// The colour, depth and coverage rows of the band being drawn.
-struct BandRows<'a> {
-    y0: usize,
-    width: usize,
-    words: usize,
-    color: &'a mut [u32],
-    depth: &'a mut [f32],
-    coverage: &'a mut [u64],
-}
-
-impl BandRows<'_> {
-    /// The buffers of frame row `y` (which must be in the band).
-    #[inline]
-    fn row(&mut self, y: i32) -> Row<'_> {
-        let (r, w, words) = (y as usize - self.y0, self.width, self.words);
-        Row {
-            color: &mut self.color[r * w..(r + 1) * w],
-            depth: if self.depth.is_empty() { &mut [] } else { &mut self.depth[r * w..(r + 1) * w] },
-            coverage: if self.coverage.is_empty() { &mut [] } else { &mut self.coverage[r * words..(r + 1) * words] },
-        }
-    }
-}
-
 /// Small triangles that follow one another in a bin and paint alike (flat colours, or one texture with one
 /// tint and cutoff), drawn by one monomorphised loop: the shading, its fast path and the dispatch are
 /// chosen once for the group rather than per triangle.
@@ -222,7 +199,7 @@ struct SmallGroup<'g, 'c, 'r, 'b, I: Iterator> {
     ctx: &'c FillContext<'c>,
     /// The band's rows, `band.0..band.1`.
     band: (i32, i32),
-    rows: &'r mut BandRows<'b>,
+    rows: &'r mut BandPixels<'b>,
 }
 
 /// A small triangle's set-up and its texture planes.
@@ -255,15 +232,7 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
         let mut next = AlikeFlat { rest, ctx, first };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
-            let mut px = BandPixels {
-                y0: rows.y0,
-                width: rows.width,
-                color: &mut *rows.color,
-                depth: &mut *rows.depth,
-                coverage: &mut *rows.coverage,
-                words: rows.words,
-            };
-            let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, &mut px, avx2);
+            let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, rows, avx2);
             total += SpanCounts { shaded: written, written, rejected };
             let Some((t, color)) = wide else { break };
             let paint = paint.with_flat(color);

@@ -24,6 +24,48 @@ pub struct Row<'a> {
     pub coverage: &'a mut [u64],
 }
 
+/// A band's colour, depth and coverage buffers as one slice each, rows `y0..` of a frame `width` pixels
+/// wide: what a band's fill draws into, a row at a time ([`BandPixels::row`]) or, for narrow small
+/// triangles, four columns at a time.
+pub(crate) struct BandPixels<'a> {
+    /// First frame row of the band.
+    pub(crate) y0: usize,
+    /// Frame width in pixels.
+    pub(crate) width: usize,
+    /// Colour, `width` pixels a row.
+    pub(crate) color: &'a mut [u32],
+    /// Depths (larger is nearer), empty unless the band is depth tested.
+    pub(crate) depth: &'a mut [f32],
+    /// 'Already drawn' bits, `words` words a row, empty unless the band draws each pixel once.
+    pub(crate) coverage: &'a mut [u64],
+    /// Coverage words a row.
+    pub(crate) words: usize,
+}
+
+impl BandPixels<'_> {
+    /// The buffers of frame row `y` (which must be in the band).
+    #[inline]
+    pub(crate) fn row(&mut self, y: i32) -> Row<'_> {
+        let (r, w, words) = (y as usize - self.y0, self.width, self.words);
+        Row {
+            color: &mut self.color[r * w..(r + 1) * w],
+            depth: if self.depth.is_empty() { &mut [] } else { &mut self.depth[r * w..(r + 1) * w] },
+            coverage: if self.coverage.is_empty() { &mut [] } else { &mut self.coverage[r * words..(r + 1) * words] },
+        }
+    }
+
+    /// The pixels of the four columns from `x_start` that `m` covers on band row `row` and that are not yet
+    /// drawn, which are marked drawn now ([`COVERAGE`]: each pixel drawn once); pixels whose coverage word
+    /// is missing count as drawn, as in the per-pixel loop.
+    #[inline(always)]
+    pub(crate) fn claim(&mut self, row: usize, x_start: usize, m: u32) -> u32 {
+        let words = self.coverage.get_mut(row * self.words..(row + 1) * self.words).unwrap_or(&mut []);
+        let pass = m & !u32::from(coverage_byte(words, x_start));
+        cover_bits(words, x_start, pass as u8);
+        pass
+    }
+}
+
 /// Pixel counts from drawing spans.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SpanCounts {

@@ -7,7 +7,7 @@
 //! and with AVX2 `small_avx2`). Attributes are evaluated at each row's first covered centre from the first
 //! vertex rather than stepped from row to row, so a row's values do not depend on which band draws it.
 
-use super::row::{COVERAGE, DEPTH_TEST, Run, cover_bits, coverage_byte};
+use super::row::{BandPixels, COVERAGE, DEPTH_TEST, Run};
 use crate::render::core::small::{EdgeFn, NARROW, SmallTriangle, TexPlanes};
 
 /// The first `N` columns of the box (bit `k` for column `k`) whose centres are inside all three edges on the
@@ -67,33 +67,6 @@ impl SmallTriangle {
                 e.at_row += e.step_y;
             }
         }
-    }
-}
-
-/// The band's colour and depth buffers as one slice each, rows `y0..` of a frame `width` pixels wide, for
-/// [`fill_flat_narrow`].
-pub(crate) struct BandPixels<'a> {
-    /// First frame row of the band.
-    pub(crate) y0: usize,
-    pub(crate) width: usize,
-    pub(crate) color: &'a mut [u32],
-    /// Depths (larger is nearer), empty unless the band is depth tested.
-    pub(crate) depth: &'a mut [f32],
-    /// 'Already drawn' bits, `words` words a row, empty unless the band draws each pixel once.
-    pub(crate) coverage: &'a mut [u64],
-    pub(crate) words: usize,
-}
-
-impl BandPixels<'_> {
-    /// The pixels of the four columns from `x_start` that `m` covers on band row `row` and that are not yet
-    /// drawn, which are marked drawn now ([`COVERAGE`]: each pixel drawn once); pixels whose coverage word
-    /// is missing count as drawn, as in the per-pixel loop.
-    #[inline(always)]
-    pub(crate) fn claim(&mut self, row: usize, x_start: usize, m: u32) -> u32 {
-        let words = self.coverage.get_mut(row * self.words..(row + 1) * self.words).unwrap_or(&mut []);
-        let pass = m & !u32::from(coverage_byte(words, x_start));
-        cover_bits(words, x_start, pass as u8);
-        pass
     }
 }
 

@@ -12,8 +12,8 @@ use std::arch::x86_64::{
     _mm_mullo_epi32, _mm_set1_epi32, _mm_set1_ps, _mm_setr_epi32, _mm_setr_ps, _mm_setzero_si128, _mm_sub_ps,
 };
 
-use super::row::{COVERAGE, DEPTH_TEST};
-use super::small::{self, BandPixels, NarrowRows, NextFlat, fill_row_pixels};
+use super::row::{BandPixels, COVERAGE, DEPTH_TEST};
+use super::small::{self, NarrowRows, NextFlat, fill_row_pixels};
 use crate::render::core::small::{NARROW, SmallTriangle};
 use crate::render::simd::Avx2;
 use crate::render::simd::x86::{load, store};

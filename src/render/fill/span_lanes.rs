@@ -1,15 +1,12 @@
-//! The span fast paths eight pixels at a time: flat colour, texel, and tinted texel, under every
-//! visibility rule.
+//! The span fast paths: flat colour, texel, and tinted texel, under every visibility rule, one monomorphised
+//! pixel loop for each combination.
 //!
-//! A span is walked in chunks of [`LANES`] pixels, and each step of a chunk (the attributes at the pixel
-//! centres, the visibility test, the perspective divide, the texel address, the colour, the writes) is a
-//! loop over the lanes with no branch inside, which the compiler turns into SIMD instructions. The last
-//! pixels of a span that do not fill a chunk go through the same per-pixel arithmetic one at a time.
-//!
-//! Every lane computes exactly what the one-pixel-at-a-time loop computed before (the same IEEE operations
-//! in the same order, no fused multiply-add), so frames are bit-identical to it: the chunking only changes
-//! how many pixels are in flight. Writes are selects (the old value where the visibility test failed), so
-//! a rejected pixel keeps its colour and depth bit for bit.
+//! [`walk`] draws a run of pixels: where the CPU has AVX2 the run's whole chunks of [`LANES`] pixels go
+//! through the vector loop (`span_avx2`), and the rest (or, without AVX2, all of it) through the per-pixel
+//! loop here, which is the reference the vector loop matches bit for bit: the same IEEE operations in the
+//! same order, no fused multiply-add. Writes are selects (the old value where the visibility test failed),
+//! so a rejected pixel keeps its colour and depth bit for bit. [`dispatch`] picks the loop for a polygon's
+//! source and visibility once, so a group of polygons shares it.
 
 use super::row::{
     COVERAGE, DEPTH_TEST, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
