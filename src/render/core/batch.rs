@@ -69,6 +69,7 @@ pub(crate) struct Batch {
 
 impl Batch {
     /// Stores a small triangle's set-up (with its texture planes when `textured`); returns its index.
+    #[inline]
     pub(crate) fn push_small(&mut self, (t, planes): (SmallTriangle, TexPlanes), textured: bool) -> u32 {
         if textured {
             self.small_textured.push((t, planes));

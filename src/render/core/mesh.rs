@@ -144,6 +144,7 @@ pub struct Mesh {
 
 impl Mesh {
     /// The vertices.
+    #[inline]
     #[must_use]
     pub fn vertices(&self) -> &[Vertex] {
         &self.vertices
@@ -154,11 +155,13 @@ impl Mesh {
         &self.indices
     }
     /// The polygons, in submission order (the order the ordering table registers them in).
+    #[inline]
     #[must_use]
     pub fn polygons(&self) -> &[Polygon] {
         &self.polygons
     }
     /// The materials.
+    #[inline]
     #[must_use]
     pub fn materials(&self) -> &[Material] {
         &self.materials
@@ -174,6 +177,7 @@ impl Mesh {
     }
 
     /// The vertex indices of polygon `p`.
+    #[inline]
     #[must_use]
     pub fn polygon_indices(&self, p: &Polygon) -> &[u32] {
         let start = p.first as usize;

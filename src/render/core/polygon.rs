@@ -159,6 +159,7 @@ impl FastPathRule {
     /// Whether a polygon with (or without) a texture, a constant colour and an alpha cutoff, drawn with or
     /// without the screen door, takes a fast path. The one place this is decided: the fill's span
     /// preparation picks its path by it, and set-up by it sets small triangles up for the fast fill.
+    #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
         let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
         !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }

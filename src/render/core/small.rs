@@ -95,6 +95,7 @@ impl SmallTriangle {
     }
 
     /// The rows whose centres the triangle may cover, `rows().0..rows().1`.
+    #[inline(always)]
     pub(crate) fn rows(&self) -> (i32, i32) {
         self.rows
     }

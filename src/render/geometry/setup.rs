@@ -184,8 +184,10 @@ impl ObjectSetup<'_> {
         match self.object_key {
             _ if !self.ordered => 0.0,
             Some(k) => k,
-            None if self.key == DepthKey::Avg => folded() / n as f32,
-            None => folded(),
+            None => {
+                let key = folded();
+                if self.key == DepthKey::Avg { key / n as f32 } else { key }
+            }
         }
     }
 
@@ -234,7 +236,7 @@ impl ObjectSetup<'_> {
         }
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
         let area = triangle_area2([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]);
-        if !drawn(area, material, &mut out.counts) {
+        if culled(area, material, &mut out.counts) {
             return true;
         }
         let corner = |k: usize| {
@@ -258,6 +260,7 @@ impl ObjectSetup<'_> {
             }
             key
         });
+        out.counts.drawn += 1;
         let paint = PolygonPaint {
             texture,
             sampler: material.sampler,
@@ -351,10 +354,11 @@ impl ObjectSetup<'_> {
             slope_scaled_bias(&mut out.screen[first..], material.depth_bias);
         }
         let area = signed_area2(&out.screen[first..]);
-        if !drawn(area, material, &mut out.counts) {
+        if culled(area, material, &mut out.counts) {
             out.screen.truncate(first);
             return;
         }
+        out.counts.drawn += 1;
         let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
         let paint = PolygonPaint {
             texture,
@@ -416,20 +420,19 @@ impl ObjectSetup<'_> {
     }
 }
 
-/// Whether a polygon of signed area `area` ([`signed_area2`]) is drawn, counted as drawn, or culled and
-/// counted as degenerate (no area) or a back face (clockwise on screen, unless its material is double
-/// sided).
+/// Whether a polygon of signed area `area` ([`signed_area2`]) is culled, counted as degenerate (no area) or
+/// as a back face (clockwise on screen, unless its material is double sided). The caller counts a polygon
+/// it draws once it is set up.
 #[inline(always)]
-fn drawn(area: i64, material: &Material, counts: &mut Counts) -> bool {
+fn culled(area: i64, material: &Material, counts: &mut Counts) -> bool {
     if area == 0 {
         counts.degenerate += 1;
-        false
+        true
     } else if area > 0 && !material.double_sided {
         counts.backface += 1;
-        false
-    } else {
-        counts.drawn += 1;
         true
+    } else {
+        false
     }
 }
 
