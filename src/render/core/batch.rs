@@ -57,7 +57,7 @@ pub(crate) struct Batch {
     pub(crate) small_textured: Vec<(SmallTriangle, TexPlanes)>,
     pub(crate) polys: Vec<DrawPolygon>,
     /// The polygons' ordering keys, one each, when the frame is ordered by them (empty for the z-buffer:
-    /// see [`ObjectSetup::ordered`]).
+    /// see [`ObjectSetup::ordered`](crate::render::geometry::setup::ObjectSetup::ordered)).
     pub(crate) keys: Vec<f32>,
     pub(crate) counts: Counts,
     /// For each band, the indices of its polygons touching the band, when it binned them itself (the
@@ -93,9 +93,9 @@ impl Batch {
     /// Appends the polygons of `others` to this batch, in order (each was tagged with its batch's number
     /// when it was set up); their screen vertices stay where they are, found through [`Screens`].
     ///
-    /// Measured on the small-polygon scene with 2 threads: copying the screen vertices too (2.4 MB) took
-    /// 0.22 ms a frame, more than the parallel set-up itself saved, and re-tagging the polygons while
-    /// copying them in parallel still 0.11-0.15 ms; a plain copy is a memcpy.
+    /// Only the polygon records move: copying the screen vertices too (megabytes on a scene of many small
+    /// polygons) costs more than setting up in parallel saves, and as each polygon already carries its
+    /// batch's number from set-up, appending them is a plain copy (a memcpy), not a pass that re-tags them.
     pub(crate) fn adopt_polygons(&mut self, others: &[Batch]) {
         for b in others {
             self.polys.extend_from_slice(&b.polys);

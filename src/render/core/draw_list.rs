@@ -45,13 +45,14 @@ impl Instance {
 pub struct DrawList<'a> {
     /// Meshes.
     pub meshes: &'a [Mesh],
-    /// Textures, indexed by [`Material::texture`].
+    /// Textures, indexed by [`Material::texture`](crate::render::core::mesh::Material::texture).
     pub textures: &'a [Texture],
     /// Instances, drawn in this order (it is the submission order the ordering table keeps within a bucket).
     pub instances: &'a [Instance],
     /// Sets of close/mid/long meshes that instances may refer to.
     pub lod_sets: &'a [LodSet],
-    /// Drawing orders made in advance for the meshes (used by [`Method::ViewLists`]; `None` elsewhere).
+    /// Drawing orders made in advance for the meshes (used by
+    /// [`Method::ViewLists`](crate::render::core::options::Method::ViewLists); `None` elsewhere).
     pub view_lists: Option<&'a ViewLists>,
 }
 

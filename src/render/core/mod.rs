@@ -3,8 +3,8 @@
 //!
 //! The renderer's inputs ([`options`], [`draw_list`], [`camera`], [`mesh`], [`texture`]), its outputs
 //! ([`stats`], [`error`]), the fixed-point grid ([`fixed`]), and the records the stages hand down: the
-//! screen vertex ([`vertex`]), the polygon and its paint ([`polygon`]), the small triangle ([`small`]), the
-//! set-up batches ([`batch`]) and the bands of the frame ([`band`]).
+//! screen vertex ([`vertex`]), the polygon and its paint (`polygon`), the small triangle (`small`), the
+//! set-up batches (`batch`) and the bands of the frame (`band`).
 
 pub(crate) mod band;
 pub(crate) mod batch;

@@ -10,8 +10,8 @@ use crate::render::core::texture::Filter;
 /// How visibility is resolved.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Method {
-    /// Per-pixel depth test (`1/w`): the accuracy reference, and the default: the bench measured it exact at
-    /// 1.0-1.1x the time of the painter's methods on the game's frames (see the README).
+    /// Per-pixel depth test (`1/w`): the accuracy reference, and the default: it is exact, and on the game's
+    /// frames no painter's method is faster than it by more than noise (the README's bench section).
     #[default]
     ZBuffer,
     /// Exact stable sort of polygons by key, drawn far to near.
@@ -84,8 +84,8 @@ pub enum DepthKey {
     Avg,
     /// Nearest vertex (seed claim 3).
     Min,
-    /// Farthest vertex: the default, measured best on the game's frames (fewest pixels differing from the
-    /// z-buffer for `sort` and both bucket methods; a big road polygon sorts by its far end, so the cars
+    /// Farthest vertex: the default, best on the game's frames in the bench (fewest pixels differing from
+    /// the z-buffer for `sort` and both bucket methods; a big road polygon sorts by its far end, so the cars
     /// standing on it are drawn after it).
     #[default]
     Max,

@@ -8,10 +8,10 @@ use crate::render::core::texture::{Filter, Sampler};
 
 /// A polygon (or a piece of one) ready for the fill stage.
 ///
-/// Set-up writes one per polygon and the ordering, binning and fill stages read them back, so the record
-/// is kept to 48 bytes (measured on the small-polygon scene: 16 more bytes cost 0.03 ms of 1.36): the
-/// optional parts of its paint are values with flags, and ordering keys live beside the polygons
-/// ([`crate::render::geometry::setup::Batch::keys`]), only for the methods that order by them.
+/// Set-up writes one per polygon and the ordering, binning and fill stages read them back, so its size is
+/// paid at every stage and the record is kept to 48 bytes: the optional parts of its paint are values with
+/// flags, and ordering keys live beside the polygons ([`Batch::keys`](crate::render::core::batch::Batch::keys)),
+/// only for the methods that order by them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct DrawPolygon {
     /// Its first screen vertex in its batch, or for a small triangle its set-up's index there: in the batch's
@@ -19,7 +19,8 @@ pub(crate) struct DrawPolygon {
     pub(crate) first: u32,
     /// How many corners it has.
     pub(crate) count: u32,
-    /// The batch holding its screen vertices or small triangle (see [`Screens`]).
+    /// The batch holding its screen vertices or small triangle (see
+    /// [`Screens`](crate::render::core::batch::Screens)).
     pub(crate) batch: u32,
     /// The rows whose centres it covers, `rows.0..rows.1` (before clipping to the frame).
     pub(crate) rows: (i32, i32),
@@ -132,8 +133,8 @@ impl DrawPolygon {
 #[must_use]
 pub fn pack_rgb(c: [f32; 4]) -> u32 {
     // The channels four at a time (set-up packs every flat polygon's colour, a small triangle's among them,
-    // and four scalar clamps and saturating conversions showed in its profile). The vector clamp sends NaN
-    // to 0, as the conversion of a NaN does.
+    // so four scalar clamps and saturating conversions would sit in its hottest loop). The vector clamp
+    // sends NaN to 0, as the conversion of a NaN does.
     let v = (Vec4::from_array(c) * 255.0 + Vec4::splat(0.5)).clamp(Vec4::ZERO, Vec4::splat(255.0));
     // Truncation of values in 0..=255 without a conversion per channel: adding 2^23 rounds to the nearest
     // integer (exactly, the spacing of floats there being 1), one less where that rounded up. The channels

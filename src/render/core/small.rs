@@ -9,7 +9,8 @@ use super::fixed::Fx28_4;
 /// Largest bounding box side, in pixels (rows or columns whose centres it may cover), taken by this path.
 pub const MAX_SIDE: i32 = 16;
 
-/// Columns of a box drawn four lanes at a time by [`fill_flat_narrow`].
+/// Columns of a box drawn four lanes at a time by
+/// [`fill_flat_narrow`](crate::render::fill::small::fill_flat_narrow).
 pub const NARROW: usize = 4;
 
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
@@ -25,7 +26,7 @@ pub(crate) struct EdgeFn {
 }
 
 /// A corner of a small triangle: its snapped position and the four attributes this path interpolates
-/// (depth, `1/w`, `s/w`, `t/w`: the first four of a [`ScreenVertex`]).
+/// (depth, `1/w`, `s/w`, `t/w`: the first four of a [`ScreenVertex`](super::vertex::ScreenVertex)).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Corner {
     /// Screen position.
@@ -38,8 +39,8 @@ pub(crate) struct Corner {
 /// A small triangle set up once, at polygon set-up, for every band that draws it.
 ///
 /// Polygon set-up has the corners in cache and has just computed the area; setting the triangle up there
-/// (rather than in each band's fill, from the corners read back) also replaces its three 40-byte screen
-/// vertices with this one record.
+/// (rather than in each band's fill, from the corners read back) also lets this one record stand in for
+/// its three 40-byte screen vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SmallTriangle {
     /// The edge functions at the centre of pixel `(x_start, rows.0)`.
@@ -56,8 +57,9 @@ pub(crate) struct SmallTriangle {
     pub(crate) depth: [f32; 3],
 }
 
-// Set-up writes one record per small triangle and the fill reads it back: measured on the small-polygon
-// scene, 64 more bytes cost 0.05 ms of a 0.64 ms set-up. A flat triangle's record is one cache line.
+// Set-up writes one record per small triangle and the fill reads it back, so its size is memory traffic
+// paid twice per triangle: a flat triangle's record is one cache line, and the texture planes of a
+// textured one live beside it (`TexPlanes`).
 const _: () = assert!(size_of::<SmallTriangle>() == 64);
 
 /// The planes of a textured small triangle's `1/w`, `s/w` and `t/w` (at the centre of column `x_start` on

@@ -170,8 +170,8 @@ fn sanitize_frac(f: f32) -> f32 {
 }
 
 /// `x.floor() as i32` without a call to libm's `floorf` (the x86-64 baseline has no rounding instruction,
-/// and the texel loops spent 10% of their time in that call): the same result for every input, NaN giving
-/// 0 and out-of-range values saturating as `as` does.
+/// so `floor` is a call, and the texel loops would make one per pixel): the same result for every input,
+/// NaN giving 0 and out-of-range values saturating as `as` does.
 #[inline(always)]
 #[must_use]
 pub fn floor_i32(x: f32) -> i32 {

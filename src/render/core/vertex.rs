@@ -35,7 +35,7 @@ pub struct ScreenVertex {
 /// runs clockwise on screen (y down), which is glTF's back face.
 #[must_use]
 pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
-    // Each vertex with the next, the last with the first (no `% n`: a division per vertex showed in profiles).
+    // Each vertex with the next, the last with the first (no `% n`, which would be a division per vertex).
     let next = v.iter().skip(1).chain(v.first());
     v.iter().zip(next).map(|(p, q)| cross((p.x, p.y), (q.x, q.y))).sum()
 }

@@ -11,7 +11,8 @@ use super::row::{BandPixels, COVERAGE, DEPTH_TEST, Run};
 use crate::render::core::small::{EdgeFn, NARROW, SmallTriangle, TexPlanes};
 
 /// The first `N` columns of the box (bit `k` for column `k`) whose centres are inside all three edges on the
-/// current row. Past the box the values stay in range (at most [`MAX_SIDE`] columns are evaluated).
+/// current row. Past the box the values stay in range (at most
+/// [`MAX_SIDE`](crate::render::core::small::MAX_SIDE) columns are evaluated).
 #[inline(always)]
 fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
     let mut m = 0u32;
@@ -139,7 +140,7 @@ impl NarrowRows {
 /// rejected)`. The AVX2 version is [`crate::render::fill::small_avx2::fill_flat_narrow`], held to this one bit for bit.
 ///
 /// Each row is its four box columns at once: coverage, depths, the test and the writes as four-lane
-/// selects, where the per-pixel loop spent more on a run of 1-3 pixels (its set-up and a call per row) than
+/// selects, where the per-pixel loop spends more on a run of 1-3 pixels (its set-up and a call per row) than
 /// on the pixels. The depth of a pixel is computed as the per-pixel loop computes it, from the row's first
 /// covered pixel, so the frame is bit for bit the same.
 #[inline(always)]
@@ -230,9 +231,8 @@ pub(crate) fn fill_flat_run<'t>(
 /// Where [`fill_flat_run`] takes its triangles from: the next flat small triangle of the group and its
 /// colour, `None` at the group's end.
 ///
-/// A trait rather than a closure so that its method can be marked `inline(always)`: passed as a closure,
-/// the group's iteration became a call per triangle inside the AVX2 function once that grew (fill 0.48 ->
-/// 0.53 ms on the small-polygon scene).
+/// A trait rather than a closure so that its method can be marked `inline(always)`: a closure is not
+/// inlined into the AVX2 function, which is large, so the group's iteration would be a call per triangle.
 pub(crate) trait NextFlat<'t> {
     /// The next triangle and its colour.
     fn next_flat(&mut self) -> Option<(&'t SmallTriangle, u32)>;

@@ -1,7 +1,7 @@
 //! Span drawing: per pixel, the visibility test, texture and colour, alpha mask, and the write.
 //!
-//! This is the `d_*` half of the renderer (as Quake split it): it knows spans, textures and the buffers of one
-//! row, nothing of polygons, cameras or meshes.
+//! Part of the fill, the `d_*` half of the renderer (as Quake split it): it knows spans, textures and the
+//! buffers of one row, nothing of polygons, cameras or meshes.
 
 use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;

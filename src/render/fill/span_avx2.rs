@@ -20,7 +20,7 @@ use crate::render::simd::Avx2;
 use crate::render::simd::x86::{load, store};
 
 // The helpers are macros rather than functions: a `#[target_feature]` function cannot be `inline(always)`,
-// and the compiler left them as calls, passing every vector through memory.
+// and the compiler leaves them as calls, passing every vector through memory.
 
 /// `floor_i32` on eight lanes: truncation corrected downwards, NaN to 0, saturating at both ends.
 macro_rules! floor_i32x8 {

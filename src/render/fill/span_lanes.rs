@@ -142,13 +142,13 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let setup = Setup { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h };
     let (x0, x1) = (run.x0, run.x1);
     // The chunk loop's counts live in memory (it takes them by reference); the per-pixel loop counts in
-    // locals, which stay in registers (counting through memory cost a store-forwarding stall per span).
+    // locals, which stay in registers (counting through memory costs a store-forwarding stall per span).
     let mut counts = SpanCounts::default();
     let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
-    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up
-    // (measured: 4% of the small-polygon scene, whose spans are 1-3 pixels).
+    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up, and
+    // small polygons give mostly such spans (1-3 pixels).
     if x1.saturating_sub(x0) >= LANES
         && let Some(avx2) = simd::avx2()
     {

@@ -2,9 +2,10 @@
 //!
 //! The seed picks the model by distance; here the choice is by projected size in pixels, which also accounts
 //! for the field of view and the resolution: a car 100 pixels tall gets the same model whether that comes
-//! from being near, from a narrow lens or from a large frame. Each [`LodSet`] says below which projected
-//! height (in pixels) its middle and long models take over. A choice only changes when the size moves
-//! [`HYSTERESIS`] past a threshold, so an object hovering at one does not flicker between models.
+//! from being near, from a narrow lens or from a large frame. Each
+//! [`LodSet`](crate::render::core::draw_list::LodSet) says below which projected height (in pixels) its
+//! middle and long models take over. A choice only changes when the size moves [`HYSTERESIS`] past a
+//! threshold, so an object hovering at one does not flicker between models.
 
 use crate::render::core::camera::Camera;
 use crate::render::core::draw_list::{DrawList, Instance};

@@ -1,15 +1,15 @@
 //! Geometry (Quake's `r_*` half): per object, the level of detail, culling, the vertex transform and
-//! polygon set-up, once per frame, into [`Batch`]es the ordering and fill stages read.
+//! polygon set-up, once per frame, into batches (`core::batch`) the ordering and fill stages read.
 //!
-//! Stages, each in its file: [`lod`] (seed 003's model choice), [`cull`], [`vertex`] and [`transform`]
-//! (with its AVX2 child), [`clip`], [`setup`] (gather or clip, snap, cull back faces, split non-monotone
-//! polygons with [`monotone`]) and [`small_setup`] (small triangles set up for the fast fill).
+//! Stages, each in its file: [`lod`] (seed 003's model choice), [`cull`](mod@cull), `vertex` and
+//! `transform` (with its AVX2 child), [`clip`], `setup` (gather or clip, snap, cull back faces, split
+//! non-monotone polygons with [`monotone`]) and `small_setup` (small triangles set up for the fast fill).
 //!
 //! An object of many polygons is set up in pieces on the worker pool, each piece into its own batch. The
 //! painter's orders append the pieces' polygons to the main batch in order and sort them later; the
 //! z-buffer, which draws in submission order, leaves them in their pieces, each binned by the thread that
-//! set it up, and [`Stretch`]es say in which order to draw the main batch and the pieces. Either way the
-//! result is that of one pass, for any thread count.
+//! set it up, and stretches (`Stretch`) say in which order to draw the main batch and the pieces. Either way
+//! the result is that of one pass, for any thread count.
 
 pub mod clip;
 pub mod cull;
@@ -291,8 +291,8 @@ fn set_up_in_pieces(
         main.adopt_polygons(&batches[first..used]);
         return;
     }
-    // The z-buffer draws them from where they are (measured on the small-polygon scene with 2 threads:
-    // appending them was a 0.026 ms serial copy, and binning them again in the fill 0.035 ms).
+    // The z-buffer draws them from where they are: appending them to the main batch would be a serial copy,
+    // and binning them again in the fill would redo what each piece's thread did with them in its cache.
     main.adopt_counts(&batches[first..used]);
     let end = main.polys.len() as u32;
     if cursor.main_start < end {

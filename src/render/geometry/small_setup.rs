@@ -6,8 +6,9 @@
 //! bounding box is at most [`MAX_SIDE`] pixels each way, and whose shading takes a fast path, is set up once,
 //! at polygon set-up: three integer edge functions and the plane of its attributes (one division for the
 //! whole triangle). Each band's fill then draws its rows in one call of the pixel loop chosen for the polygon
-//! ([`crate::render::fill::span_lanes::dispatch`]). A flat triangle whose box is at most [`NARROW`] columns wide is drawn
-//! a row's four columns at a time instead ([`fill_flat_narrow`], and with AVX2 [`crate::render::fill::small_avx2`]).
+//! ([`crate::render::fill::span_lanes::dispatch`]). A flat triangle whose box is at most
+//! [`NARROW`](crate::render::core::small::NARROW) columns wide is drawn a row's four columns at a time instead
+//! ([`fill_flat_narrow`](crate::render::fill::small::fill_flat_narrow), and with AVX2 `fill::small_avx2`).
 //!
 //! **Sub-pixel and fill rules** are the scanline walker's, decided with exact integers on the same
 //! [`Fx28_4`] grid: pixel `(x, y)` is sampled at its centre `(x + 0.5, y + 0.5)`, rows whose centre lies in
@@ -40,8 +41,8 @@ impl EdgeFn {
         // way the F taken from p to q is negated exactly when the area is positive, and a right edge is one
         // going down in a positive area or up in a negative one.
         // Selects rather than branches or multiplications: which edges are left or right is random from one
-        // triangle to the next (mispredicted branches showed in profiles), and set-up is bound by its
-        // instruction count.
+        // triangle to the next (so a branch on it mispredicts often), and set-up is bound by its instruction
+        // count.
         let flip = area > 0;
         let right = (dy > 0) == flip;
         let (f, dx, dy) = if flip { (-f, -dx, -dy) } else { (f, dx, dy) };

@@ -2,10 +2,10 @@
 //! it needs no clipping) its snapped screen position, once per vertex however many polygons share it.
 //!
 //! [`VertexTransform::vertex`] is the reference, one vertex at a time, with the matrix product and the
-//! depth's dot product written out in a fixed order (glam's, so frames did not change when this moved
-//! here). Where the CPU has AVX2, [`VertexTransform::run`] takes eight vertices per step instead
-//! ([`crate::render::geometry::transform_avx2`]): the same IEEE operations in the same order, so the records are bit-identical
-//! (a test compares the two on random and hostile positions).
+//! depth's dot product written out in a fixed order: glam's, so each record is bit for bit what glam's own
+//! product gives (a test holds it to that). Where the CPU has AVX2, [`VertexTransform::run`] takes eight
+//! vertices per step instead ([`crate::render::geometry::transform_avx2`]): the same IEEE operations in the
+//! same order, so the records are bit-identical (a test compares the two on random and hostile positions).
 
 use super::vertex::{SetupVertex, VertexTransform};
 use crate::render::core::mesh::Vertex;

@@ -1,9 +1,9 @@
 //! The vertex transform eight vertices at a time with AVX2, written out by hand because the compiler keeps
 //! the clip codes, the snapping and the record assembly scalar.
 //!
-//! Each step repeats [`crate::render::geometry::transform::VertexTransform::vertex`] operation for operation (the same IEEE
-//! operations in the same order, no fused multiply-add; `Fx28_4::from_f32`'s rounding and range checks are
-//! rebuilt with compares), so the records are bit-identical to the one-vertex loop's.
+//! Each step repeats [`crate::render::geometry::vertex::VertexTransform::vertex`] operation for operation (the
+//! same IEEE operations in the same order, no fused multiply-add; `Fx28_4::from_f32`'s rounding and range
+//! checks are rebuilt with compares), so the records are bit-identical to the one-vertex loop's.
 
 use std::arch::x86_64::{
     __m128, __m256, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _mm256_add_epi32, _mm256_add_ps,

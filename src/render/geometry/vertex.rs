@@ -18,9 +18,8 @@ pub(crate) type SetupBits = (u32, VertexCodes, bool, Option<(i32, i32, u32, u32)
 ///
 /// The record is 24 bytes: the clip position is not kept (a polygon that needs clipping recomputes its
 /// corners' positions, [`VertexTransform::clip_and_depth`]), so the transform writes, and set-up reads, half
-/// as much as with it (measured on the small-polygon scene, 1 thread: transform 0.26 -> 0.21 ms). It is plain
-/// old data (`repr(C)`, flags as bytes) so that the AVX2 transform writes eight of them with vector stores
-/// rather than field by field (0.207 -> 0.162 ms on that scene).
+/// as much as with it. It is plain old data (`repr(C)`, flags as bytes) so that the AVX2 transform writes
+/// eight of them with vector stores rather than field by field.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct SetupVertex {
@@ -31,7 +30,7 @@ pub(crate) struct SetupVertex {
     q: f32,
     /// View depth (distance along the view direction), for ordering keys.
     pub(crate) view_depth: f32,
-    /// Where it lies against the clip planes ([`VertexCodes`]).
+    /// Where it lies against the clip planes ([`VertexCodes`](crate::render::geometry::clip::VertexCodes)).
     pub(crate) outside: u8,
     pub(crate) cut: u8,
     /// 1 when the clip position and the view depth are finite, else 0.

@@ -1,6 +1,6 @@
 //! Visibility ordering: the drawing order of the frame's polygons for the painter's methods.
 //!
-//! [`ordering_table`] is seed 000's depth-bucket table (Sony): keys spread over buckets between the nearest
+//! [`ordering_table`] is seed 000's depth-bucket table (Sega): keys spread over buckets between the nearest
 //! and farthest key of the frame, chained far to near or near to far. [`view_lists`] is seed 004's orders
 //! made in advance per view direction (Canon), whose objects are then placed with the table. `sort` is an
 //! exact stable sort by key. The z-buffer needs no order: it draws in submission order.

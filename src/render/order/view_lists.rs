@@ -19,7 +19,7 @@
 //!
 //! Directions are the vertices of an icosahedron subdivided `level` times (12, 42, 162, 642 directions):
 //! evenly spread, so the angle from any view to the nearest stored direction is bounded: at worst 37°, 21°
-//! and 11° at levels 0, 1 and 2 (measured in the tests). The bench charts the error against the level.
+//! and 11° at levels 0, 1 and 2 (a test checks these bounds). The bench charts the error against the level.
 
 mod occlusion;
 
@@ -33,7 +33,8 @@ use crate::render::core::mesh::Mesh;
 /// not whole-world road and terrain meshes, which are not rigid objects seen from outside.
 pub const DEFAULT_MAX_POLYGONS: usize = 600;
 /// Default icosahedron subdivision level of the stored directions: 42 directions, no view more than 21°
-/// from one (the bench compares levels 0-2: 12 were as good on the demo race, 162 cost 8% more time).
+/// from one (37° with 12): finer than the demo race's own views need, for the views it does not show, and
+/// coarser than 162, which costs more time for little accuracy (the bench compares levels 0-2).
 pub const DEFAULT_LEVEL: u32 = 1;
 
 /// The view directions of an icosahedron subdivided `level` times (unit vectors, deterministic order).
