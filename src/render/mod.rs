@@ -23,8 +23,6 @@ pub mod order;
 pub mod overlay;
 pub mod renderer;
 mod simd;
-#[cfg(test)]
-mod test_rng;
 
 pub use self::core::camera::{Camera, Projection};
 pub use self::core::draw_list::{DrawList, Instance, LodSet, MeshLists, ViewLists};

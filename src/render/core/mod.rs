@@ -17,5 +17,7 @@ pub mod options;
 pub(crate) mod polygon;
 pub(crate) mod small;
 pub mod stats;
+#[cfg(test)]
+pub(crate) mod test_rng;
 pub mod texture;
 pub mod vertex;

@@ -281,10 +281,10 @@ pub(crate) fn fill_row_pixels<const VIS: u8>(
 mod tests {
     use super::*;
     use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::test_rng::Lcg;
     use crate::render::core::vertex::{ScreenVertex, signed_area2};
     use crate::render::fill::row::OVERWRITE;
     use crate::render::fill::scanline::{Span, fill_spans};
-    use crate::render::test_rng::Lcg;
 
     fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {
         ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [a, 1.0, a * 2.0, -a, 0.5, 0.5, 0.5, 1.0] }

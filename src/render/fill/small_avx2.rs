@@ -115,9 +115,9 @@ pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
 mod tests {
     use super::*;
     use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::test_rng::Lcg;
     use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
     use crate::render::fill::row::OVERWRITE;
-    use crate::render::test_rng::Lcg;
 
     /// What one version drew: the buffers and the counts.
     type Drawn = (Vec<u32>, Vec<f32>, Vec<u64>, (u64, u64));

@@ -211,11 +211,11 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::core::test_rng::Lcg;
     use crate::render::core::texture::Wrap;
     use crate::render::core::vertex::ATTRS;
     use crate::render::fill::row::{cover_bits, coverage_byte};
     use crate::render::simd::{force_portable, has_avx2};
-    use crate::render::test_rng::Lcg;
 
     /// A random attribute value; when `hostile`, one in six is NaN, infinite, huge or zero.
     fn float(rng: &mut Lcg, hostile: bool) -> f32 {

@@ -28,9 +28,9 @@ impl VertexTransform {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::core::test_rng::Lcg;
     use crate::render::geometry::clip::ClipVolume;
     use crate::render::simd::force_portable;
-    use crate::render::test_rng::Lcg;
     use glam::{Mat4, Vec3};
     use glam::{Quat, Vec2};
 

@@ -295,7 +295,7 @@ mod tests {
 
     #[test]
     fn the_counting_sort_gives_the_linked_order() {
-        let mut rng = crate::render::test_rng::Lcg(11);
+        let mut rng = crate::render::core::test_rng::Lcg(11);
         let hostile = [f32::NAN, f32::INFINITY, -f32::INFINITY, -1e30, 1e30, 0.0];
         let mut compared = 0;
         let mut table = OrderingTable::new();

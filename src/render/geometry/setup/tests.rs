@@ -3,8 +3,8 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::*;
+use crate::render::core::test_rng::Lcg;
 use crate::render::geometry::clip::ClipVolume;
-use crate::render::test_rng::Lcg;
 use crate::render::{Camera, Filter, MeshBuilder, TextureMode, Vertex};
 
 /// Sets up every polygon of `mesh`, seen by an orthographic camera that maps `x, y` to pixels of a
