@@ -52,6 +52,56 @@ fn shift(v: &mut Value, by: usize) {
     }
 }
 
+/// Rewrites one item of the array `key` of a document being appended: file URIs get `folder` in front, and
+/// indices into other arrays are shifted past what is already merged (`o`).
+fn relocate(key: &str, item: &mut Value, folder: &str, o: &Offsets) {
+    match key {
+        "buffers" | "images" => {
+            if let Some(uri) = item.get("uri").and_then(Value::as_str) {
+                item["uri"] = json!(format!("{folder}{uri}"));
+            }
+        }
+        "bufferViews" => shift(&mut item["buffer"], o.buffers),
+        "accessors" => shift(&mut item["bufferView"], o.views),
+        "textures" => {
+            shift(&mut item["sampler"], o.samplers);
+            shift(&mut item["source"], o.images);
+        }
+        "materials" => {
+            if let Some(t) = item.pointer_mut("/pbrMetallicRoughness/baseColorTexture/index") {
+                shift(t, o.textures);
+            }
+        }
+        "meshes" => {
+            if let Some(prims) = item.get_mut("primitives").and_then(Value::as_array_mut) {
+                for p in prims {
+                    if let Some(attrs) = p.get_mut("attributes").and_then(Value::as_object_mut) {
+                        attrs.values_mut().for_each(|a| shift(a, o.accessors));
+                    }
+                    shift(&mut p["indices"], o.accessors);
+                    shift(&mut p["material"], o.materials);
+                }
+            }
+        }
+        "nodes" => {
+            if item.get("mesh").is_some() {
+                shift(&mut item["mesh"], o.meshes);
+            }
+            if item.get("camera").is_some() {
+                shift(&mut item["camera"], o.cameras);
+            }
+            if let Some(ch) = item.get_mut("children").and_then(Value::as_array_mut) {
+                ch.iter_mut().for_each(|c| shift(c, o.nodes));
+            }
+            if let Some(ids) = item.pointer_mut("/extensions/MSFT_lod/ids").and_then(Value::as_array_mut) {
+                ids.iter_mut().for_each(|c| shift(c, o.nodes));
+            }
+        }
+        // Samplers and cameras point at nothing.
+        _ => {}
+    }
+}
+
 impl Merged {
     fn len(&self, key: &str) -> usize {
         self.arrays.get(key).and_then(Value::as_array).map_or(0, Vec::len)
@@ -77,87 +127,17 @@ impl Merged {
     /// `keep_cameras`.
     fn add(&mut self, mut doc: Value, folder: &str, transform: Option<Value>, keep_cameras: bool) {
         let o = self.offsets();
-        let arr = |doc: &mut Value, key: &str| -> Vec<Value> {
-            doc.get_mut(key).map(Value::take).and_then(|v| v.as_array().cloned()).unwrap_or_default()
-        };
-        let mut buffers = arr(&mut doc, "buffers");
-        for b in &mut buffers {
-            if let Some(uri) = b.get("uri").and_then(Value::as_str) {
-                b["uri"] = json!(format!("{folder}{uri}"));
-            }
-        }
-        let mut views = arr(&mut doc, "bufferViews");
-        views.iter_mut().for_each(|v| shift(&mut v["buffer"], o.buffers));
-        let mut accessors = arr(&mut doc, "accessors");
-        accessors.iter_mut().for_each(|a| shift(&mut a["bufferView"], o.views));
-        let mut images = arr(&mut doc, "images");
-        for im in &mut images {
-            if let Some(uri) = im.get("uri").and_then(Value::as_str) {
-                im["uri"] = json!(format!("{folder}{uri}"));
-            }
-        }
-        let samplers = arr(&mut doc, "samplers");
-        let mut textures = arr(&mut doc, "textures");
-        for t in &mut textures {
-            shift(&mut t["sampler"], o.samplers);
-            shift(&mut t["source"], o.images);
-        }
-        let mut materials = arr(&mut doc, "materials");
-        for m in &mut materials {
-            if let Some(t) = m.pointer_mut("/pbrMetallicRoughness/baseColorTexture/index") {
-                shift(t, o.textures);
-            }
-        }
-        let mut meshes = arr(&mut doc, "meshes");
-        for m in &mut meshes {
-            if let Some(prims) = m.get_mut("primitives").and_then(Value::as_array_mut) {
-                for p in prims {
-                    if let Some(attrs) = p.get_mut("attributes").and_then(Value::as_object_mut) {
-                        attrs.values_mut().for_each(|a| shift(a, o.accessors));
-                    }
-                    shift(&mut p["indices"], o.accessors);
-                    shift(&mut p["material"], o.materials);
-                }
-            }
-        }
-        let mut nodes = arr(&mut doc, "nodes");
-        for n in &mut nodes {
-            if n.get("mesh").is_some() {
-                shift(&mut n["mesh"], o.meshes);
-            }
-            if n.get("camera").is_some() {
-                shift(&mut n["camera"], o.cameras);
-            }
-            if let Some(ch) = n.get_mut("children").and_then(Value::as_array_mut) {
-                ch.iter_mut().for_each(|c| shift(c, o.nodes));
-            }
-            if let Some(ids) = n.pointer_mut("/extensions/MSFT_lod/ids").and_then(Value::as_array_mut) {
-                ids.iter_mut().for_each(|c| shift(c, o.nodes));
-            }
-        }
-        let cameras = arr(&mut doc, "cameras");
         let roots: Vec<usize> = doc
             .pointer("/scenes/0/nodes")
             .and_then(Value::as_array)
             .map(|r| r.iter().filter_map(Value::as_u64).map(|i| i as usize).collect())
             .unwrap_or_default();
-        let roots: Vec<usize> = roots
-            .into_iter()
-            .filter(|&r| keep_cameras || nodes.get(r).is_none_or(|n| n.get("camera").is_none()))
-            .map(|r| r + o.nodes)
-            .collect();
-        for (key, items) in [
-            ("buffers", buffers),
-            ("bufferViews", views),
-            ("accessors", accessors),
-            ("images", images),
-            ("samplers", samplers),
-            ("textures", textures),
-            ("materials", materials),
-            ("meshes", meshes),
-            ("nodes", nodes),
-            ("cameras", cameras),
-        ] {
+        let is_camera = |r: usize| doc.get("nodes").and_then(|n| n.get(r)).is_some_and(|n| n.get("camera").is_some());
+        let roots: Vec<usize> =
+            roots.into_iter().filter(|&r| keep_cameras || !is_camera(r)).map(|r| r + o.nodes).collect();
+        for key in ARRAYS {
+            let mut items = doc.get_mut(key).map(Value::take).and_then(|v| v.as_array().cloned()).unwrap_or_default();
+            items.iter_mut().for_each(|item| relocate(key, item, folder, &o));
             let entry = self.arrays.entry(key.to_string()).or_insert_with(|| json!([]));
             if let Some(a) = entry.as_array_mut() {
                 a.extend(items);

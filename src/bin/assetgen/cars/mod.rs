@@ -22,11 +22,12 @@ use serde_json::json;
 
 mod models;
 mod paint;
+mod spec;
 
 use crate::gltf_out::{Doc, WrapMode};
-use crate::paint::Rgba;
 use models::{close_model, long_model, mid_model};
 use paint::{paint_atlas, paint_detail};
+use spec::DESIGNS;
 
 /// What the grid scene needs to know about each car file.
 #[derive(Clone, Debug)]
@@ -35,161 +36,8 @@ pub struct CarInfo {
     pub name: String,
 }
 
-/// How the livery's second colour is laid out.
-#[derive(Clone, Copy, Debug)]
-enum Pattern {
-    Stripe,
-    TwoTone,
-    Chevron,
-    Band,
-}
-
-/// One car design: proportions and livery.
-#[derive(Clone, Copy, Debug)]
-struct Design {
-    number: u32,
-    length: f32,
-    width: f32,
-    /// Height of the body's top (the cabin rises above it).
-    body_height: f32,
-    cabin_height: f32,
-    /// Cabin start and end along the length (0 = nose, 1 = tail).
-    cabin: (f32, f32),
-    /// Nose height as a fraction of the body height.
-    nose: f32,
-    wing: bool,
-    base: Rgba,
-    accent: Rgba,
-    pattern: Pattern,
-}
-
-const DESIGNS: [Design; 8] = [
-    Design {
-        number: 1,
-        length: 4.5,
-        width: 1.9,
-        body_height: 0.75,
-        cabin_height: 1.15,
-        cabin: (0.38, 0.72),
-        nose: 0.55,
-        wing: true,
-        base: [200, 30, 30, 255],
-        accent: [250, 250, 250, 255],
-        pattern: Pattern::Stripe,
-    },
-    Design {
-        number: 2,
-        length: 4.7,
-        width: 1.95,
-        body_height: 0.7,
-        cabin_height: 1.1,
-        cabin: (0.42, 0.75),
-        nose: 0.5,
-        wing: true,
-        base: [20, 60, 170, 255],
-        accent: [250, 200, 20, 255],
-        pattern: Pattern::TwoTone,
-    },
-    Design {
-        number: 3,
-        length: 4.3,
-        width: 1.85,
-        body_height: 0.8,
-        cabin_height: 1.25,
-        cabin: (0.35, 0.8),
-        nose: 0.65,
-        wing: false,
-        base: [30, 140, 60, 255],
-        accent: [240, 240, 240, 255],
-        pattern: Pattern::Band,
-    },
-    Design {
-        number: 5,
-        length: 4.6,
-        width: 1.9,
-        body_height: 0.72,
-        cabin_height: 1.12,
-        cabin: (0.4, 0.7),
-        nose: 0.5,
-        wing: true,
-        base: [250, 200, 20, 255],
-        accent: [20, 20, 20, 255],
-        pattern: Pattern::Chevron,
-    },
-    Design {
-        number: 7,
-        length: 4.4,
-        width: 1.8,
-        body_height: 0.78,
-        cabin_height: 1.2,
-        cabin: (0.36, 0.76),
-        nose: 0.6,
-        wing: false,
-        base: [240, 240, 240, 255],
-        accent: [30, 90, 200, 255],
-        pattern: Pattern::Stripe,
-    },
-    Design {
-        number: 8,
-        length: 4.8,
-        width: 2.0,
-        body_height: 0.68,
-        cabin_height: 1.05,
-        cabin: (0.45, 0.74),
-        nose: 0.45,
-        wing: true,
-        base: [240, 110, 20, 255],
-        accent: [40, 40, 120, 255],
-        pattern: Pattern::TwoTone,
-    },
-    Design {
-        number: 11,
-        length: 4.5,
-        width: 1.88,
-        body_height: 0.74,
-        cabin_height: 1.16,
-        cabin: (0.4, 0.73),
-        nose: 0.55,
-        wing: true,
-        base: [120, 30, 160, 255],
-        accent: [240, 240, 240, 255],
-        pattern: Pattern::Band,
-    },
-    Design {
-        number: 27,
-        length: 4.35,
-        width: 1.86,
-        body_height: 0.82,
-        cabin_height: 1.28,
-        cabin: (0.34, 0.78),
-        nose: 0.62,
-        wing: false,
-        base: [25, 25, 25, 255],
-        accent: [220, 30, 30, 255],
-        pattern: Pattern::Chevron,
-    },
-];
-
 /// Coverage hints for `MSFT_screencoverage` (fractions of a 720-pixel frame): see the module docs.
 const COVERAGE: [f32; 3] = [100.0 / 720.0, 25.0 / 720.0, 0.0];
-
-// Atlas layout (fractions of the 256x256 atlas; the 64 and 16 versions share it).
-const SIDE: [f32; 4] = [0.0, 0.0, 1.0, 0.375];
-const TOP: [f32; 4] = [0.0, 0.375, 1.0, 0.6875];
-const FRONT: [f32; 4] = [0.0, 0.6875, 0.25, 1.0];
-const BACK: [f32; 4] = [0.25, 0.6875, 0.5, 1.0];
-const WHEEL: [f32; 4] = [0.5, 0.6875, 0.75, 1.0];
-const UNDER: [f32; 4] = [0.75, 0.6875, 1.0, 1.0];
-
-// Detail texture layout (fractions of the 128x128 detail texture).
-const PLATE: [f32; 4] = [0.0, 0.0, 1.0, 0.25];
-const ROUNDEL: [f32; 4] = [0.0, 0.25, 0.5, 0.75];
-const HEADLAMP: [f32; 4] = [0.5, 0.25, 1.0, 0.5];
-const TAIL_LAMP: [f32; 4] = [0.5, 0.5, 1.0, 0.75];
-
-const WHEEL_RADIUS: f32 = 0.33;
-const WHEEL_WIDTH: f32 = 0.26;
-const RIDE: f32 = 0.14;
 
 /// Writes one glTF file per design (with its textures) into `dir`.
 pub fn generate(dir: &Path) -> std::io::Result<Vec<CarInfo>> {

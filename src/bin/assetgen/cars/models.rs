@@ -3,7 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{
+use super::spec::{
     BACK, Design, FRONT, HEADLAMP, PLATE, RIDE, ROUNDEL, SIDE, TAIL_LAMP, TOP, UNDER, WHEEL, WHEEL_RADIUS, WHEEL_WIDTH,
 };
 use crate::gltf_out::Primitive;
@@ -190,12 +190,32 @@ pub(super) fn axle_z(d: &Design) -> [f32; 2] {
     [z_at(d, 0.17), z_at(d, 0.81)]
 }
 
+/// The close-up model: the atlas-textured body, cabin, wheels, mirrors and wing, and the sharp parts on the
+/// detail texture, one primitive each.
 pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primitive> {
     let frame = Frame { length: d.length, width: d.width, height: d.cabin_height };
     let mut body = Primitive::new(atlas);
+    close_shell(&mut body, &frame, d);
+    // Wheels.
+    let wx = 0.5 * d.width - 0.5 * WHEEL_WIDTH + 0.04;
+    for z in axle_z(d) {
+        for x in [-wx, wx] {
+            wheel(&mut body, Vec3::new(x, WHEEL_RADIUS, z));
+        }
+    }
+    mirrors_and_wing(&mut body, &frame, d);
+    // Sharp parts on the detail texture: plates, lamps, race numbers, standing just proud of the body.
+    let mut det = Primitive::new(detail);
+    plates_and_lamps(&mut det, d);
+    race_numbers(&mut det, d);
+    vec![body, det]
+}
+
+/// The close model's lofted body (eleven sections) and cabin.
+fn close_shell(body: &mut Primitive, frame: &Frame, d: &Design) {
     let ts: Vec<f32> = (0..=10).map(|i| i as f32 / 10.0).collect();
     let sections: Vec<(f32, Vec<Vec2>)> = ts.iter().map(|&t| (z_at(d, t), body_section(d, t))).collect();
-    loft(&mut body, &frame, &sections, false, true);
+    loft(body, frame, &sections, false, true);
     // Cabin: five sections, windscreen and rear window as the sloped ends.
     let (c0, c1) = d.cabin;
     let base = body_profile(d, c0).min(body_profile(d, c1)) - 0.02;
@@ -208,51 +228,45 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
             (z_at(d, t), cabin_section(d, t, base, top))
         })
         .collect();
-    loft(&mut body, &frame, &cabin, true, true);
-    // Wheels.
-    let wx = 0.5 * d.width - 0.5 * WHEEL_WIDTH + 0.04;
-    for z in axle_z(d) {
-        for x in [-wx, wx] {
-            wheel(&mut body, Vec3::new(x, WHEEL_RADIUS, z));
-        }
-    }
+    loft(body, frame, &cabin, true, true);
+}
+
+/// The close model's door mirrors and (on designs with one) its rear wing on struts.
+fn mirrors_and_wing(body: &mut Primitive, frame: &Frame, d: &Design) {
+    let (c0, _) = d.cabin;
     // Mirrors.
     let mz = z_at(d, c0 + 0.05);
     let my = body_profile(d, c0 + 0.05);
     for s in [-1.0f32, 1.0] {
         let x0 = s * 0.5 * d.width * 0.95;
         let x1 = s * (0.5 * d.width * 0.95 + 0.14);
-        atlas_box(
-            &mut body,
-            &frame,
-            Vec3::new(x0.min(x1), my, mz - 0.05),
-            Vec3::new(x0.max(x1), my + 0.1, mz + 0.05),
-            false,
-        );
+        atlas_box(body, frame, Vec3::new(x0.min(x1), my, mz - 0.05), Vec3::new(x0.max(x1), my + 0.1, mz + 0.05), false);
     }
     // Rear wing on struts.
     if d.wing {
         let z = z_at(d, 0.93);
         let top = d.body_height + 0.28;
         atlas_box(
-            &mut body,
-            &frame,
+            body,
+            frame,
             Vec3::new(-0.45 * d.width, top, z - 0.18),
             Vec3::new(0.45 * d.width, top + 0.05, z + 0.18),
             false,
         );
         for x in [-0.3 * d.width, 0.3 * d.width] {
             atlas_box(
-                &mut body,
-                &frame,
+                body,
+                frame,
                 Vec3::new(x - 0.03, body_profile(d, 0.93) - 0.02, z - 0.06),
                 Vec3::new(x + 0.03, top, z + 0.06),
                 true,
             );
         }
     }
-    // Sharp parts on the detail texture: plates, lamps, race numbers, standing just proud of the body.
-    let mut det = Primitive::new(detail);
+}
+
+/// Number plates front and back, headlamps and tail lamps, on the detail texture.
+fn plates_and_lamps(det: &mut Primitive, d: &Design) {
     let nose_z = z_at(d, 0.0) - 0.005;
     let tail_z = z_at(d, 1.0) + 0.005;
     let plate_w = 0.26;
@@ -260,7 +274,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
     let ph = (RIDE + 0.02, RIDE + 0.12);
     // Front plate faces -Z: seen from the front, +X is on the left.
     region_quad(
-        &mut det,
+        det,
         [
             Vec3::new(plate_w, ph.0, nose_z),
             Vec3::new(-plate_w, ph.0, nose_z),
@@ -270,7 +284,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
         PLATE,
     );
     region_quad(
-        &mut det,
+        det,
         [
             Vec3::new(-plate_w, ph.0, tail_z),
             Vec3::new(plate_w, ph.0, tail_z),
@@ -284,7 +298,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
         let (xa, xb) = (s * 0.5 * d.width * 0.55, s * 0.5 * d.width * 0.8);
         let (l, r) = if s < 0.0 { (xa, xb) } else { (xb, xa) };
         region_quad(
-            &mut det,
+            det,
             [
                 Vec3::new(l, lamp_y.0, nose_z),
                 Vec3::new(r, lamp_y.0, nose_z),
@@ -295,7 +309,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
         );
         let ty = (RIDE + 0.3, RIDE + 0.42);
         region_quad(
-            &mut det,
+            det,
             [
                 Vec3::new(r, ty.0, tail_z),
                 Vec3::new(l, ty.0, tail_z),
@@ -305,13 +319,17 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
             TAIL_LAMP,
         );
     }
-    // Race numbers on both doors and the roof.
+}
+
+/// Race-number roundels on both doors and the roof, on the detail texture.
+fn race_numbers(det: &mut Primitive, d: &Design) {
+    let (c0, c1) = d.cabin;
     let door = 0.5 * (c0 + c1);
     let (dz0, dz1) = (z_at(d, door) - 0.32, z_at(d, door) + 0.32);
     let (dy0, dy1) = (RIDE + 0.06, RIDE + 0.06 + 0.64 * 0.7);
     let side_x = 0.5 * d.width * (1.0 - 0.12 * (2.0 * door - 1.0).powi(4)) + 0.006;
     region_quad(
-        &mut det,
+        det,
         [
             Vec3::new(side_x, dy0, dz1),
             Vec3::new(side_x, dy0, dz0),
@@ -321,7 +339,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
         ROUNDEL,
     );
     region_quad(
-        &mut det,
+        det,
         [
             Vec3::new(-side_x, dy0, dz0),
             Vec3::new(-side_x, dy0, dz1),
@@ -333,7 +351,7 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
     let roof = d.cabin_height + 0.004;
     let (rz0, rz1) = (z_at(d, door) - 0.25, z_at(d, door) + 0.25);
     region_quad(
-        &mut det,
+        det,
         [
             Vec3::new(-0.25, roof, rz1),
             Vec3::new(0.25, roof, rz1),
@@ -342,7 +360,6 @@ pub(super) fn close_model(d: &Design, atlas: usize, detail: usize) -> Vec<Primit
         ],
         ROUNDEL,
     );
-    vec![body, det]
 }
 
 pub(super) fn mid_model(d: &Design, atlas: usize) -> Vec<Primitive> {

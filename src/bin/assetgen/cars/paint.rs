@@ -2,7 +2,7 @@
 //! 128x128 detail texture.
 
 use super::models::{axle_z, body_profile};
-use super::{
+use super::spec::{
     BACK, Design, FRONT, HEADLAMP, PLATE, Pattern, RIDE, ROUNDEL, SIDE, TAIL_LAMP, TOP, UNDER, WHEEL, WHEEL_RADIUS,
 };
 use crate::paint::{Canvas, Rgba};

@@ -4,11 +4,11 @@
 use glam::{Vec2, Vec3};
 
 use super::plan::{Plan, Profile};
-use super::util::{cross2, loop_dist, other, smoothstep};
-use super::{
+use super::spec::{
     APRON, BARRIER_OFFSET, BARRIER_OFFSET_RAISED, BRIDGE_EDGE, BRIDGE_HEIGHT, CORNERS, CRESTS, HALF_WIDTH, ROAD_LIFT,
     SAMPLE_STEP, SIDE, START_AT, START_EDGE,
 };
+use super::util::{cross2, loop_dist, other, smoothstep};
 
 /// One centreline sample.
 #[derive(Clone, Copy, Debug)]

@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 use serde_json::json;
 
-use super::SUN;
+use super::spec::SUN;
 use super::util::Rng;
 use crate::gltf_out::{Doc, Primitive};
 

@@ -5,8 +5,8 @@ use glam::{Vec2, Vec3};
 
 use super::circuit::Circuit;
 use super::mesh::{Block, MeshBuilder, Scene, uv, world_uvs};
+use super::spec::{BARRIER_OFFSET_RAISED, DECK_DEPTH, GRASS_UV, GRID_SLOTS, HALF_WIDTH, KERB_WIDTH, WHITE};
 use super::textures::Mats;
-use super::{BARRIER_OFFSET_RAISED, DECK_DEPTH, GRASS_UV, GRID_SLOTS, HALF_WIDTH, KERB_WIDTH, WHITE};
 
 /// The road ribbon with kerbs, verges, barriers and embankments, in chunks of consecutive segments.
 pub(super) fn track_meshes(scene: &mut Scene, m: &Mats, c: &Circuit) {

@@ -5,10 +5,10 @@ use serde_json::json;
 
 use super::circuit::Circuit;
 use super::mesh::{Block, MeshBuilder, Scene, node_yaw, uv};
+use super::spec::{BARRIER_OFFSET, GROUND_RADIUS, TREE_CLEARANCE, WHITE};
 use super::terrain::Terrain;
 use super::textures::Mats;
 use super::util::r3;
-use super::{BARRIER_OFFSET, GROUND_RADIUS, TREE_CLEARANCE, WHITE};
 use crate::gltf_out::{Doc, placed};
 
 /// The grandstand (shared mesh): 80 m long, eight stepped rows rising away from the track (local -Z faces the

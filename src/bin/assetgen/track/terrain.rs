@@ -4,9 +4,9 @@ use glam::{Vec2, Vec3};
 
 use super::circuit::Circuit;
 use super::mesh::{MeshBuilder, Scene, world_uvs};
+use super::spec::{FINE_TILE, GRASS_UV, GROUND_RADIUS, TILE, WHITE};
 use super::textures::Mats;
 use super::util::{Rng, smoothstep};
-use super::{FINE_TILE, GRASS_UV, GROUND_RADIUS, TILE, WHITE};
 
 /// Ground heights on a square grid of `TILE` m: flat near the circuit, rolling further out, rising toward
 /// the hills. Each tile is drawn as two triangles split from its (-x, -z) corner to its (+x, +z) corner.

@@ -6,8 +6,8 @@ use glam::{Mat3, Quat, Vec3};
 use serde_json::{Value, json};
 
 use super::circuit::Circuit;
+use super::spec::HALF_WIDTH;
 use super::util::r3;
-use super::{HALF_WIDTH, TrackInfo};
 use crate::gltf_out::Doc;
 
 /// Named viewpoints: behind the grid, the crossover, the whole circuit, the hairpin, on board from pole, and
@@ -41,10 +41,10 @@ pub(super) fn views(c: &Circuit, grid: &[(Vec3, f32)], stands: &[(Vec3, Vec3)]) 
 }
 
 /// Adds one perspective camera node per view; returns the cameras for [`add_cameras`].
-pub(super) fn camera_nodes(doc: &mut Doc, info: &TrackInfo) -> Vec<Value> {
+pub(super) fn camera_nodes(doc: &mut Doc, views: &[(String, Vec3, Vec3)]) -> Vec<Value> {
     let round = |v: f32| (f64::from(v) * 1e6).round() / 1e6 + 0.0;
     let mut cameras = vec![];
-    for (k, (name, eye, target)) in info.views.iter().enumerate() {
+    for (k, (name, eye, target)) in views.iter().enumerate() {
         let f = (*target - *eye).normalize_or_zero();
         let r = f.cross(Vec3::Y).try_normalize().unwrap_or(Vec3::X);
         let u = r.cross(f);
