@@ -18,12 +18,12 @@ use crate::render::{AlphaMode, Camera, DrawList, Material, Projection, Wrap};
 #[derive(Debug, Error)]
 pub enum ExportError {
     /// A texture could not be encoded as PNG.
-    #[error("texture {index}: {reason}")]
+    #[error("texture {index}: {source}")]
     Texture {
         /// Texture index in the draw list.
         index: usize,
-        /// The encoder's message.
-        reason: String,
+        /// What the PNG encoder reported.
+        source: image::ImageError,
     },
     /// The frame is too large for one GLB (over 4 GiB).
     #[error("the frame's geometry does not fit in one GLB ({bytes} bytes)")]
@@ -178,7 +178,7 @@ pub fn export_glb(
                         tex.height(),
                         image::ExtendedColorType::Rgba8,
                     )
-                    .map_err(|e| ExportError::Texture { index: t, reason: e.to_string() })?;
+                    .map_err(|source| ExportError::Texture { index: t, source })?;
                     let bv = view(&mut bin, &mut views, &png, None);
                     images.push(json!({"bufferView": bv, "mimeType": "image/png"}));
                     samplers.push(json!({"magFilter": 9728, "minFilter": 9728, "wrapS": key.1, "wrapT": key.2}));
