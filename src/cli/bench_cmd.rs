@@ -104,8 +104,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     }
     let write = |name: &str, bytes: &[u8]| {
         let p = args.out.join(name);
-        crate::userfile::replace_atomically(&p, bytes)
-            .map_err(|e| CliError::Write { path: p.display().to_string(), reason: e.to_string() })
+        crate::userfile::replace_atomically(&p, bytes).map_err(CliError::Write)
     };
     write("bench.csv", csv(&rows, args.threads).as_bytes())?;
     let title = format!(

@@ -20,12 +20,12 @@ pub enum UnusableSettings {
     #[error(transparent)]
     File(#[from] UserFileError),
     /// The text is not JSON.
-    #[error("{path}: {reason}")]
+    #[error("{path}: {source}")]
     Json {
         /// The file.
         path: PathBuf,
         /// What serde_json said (with the line and column).
-        reason: String,
+        source: serde_json::Error,
     },
     /// The JSON is not an object (an array, a number, a string).
     #[error("{path}: not a JSON object")]
@@ -50,7 +50,7 @@ pub(super) fn read_object(path: &Path) -> Result<Option<Map<String, Value>>, Unu
     match serde_json::from_str::<Value>(&text) {
         Ok(Value::Object(doc)) => Ok(Some(doc)),
         Ok(_) => Err(UnusableSettings::NotObject { path: path.to_path_buf() }),
-        Err(e) => Err(UnusableSettings::Json { path: path.to_path_buf(), reason: e.to_string() }),
+        Err(source) => Err(UnusableSettings::Json { path: path.to_path_buf(), source }),
     }
 }
 

@@ -22,23 +22,23 @@ pub enum SettingsError {
     #[error("settings {0} (it changed while the game ran); the file is left as it is and changes will not be saved")]
     Unusable(#[source] UnusableSettings),
     /// The settings' folder could not be created.
-    #[error("cannot save settings: cannot create {path}: {reason}")]
+    #[error("cannot save settings: cannot create {path}: {source}")]
     Folder {
         /// The folder.
         path: PathBuf,
-        /// The operating system's reason.
-        reason: String,
+        /// The operating system's error.
+        source: std::io::Error,
     },
     /// The file could not be written.
     #[error("cannot save settings: {0}")]
     File(#[from] UserFileError),
     /// A setting could not be turned into JSON (not expected: every setting is plain data).
-    #[error("cannot save settings to {path}: {reason}")]
+    #[error("cannot save settings to {path}: {source}")]
     Json {
         /// The file.
         path: PathBuf,
         /// What serde_json said.
-        reason: String,
+        source: serde_json::Error,
     },
 }
 
@@ -52,7 +52,7 @@ impl SettingsFile {
         if !self.writable || *now == self.saved {
             return Ok(false);
         }
-        let json = |e: serde_json::Error| SettingsError::Json { path: self.path.clone(), reason: e.to_string() };
+        let json = |source: serde_json::Error| SettingsError::Json { path: self.path.clone(), source };
         // Through text, so that an `f32` such as 0.2 is written as 0.2 (a direct `to_value` widens it to
         // 0.20000000298023224).
         let value = |s: &Settings| serde_json::to_string(s).and_then(|t| serde_json::from_str::<Value>(&t));
@@ -76,8 +76,7 @@ impl SettingsFile {
         text.push('\n');
         let target = crate::userfile::write_target(&self.path);
         if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| SettingsError::Folder { path: dir.to_path_buf(), reason: e.to_string() })?;
+            std::fs::create_dir_all(dir).map_err(|source| SettingsError::Folder { path: dir.to_path_buf(), source })?;
         }
         crate::userfile::replace_atomically(&self.path, text.as_bytes())?;
         Ok(true)
