@@ -105,6 +105,39 @@ impl Loader<'_> {
         Ok(built)
     }
 
+    /// The primitive's material, its base colour texture decoded (the first time its image is named), and
+    /// the texture coordinate set that texture reads.
+    fn material(&mut self, prim: &gltf::Primitive<'_>) -> Result<(Material, Option<u32>), Failure> {
+        let gmat = prim.material();
+        let pbr = gmat.pbr_metallic_roughness();
+        let mut material = Material {
+            base_color: Vec4::from(pbr.base_color_factor()),
+            double_sided: gmat.double_sided(),
+            alpha_mode: match gmat.alpha_mode() {
+                gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: gmat.alpha_cutoff().unwrap_or(0.5) },
+                _ => AlphaMode::Opaque,
+            },
+            ..Material::default()
+        };
+        let mut uv_set = None;
+        if let Some(info) = pbr.base_color_texture() {
+            let tex = info.texture();
+            let image = tex.source().index();
+            let texture = self.images.texture(
+                self.doc,
+                image,
+                (self.buffers, self.base_dir, &self.file),
+                &mut self.meter,
+                &mut self.out.textures,
+            );
+            material.texture = Some(texture.map_err(Failure::Image)?);
+            let s = tex.sampler();
+            material.sampler = Sampler { wrap_s: wrap(s.wrap_s()), wrap_t: wrap(s.wrap_t()) };
+            uv_set = Some(info.tex_coord());
+        }
+        Ok((material, uv_set))
+    }
+
     fn primitive(
         &mut self,
         prim: &gltf::Primitive<'_>,
@@ -133,33 +166,7 @@ impl Loader<'_> {
         if positions.width != 3 {
             return Err(PrimitiveProblem::PositionWidth { components: positions.width }.into());
         }
-        let gmat = prim.material();
-        let pbr = gmat.pbr_metallic_roughness();
-        let mut material = Material {
-            base_color: Vec4::from(pbr.base_color_factor()),
-            double_sided: gmat.double_sided(),
-            alpha_mode: match gmat.alpha_mode() {
-                gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: gmat.alpha_cutoff().unwrap_or(0.5) },
-                _ => AlphaMode::Opaque,
-            },
-            ..Material::default()
-        };
-        let mut uv_set = None;
-        if let Some(info) = pbr.base_color_texture() {
-            let tex = info.texture();
-            let image = tex.source().index();
-            let texture = self.images.texture(
-                self.doc,
-                image,
-                (self.buffers, self.base_dir, &self.file),
-                &mut self.meter,
-                &mut self.out.textures,
-            );
-            material.texture = Some(texture.map_err(Failure::Image)?);
-            let s = tex.sampler();
-            material.sampler = Sampler { wrap_s: wrap(s.wrap_s()), wrap_t: wrap(s.wrap_t()) };
-            uv_set = Some(info.tex_coord());
-        }
+        let (material, uv_set) = self.material(prim)?;
         let uvs = match uv_set.and_then(|set| prim.get(&gltf::Semantic::TexCoords(set))) {
             Some(acc) => {
                 let e = self.floats(&acc, "TEXCOORD")?;
@@ -194,15 +201,7 @@ impl Loader<'_> {
             return Err(PrimitiveProblem::IndexOutOfRange { index, vertices: n }.into());
         }
         let base = b.vertex_count() as u32;
-        let mut verts = Vec::with_capacity(n);
-        for i in 0..n {
-            let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
-            let uv = uvs.as_ref().map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
-            let color = colors.as_ref().map_or(Vec4::ONE, |e| {
-                Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
-            });
-            verts.push(Vertex { position, uv, color });
-        }
+        let verts = vertices(n, &positions, uvs.as_deref(), colors.as_deref());
         let m = b.material(material);
         for v in &verts {
             b.vertex(*v);
@@ -238,6 +237,21 @@ pub fn reversed_winding(mesh: &Mesh) -> Result<Mesh, MeshError> {
         b.polygon(&rev, p.material);
     }
     b.build()
+}
+
+/// The first `n` vertices from their positions, texture coordinates (zero without) and colours (white
+/// without; opaque when RGB).
+fn vertices(n: usize, positions: &Elements, uvs: Option<&Elements>, colors: Option<&Elements>) -> Vec<Vertex> {
+    (0..n)
+        .map(|i| {
+            let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
+            let uv = uvs.map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
+            let color = colors.map_or(Vec4::ONE, |e| {
+                Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
+            });
+            Vertex { position, uv, color }
+        })
+        .collect()
 }
 
 /// The primitive whose polygons include polygon `n` of the mesh, given each primitive's index and the
