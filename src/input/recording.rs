@@ -1,14 +1,13 @@
 //! A race being recorded to a trace file: written to a new temporary file beside the target, and renamed
 //! over the target only when there is a race to keep.
 //!
-//! Why: recording used to create (truncate) the target at start-up, so `play --record best.trace` left a
-//! 142-byte header where the user's 58 KB race had been even when they quit from the main menu, and
-//! `play --ghost g.trace --record g.trace` destroyed the ghost it was about to race. Now the target is
-//! untouched until [`Recording::finish`]: a race of at least one tick replaces it (a race quit half-way is
-//! kept: its trace replays up to where it stopped, as a crash-cut trace does); with nothing raced the
-//! temporary file is removed and the target stays as it was. A process killed mid-race leaves the race in
-//! the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a rename that fails leaves it there too and
-//! says so; a recorded race is never deleted.
+//! Why: the target may hold a race the user wants to keep (their best race, or the very trace the ghost is
+//! searched in: `play --ghost g.trace --record g.trace`), and a run that races nothing (quitting from the
+//! main menu) must not cost it. So the target is untouched until [`Recording::finish`]: a race of at least
+//! one tick replaces it (a race quit half-way is kept: its trace replays up to where it stopped, as a
+//! crash-cut trace does); with nothing raced the temporary file is removed and the target stays as it was.
+//! A process killed mid-race leaves the race in the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a
+//! rename that fails leaves it there too and says so; a recorded race is never deleted.
 
 use std::path::{Path, PathBuf};
 

@@ -23,8 +23,6 @@ pub const MAGIC: &[u8; 8] = b"SRTRACE\0";
 pub const FORMAT_VERSION: u16 = 1;
 /// Version of the simulation rules: bumped when `game::step` changes behaviour, so an old trace is refused
 /// with a clear message instead of diverging (build details that do not change the simulation keep it).
-/// Version 2: the simulation's transcendental functions come from the portable `libm` crate, not the
-/// platform's maths library, so its checksums differ from version 1's in the last place.
 pub const SIM_VERSION: u32 = 2;
 /// Largest header accepted.
 const MAX_HEADER: u32 = 64 * 1024;
