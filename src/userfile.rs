@@ -14,30 +14,38 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-/// Why a user's file could not be read or written; every variant names the path.
+/// Why a user's file could not be read or written: the path, and what is wrong with it.
 #[derive(Debug, Error)]
-pub enum UserFileError {
-    /// The path does not exist or cannot be examined or opened.
-    #[error("{path}: {reason}")]
-    Io {
-        /// The path.
-        path: PathBuf,
-        /// The operating system's reason.
-        reason: String,
-    },
+#[error("{path}: {problem}")]
+pub struct UserFileError {
+    /// The path (for a write through a link, the file the link leads to).
+    pub path: PathBuf,
+    /// What is wrong with it.
+    #[source]
+    pub problem: FileProblem,
+}
+
+/// What is wrong with a user's file.
+#[derive(Debug, Error)]
+pub enum FileProblem {
+    /// The path does not exist or cannot be examined, opened, read or written.
+    #[error("{}", io_reason(.0))]
+    Io(#[source] std::io::Error),
+    /// The folder an output file would go in does not exist.
+    #[error("no such folder")]
+    NoFolder,
+    /// The file is not UTF-8 text.
+    #[error("not UTF-8 text ({0})")]
+    NotUtf8(#[source] std::string::FromUtf8Error),
     /// The path names something that is not a regular file (a folder, a FIFO, a device, a socket).
-    #[error("{path}: is {kind}, not a regular file")]
+    #[error("is {kind}, not a regular file")]
     NotRegular {
-        /// The path.
-        path: PathBuf,
         /// What it is instead ("a folder", "a FIFO", ...).
         kind: &'static str,
     },
     /// The file is larger than the reader's budget.
-    #[error("{path}: {size} bytes is over the {limit}-byte limit for {what}")]
+    #[error("{size} bytes is over the {limit}-byte limit for {what}")]
     TooBig {
-        /// The path.
-        path: PathBuf,
         /// Its size in bytes (or the bytes read before the budget ran out).
         size: u64,
         /// The budget in bytes.
@@ -47,19 +55,30 @@ pub enum UserFileError {
     },
 }
 
+/// An I/O error as the one-line messages say it: "no such file" for a missing path, else the operating
+/// system's words.
+fn io_reason(e: &std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::NotFound { "no such file".to_string() } else { e.to_string() }
+}
+
 impl UserFileError {
+    fn new(path: &Path, problem: FileProblem) -> Self {
+        Self { path: path.to_path_buf(), problem }
+    }
+
     /// Whether the error means the path does not exist.
     #[must_use]
     pub fn is_not_found(&self) -> bool {
-        matches!(self, Self::Io { reason, .. } if reason == NOT_FOUND)
+        matches!(&self.problem, FileProblem::Io(e) if e.kind() == std::io::ErrorKind::NotFound)
     }
 }
 
-const NOT_FOUND: &str = "no such file";
+fn io(path: &Path, e: std::io::Error) -> UserFileError {
+    UserFileError::new(path, FileProblem::Io(e))
+}
 
-fn io(path: &Path, e: &std::io::Error) -> UserFileError {
-    let reason = if e.kind() == std::io::ErrorKind::NotFound { NOT_FOUND.to_string() } else { e.to_string() };
-    UserFileError::Io { path: path.to_path_buf(), reason }
+fn not_regular(path: &Path, ft: std::fs::FileType) -> UserFileError {
+    UserFileError::new(path, FileProblem::NotRegular { kind: kind_of(ft) })
 }
 
 /// What a file type is, in words, for messages.
@@ -82,12 +101,12 @@ fn kind_of(ft: std::fs::FileType) -> &'static str {
 
 /// Checks that `path` (after following links) is a regular file of at most `limit` bytes; returns its size.
 pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64, UserFileError> {
-    let meta = std::fs::metadata(path).map_err(|e| io(path, &e))?;
+    let meta = std::fs::metadata(path).map_err(|e| io(path, e))?;
     if !meta.is_file() {
-        return Err(UserFileError::NotRegular { path: path.to_path_buf(), kind: kind_of(meta.file_type()) });
+        return Err(not_regular(path, meta.file_type()));
     }
     if meta.len() > limit {
-        return Err(UserFileError::TooBig { path: path.to_path_buf(), size: meta.len(), limit, what });
+        return Err(UserFileError::new(path, FileProblem::TooBig { size: meta.len(), limit, what }));
     }
     Ok(meta.len())
 }
@@ -97,10 +116,10 @@ pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64,
 /// the file meanwhile.
 pub fn open_regular(path: &Path, limit: u64, what: &'static str) -> Result<std::io::Take<File>, UserFileError> {
     check_regular(path, limit, what)?;
-    let file = open_nonblocking(path).map_err(|e| io(path, &e))?;
-    let meta = file.metadata().map_err(|e| io(path, &e))?;
+    let file = open_nonblocking(path).map_err(|e| io(path, e))?;
+    let meta = file.metadata().map_err(|e| io(path, e))?;
     if !meta.is_file() {
-        return Err(UserFileError::NotRegular { path: path.to_path_buf(), kind: kind_of(meta.file_type()) });
+        return Err(not_regular(path, meta.file_type()));
     }
     Ok(file.take(limit))
 }
@@ -137,11 +156,11 @@ pub fn read_regular(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u
     let size = check_regular(path, limit, what)?;
     let mut reader = open_regular(path, limit, what)?;
     let mut out = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
-    reader.read_to_end(&mut out).map_err(|e| io(path, &e))?;
+    reader.read_to_end(&mut out).map_err(|e| io(path, e))?;
     // A file that grew past the budget after the check: one byte more tells.
     let mut probe = [0u8; 1];
-    if out.len() as u64 == limit && reader.into_inner().read(&mut probe).map_err(|e| io(path, &e))? > 0 {
-        return Err(UserFileError::TooBig { path: path.to_path_buf(), size: limit + 1, limit, what });
+    if out.len() as u64 == limit && reader.into_inner().read(&mut probe).map_err(|e| io(path, e))? > 0 {
+        return Err(UserFileError::new(path, FileProblem::TooBig { size: limit + 1, limit, what }));
     }
     Ok(out)
 }
@@ -149,8 +168,7 @@ pub fn read_regular(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u
 /// Reads a whole regular UTF-8 text file of at most `limit` bytes.
 pub fn read_regular_text(path: &Path, limit: u64, what: &'static str) -> Result<String, UserFileError> {
     let bytes = read_regular(path, limit, what)?;
-    String::from_utf8(bytes)
-        .map_err(|e| UserFileError::Io { path: path.to_path_buf(), reason: format!("not UTF-8 text ({e})") })
+    String::from_utf8(bytes).map_err(|e| UserFileError::new(path, FileProblem::NotUtf8(e)))
 }
 
 /// Most symbolic links followed to find the file a write replaces (Linux's own limit is 40).
@@ -194,20 +212,18 @@ pub fn check_output(path: &Path) -> Result<(), UserFileError> {
     let target = write_target(path);
     match std::fs::metadata(&target) {
         Ok(meta) if !meta.is_file() => {
-            return Err(UserFileError::NotRegular { path: target, kind: kind_of(meta.file_type()) });
+            return Err(not_regular(&target, meta.file_type()));
         }
         Ok(_) => return Ok(()),
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(&target, &e)),
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(&target, e)),
         Err(_) => {}
     }
     let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     match std::fs::metadata(dir) {
         Ok(meta) if meta.is_dir() => Ok(()),
-        Ok(meta) => Err(UserFileError::NotRegular { path: dir.to_path_buf(), kind: kind_of(meta.file_type()) }),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            Err(UserFileError::Io { path: dir.to_path_buf(), reason: "no such folder".into() })
-        }
-        Err(e) => Err(io(dir, &e)),
+        Ok(meta) => Err(not_regular(dir, meta.file_type())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(UserFileError::new(dir, FileProblem::NoFolder)),
+        Err(e) => Err(io(dir, e)),
     }
 }
 
@@ -218,7 +234,7 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
     if let Ok(meta) = std::fs::metadata(&target)
         && !meta.is_file()
     {
-        return Err(UserFileError::NotRegular { path: target, kind: kind_of(meta.file_type()) });
+        return Err(not_regular(&target, meta.file_type()));
     }
     let tmp = temp_sibling(&target);
     let old_permissions = std::fs::metadata(&target).ok().map(|m| m.permissions());
@@ -235,7 +251,7 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
     })();
     result.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        io(&target, &e)
+        io(&target, e)
     })
 }
 
@@ -253,11 +269,14 @@ mod tests {
     #[test]
     fn refuses_folders_devices_and_big_files() {
         let d = dir("refuse");
-        assert!(matches!(read_regular(&d, 10, "a test"), Err(UserFileError::NotRegular { kind: "a folder", .. })));
+        assert!(matches!(
+            read_regular(&d, 10, "a test"),
+            Err(UserFileError { problem: FileProblem::NotRegular { kind: "a folder" }, .. })
+        ));
         #[cfg(unix)]
         assert!(matches!(
             read_regular(Path::new("/dev/zero"), 10, "a test"),
-            Err(UserFileError::NotRegular { kind: "a device", .. })
+            Err(UserFileError { problem: FileProblem::NotRegular { kind: "a device" }, .. })
         ));
         let f = d.join("big");
         std::fs::write(&f, [1u8; 11]).unwrap();
@@ -274,7 +293,10 @@ mod tests {
         let p = d.join("pipe");
         let made = std::process::Command::new("mkfifo").arg(&p).status().map(|s| s.success()).unwrap_or(false);
         assert!(made, "mkfifo failed");
-        assert!(matches!(read_regular(&p, 10, "a test"), Err(UserFileError::NotRegular { kind: "a FIFO", .. })));
+        assert!(matches!(
+            read_regular(&p, 10, "a test"),
+            Err(UserFileError { problem: FileProblem::NotRegular { kind: "a FIFO" }, .. })
+        ));
     }
 
     #[cfg(unix)]

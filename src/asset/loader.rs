@@ -28,13 +28,14 @@ use super::accessor::AccessorCache;
 pub use super::budget::LoadBudget;
 use super::budget::{Limit, Meter, OverBudget};
 pub use super::error::AssetError;
+use super::error::{CameraProblem, LodProblem, ParseError, Place, SceneProblem};
 use super::meshes::reversed_winding;
 pub use super::scene::{LoadedScene, SceneCamera};
 pub use super::sources::MAX_IMAGE_SIDE;
 use super::sources::{Images, Parsed, load_buffers, parse};
 use super::state::Loader;
 use crate::render::{Camera, Instance, LodSet, Mesh, Projection};
-use crate::userfile::{UserFileError, read_regular};
+use crate::userfile::{FileProblem, read_regular};
 
 /// Switch sizes (projected height in pixels) for LOD sets that give no `MSFT_screencoverage` hints.
 pub const DEFAULT_SWITCH_PX: [f32; 2] = [100.0, 24.0];
@@ -50,16 +51,11 @@ pub fn load(path: &Path) -> Result<LoadedScene, AssetError> {
 /// Loads a `.gltf` or `.glb` file within `budget`.
 pub fn load_with_budget(path: &Path, budget: &LoadBudget) -> Result<LoadedScene, AssetError> {
     let file = path.display().to_string();
-    let bytes = read_regular(path, budget.file_bytes, "a glTF file").map_err(|e| match e {
-        UserFileError::TooBig { size, limit, .. } => AssetError::budget(
-            &file,
-            "the file".into(),
-            OverBudget { limit: Limit::FileBytes, needed: size, allowed: limit },
-        ),
-        UserFileError::Io { reason, .. } => AssetError::Read { file: file.clone(), reason },
-        UserFileError::NotRegular { kind, .. } => {
-            AssetError::Read { file: file.clone(), reason: format!("is {kind}, not a regular file") }
+    let bytes = read_regular(path, budget.file_bytes, "a glTF file").map_err(|e| match e.problem {
+        FileProblem::TooBig { size, limit, .. } => {
+            AssetError::budget(&file, Place::File, OverBudget { limit: Limit::FileBytes, needed: size, allowed: limit })
         }
+        problem => AssetError::Read { file: file.clone(), problem },
     })?;
     let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     load_from_slice_with_budget(&bytes, base, &file, budget)
@@ -80,13 +76,10 @@ pub fn load_from_slice_with_budget(
     budget: &LoadBudget,
 ) -> Result<LoadedScene, AssetError> {
     let mut meter = Meter::new(*budget);
-    meter
-        .charge(Limit::FileBytes, bytes.len() as u64)
-        .map_err(|over| AssetError::budget(file, "the file".into(), over))?;
-    let Parsed { doc, blob } =
-        parse(bytes).map_err(|reason| AssetError::Parse { file: file.to_string(), reason: one_line(&reason) })?;
-    super::validate::check(doc.as_json())
-        .map_err(|e| AssetError::Parse { file: file.to_string(), reason: e.to_string() })?;
+    meter.charge(Limit::FileBytes, bytes.len() as u64).map_err(|over| AssetError::budget(file, Place::File, over))?;
+    let parse_error = |problem: ParseError| AssetError::Parse { file: file.to_string(), problem };
+    let Parsed { doc, blob } = parse(bytes).map_err(parse_error)?;
+    super::validate::check(doc.as_json()).map_err(|e| parse_error(e.into()))?;
     let buffers = load_buffers(&doc, blob, base_dir, &mut meter, file)?;
     let slices = buffers.slices();
     let mut loader = Loader {
@@ -104,18 +97,6 @@ pub fn load_from_slice_with_budget(
     };
     loader.load_scene()?;
     Ok(loader.out)
-}
-
-/// Most characters of a parser's message kept in an error (validation lists every problem it finds).
-const MAX_REASON_CHARS: usize = 400;
-
-/// A parser's message on one line, cut to [`MAX_REASON_CHARS`].
-fn one_line(s: &str) -> String {
-    let line = s.split_whitespace().collect::<Vec<_>>().join(" ");
-    match line.char_indices().nth(MAX_REASON_CHARS) {
-        Some((cut, _)) => format!("{} … ({} more characters)", &line[..cut], line.len() - cut),
-        None => line,
-    }
 }
 
 /// Vertex transforms the scene's bounds may spend per load on exact boxes (4 Mi, tens of milliseconds):
@@ -194,7 +175,7 @@ impl<'a> Loader<'a> {
         // work of grouping a node's children (a node may list a million children) outgrows the budget.
         self.meter
             .charge(Limit::NodeVisits, roots.len() as u64)
-            .map_err(|over| AssetError::budget(&self.file, "the scene's root nodes".into(), over))?;
+            .map_err(|over| AssetError::budget(&self.file, Place::RootNodes, over))?;
         // (node, parent's world transform, depth, nodes holding its middle and long models by naming convention)
         let mut stack: Vec<(gltf::Node<'a>, Mat4, usize, Vec<gltf::Node<'a>>)> =
             roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY, 0, vec![])).collect();
@@ -207,17 +188,15 @@ impl<'a> Loader<'a> {
             exact_left: EXACT_BOUNDS_VERTICES,
         };
         while let Some((node, parent, depth, named_lods)) = stack.pop() {
-            let at = || format!("node {}", node.index());
-            self.meter.check_depth(depth as u64).map_err(|over| AssetError::budget(&self.file, at(), over))?;
+            let at = Place::Node(node.index());
+            self.meter.check_depth(depth as u64).map_err(|over| AssetError::budget(&self.file, at, over))?;
             while path.len() > depth {
                 if let Some(n) = path.pop() {
                     on_path[n] = false;
                 }
             }
             if on_path.get(node.index()).copied().unwrap_or(false) {
-                return Err(
-                    self.scene_error(format!("node hierarchy is cyclic (node {} is its own ancestor)", node.index()))
-                );
+                return Err(self.scene_error(SceneProblem::Cycle { node: node.index() }));
             }
             if let Some(flag) = on_path.get_mut(node.index()) {
                 *flag = true;
@@ -237,7 +216,7 @@ impl<'a> Loader<'a> {
             }
             self.meter
                 .charge(Limit::NodeVisits, node.children().len() as u64)
-                .map_err(|over| AssetError::budget(&self.file, format!("{}'s children", at()), over))?;
+                .map_err(|over| AssetError::budget(&self.file, Place::Children(node.index()), over))?;
             for (child, alternates) in named_lod_groups(node.children().collect()).into_iter().rev() {
                 stack.push((child, world, depth + 1, alternates));
             }
@@ -267,7 +246,7 @@ impl<'a> Loader<'a> {
         let mut meshes = [index; 3];
         for (k, alt) in alternates.iter().take(2).enumerate() {
             let Some(m) = alt.mesh() else {
-                return Err(self.scene_error(format!("LOD node {} has no mesh", alt.index())));
+                return Err(self.scene_error(SceneProblem::LodWithoutMesh { node: alt.index() }));
             };
             meshes[k + 1] = self.mesh_index(&m)?;
         }
@@ -282,14 +261,15 @@ impl<'a> Loader<'a> {
         }
         let (mut vertices, mut polygons) = (0, 0);
         for &m in &meshes {
-            let mesh = self.out.meshes.get(m).ok_or_else(|| self.scene_error(format!("mesh slot {m} is missing")))?;
+            let mesh =
+                self.out.meshes.get(m).ok_or_else(|| self.scene_error(SceneProblem::MissingMeshSlot { slot: m }))?;
             vertices = vertices.max(mesh.vertices().len() as u64);
             polygons = polygons.max(mesh.polygons().len() as u64);
         }
         self.meter
             .charge(Limit::Vertices, vertices)
             .and_then(|()| self.meter.charge(Limit::Polygons, polygons))
-            .map_err(|over| AssetError::budget(&self.file, format!("node {}", node.index()), over))?;
+            .map_err(|over| AssetError::budget(&self.file, Place::Node(node.index()), over))?;
         if let Some(mesh) = self.out.meshes.get(meshes[0]) {
             bounds.add(mesh, self.local_bounds.get(meshes[0]).copied().flatten(), world);
         }
@@ -303,8 +283,8 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn scene_error(&self, reason: String) -> AssetError {
-        AssetError::Scene { file: self.file.clone(), reason }
+    fn scene_error(&self, problem: SceneProblem) -> AssetError {
+        AssetError::Scene { file: self.file.clone(), problem }
     }
 
     /// The renderer mesh for a glTF mesh, loading it the first time.
@@ -325,9 +305,12 @@ impl<'a> Loader<'a> {
         if let Some(&i) = self.mirrored.get(&index) {
             return Ok(i);
         }
-        let mesh =
-            self.out.meshes.get(index).ok_or_else(|| self.scene_error(format!("mesh slot {index} is missing")))?;
-        let copy = reversed_winding(mesh).map_err(|e| self.scene_error(format!("mirrored mesh: {e}")))?;
+        let mesh = self
+            .out
+            .meshes
+            .get(index)
+            .ok_or_else(|| self.scene_error(SceneProblem::MissingMeshSlot { slot: index }))?;
+        let copy = reversed_winding(mesh).map_err(|e| self.scene_error(SceneProblem::Mirrored(e)))?;
         self.local_bounds.push(self.local_bounds.get(index).copied().flatten());
         self.out.meshes.push(copy);
         let i = self.out.meshes.len() - 1;
@@ -348,14 +331,14 @@ impl<'a> Loader<'a> {
         let Some(ext) = node.extension_value("MSFT_lod") else {
             return Ok(None);
         };
-        let bad = |what: &str| self.scene_error(format!("node {}: MSFT_lod {what}", node.index()));
-        let ids = ext.get("ids").and_then(|v| v.as_array()).ok_or_else(|| bad("has no 'ids' array"))?;
+        let bad = |problem| self.scene_error(SceneProblem::MsftLod { node: node.index(), problem });
+        let ids = ext.get("ids").and_then(|v| v.as_array()).ok_or_else(|| bad(LodProblem::NoIds))?;
         let mut alternates = vec![];
-        for id in ids.iter().take(8) {
+        for (entry, id) in ids.iter().take(8).enumerate() {
             let n = id
                 .as_u64()
                 .and_then(|i| doc.nodes().nth(usize::try_from(i).ok()?))
-                .ok_or_else(|| bad("names a missing node"))?;
+                .ok_or_else(|| bad(LodProblem::MissingNode { entry }))?;
             alternates.push(n);
         }
         let coverage = node.extras().as_ref().and_then(|raw| {
@@ -370,18 +353,15 @@ impl<'a> Loader<'a> {
     }
 
     fn camera(&self, cam: &gltf::Camera<'_>, world: Mat4) -> Result<Camera, AssetError> {
-        let bad = |what: &str| AssetError::Scene {
-            file: self.file.clone(),
-            reason: format!("camera {}: {what}", cam.index()),
-        };
+        let bad = |problem| self.scene_error(SceneProblem::Camera { camera: cam.index(), problem });
         let positive = |v: f32| v.is_finite() && v > 0.0;
         let projection = match cam.projection() {
             gltf::camera::Projection::Perspective(p) => {
                 if !(positive(p.yfov()) && p.yfov() < std::f32::consts::PI) {
-                    return Err(bad("yfov must be between 0 and pi"));
+                    return Err(bad(CameraProblem::FieldOfView { yfov: p.yfov() }));
                 }
                 if !positive(p.znear()) || p.zfar().is_some_and(|f| !(f.is_finite() && f > p.znear())) {
-                    return Err(bad("znear must be positive and zfar beyond it"));
+                    return Err(bad(CameraProblem::PerspectiveDepth { znear: p.znear(), zfar: p.zfar() }));
                 }
                 Projection::Perspective {
                     yfov: p.yfov(),
@@ -392,17 +372,17 @@ impl<'a> Loader<'a> {
             }
             gltf::camera::Projection::Orthographic(o) => {
                 if !(o.xmag().is_finite() && o.xmag() != 0.0 && o.ymag().is_finite() && o.ymag() != 0.0) {
-                    return Err(bad("xmag and ymag must be finite and non-zero"));
+                    return Err(bad(CameraProblem::Magnification { xmag: o.xmag(), ymag: o.ymag() }));
                 }
                 if !(o.znear().is_finite() && o.znear() >= 0.0 && o.zfar().is_finite() && o.zfar() > o.znear()) {
-                    return Err(bad("znear must be at least 0 and zfar beyond it"));
+                    return Err(bad(CameraProblem::OrthographicDepth { znear: o.znear(), zfar: o.zfar() }));
                 }
                 Projection::Orthographic { xmag: o.xmag(), ymag: o.ymag(), znear: o.znear(), zfar: o.zfar() }
             }
         };
         let view = world.inverse();
         if !view.is_finite() {
-            return Err(bad("its node transform cannot be inverted"));
+            return Err(bad(CameraProblem::NotInvertible));
         }
         Ok(Camera { view, projection })
     }

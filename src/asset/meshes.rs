@@ -9,18 +9,30 @@ use gltf::mesh::Mode;
 
 use super::accessor::{Elements, read_floats, read_indices};
 use super::budget::{Limit, OverBudget};
-use super::error::AssetError;
+use super::error::{AssetError, Place, PrimitiveProblem};
 use super::quads::merge_pairs;
 use super::state::Loader;
 use crate::render::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Sampler, Vertex, Wrap};
 
 /// Why a primitive could not be read: the file is wrong, or it needs more than the budget.
 enum Failure {
-    Bad(String),
-    /// Over the budget, with what in the primitive asked for it.
-    OverAt(String, OverBudget),
+    Bad(PrimitiveProblem),
+    /// Over the budget, with the accessor in the primitive that asked for it.
+    OverAt {
+        /// What the accessor holds (`POSITION`, `indices`, ...).
+        semantic: &'static str,
+        /// glTF accessor index.
+        accessor: usize,
+        over: OverBudget,
+    },
     /// A texture's image failed (its error already names the file and the image).
     Image(AssetError),
+}
+
+impl From<PrimitiveProblem> for Failure {
+    fn from(p: PrimitiveProblem) -> Self {
+        Failure::Bad(p)
+    }
 }
 
 /// Numbers an accessor materialises: elements times components.
@@ -29,13 +41,14 @@ fn values_of(acc: &gltf::Accessor<'_>) -> u64 {
 }
 
 impl Loader<'_> {
-    fn floats(&mut self, acc: &gltf::Accessor<'_>, what: &str) -> Result<Rc<Elements>, Failure> {
+    fn floats(&mut self, acc: &gltf::Accessor<'_>, semantic: &'static str) -> Result<Rc<Elements>, Failure> {
         if let Some(e) = self.accessors.floats.get(&acc.index()) {
             return Ok(Rc::clone(e));
         }
-        let over = |over| Failure::OverAt(format!("{what} accessor {}", acc.index()), over);
+        let over = |over| Failure::OverAt { semantic, accessor: acc.index(), over };
         self.meter.charge(Limit::AccessorValues, values_of(acc)).map_err(over)?;
-        let e = Rc::new(read_floats(acc, self.buffers).map_err(|e| Failure::Bad(format!("{what}: {e}")))?);
+        let read = read_floats(acc, self.buffers).map_err(|source| PrimitiveProblem::Accessor { semantic, source });
+        let e = Rc::new(read?);
         self.accessors.floats.insert(acc.index(), Rc::clone(&e));
         Ok(e)
     }
@@ -44,69 +57,57 @@ impl Loader<'_> {
         if let Some(e) = self.accessors.indices.get(&acc.index()) {
             return Ok(Rc::clone(e));
         }
-        let over = |over| Failure::OverAt(format!("indices accessor {}", acc.index()), over);
+        let semantic = "indices";
+        let over = |over| Failure::OverAt { semantic, accessor: acc.index(), over };
         self.meter.charge(Limit::AccessorValues, values_of(acc)).map_err(over)?;
-        let e = Rc::new(read_indices(acc, self.buffers).map_err(|e| Failure::Bad(format!("indices: {e}")))?);
+        let read = read_indices(acc, self.buffers).map_err(|source| PrimitiveProblem::Accessor { semantic, source });
+        let e = Rc::new(read?);
         self.accessors.indices.insert(acc.index(), Rc::clone(&e));
         Ok(e)
     }
 
     /// Builds the renderer mesh for a glTF mesh. Before a primitive's accessors are read, its vertices and
     /// (at least half its triangles, as merging makes at most one quad of two) polygons must fit in the
-    /// budget left after the instances placed so far, since this mesh will be placed at least once.
+    /// budget left after the instances placed so far, since this mesh will be placed at least once. A
+    /// polygon the mesh builder refuses is reported against the primitive it came from.
     pub(super) fn mesh(&mut self, mesh: &gltf::Mesh<'_>) -> Result<Mesh, AssetError> {
         let mut b = MeshBuilder::new();
         let mut polygons = 0u64;
+        // Each primitive's index and the polygon count of the mesh after it.
+        let mut ends: Vec<(usize, u64)> = Vec::new();
         for prim in mesh.primitives() {
-            let file = self.file.clone();
-            let at = || format!("mesh {} primitive {}", mesh.index(), prim.index());
+            let (file, mesh, primitive) = (self.file.clone(), mesh.index(), prim.index());
             self.primitive(&prim, &mut b, &mut polygons).map_err(|f| match f {
-                Failure::Bad(reason) => {
-                    AssetError::Primitive { file: file.clone(), mesh: mesh.index(), primitive: prim.index(), reason }
+                Failure::Bad(problem) => AssetError::Primitive { file: file.clone(), mesh, primitive, problem },
+                Failure::OverAt { semantic, accessor, over } => {
+                    AssetError::budget(&file, Place::Accessor { mesh, primitive, semantic, accessor }, over)
                 }
-                Failure::OverAt(what, over) => AssetError::budget(&file, format!("{}: {what}", at()), over),
                 Failure::Image(e) => e,
             })?;
+            ends.push((primitive, polygons));
         }
-        let mut built = b.build().map_err(|e| AssetError::Primitive {
-            file: self.file.clone(),
-            mesh: mesh.index(),
-            primitive: 0,
-            reason: e.to_string(),
+        let mut built = b.build().map_err(|problem| {
+            let (file, mesh) = (self.file.clone(), mesh.index());
+            let polygon = match &problem {
+                MeshError::IndexOutOfRange { polygon, .. } | MeshError::MaterialOutOfRange { polygon, .. } => {
+                    Some(*polygon as u64)
+                }
+                MeshError::TooLarge { .. } => None,
+            };
+            match polygon.and_then(|n| primitive_holding(&ends, n)) {
+                Some(primitive) => {
+                    AssetError::Primitive { file, mesh, primitive, problem: PrimitiveProblem::Build(problem) }
+                }
+                None => AssetError::Mesh { file, mesh, problem },
+            }
         })?;
         super::decals::mark_decals(&mut built, self.meter.decal_pairs_left());
         Ok(built)
     }
 
-    fn primitive(
-        &mut self,
-        prim: &gltf::Primitive<'_>,
-        b: &mut MeshBuilder,
-        polygons: &mut u64,
-    ) -> Result<(), Failure> {
-        if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            self.out.skipped_primitives += 1;
-            return Ok(());
-        }
-        let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
-            self.out.skipped_primitives += 1;
-            return Ok(());
-        };
-        let n = pos_acc.count();
-        let corners = prim.indices().map_or(n, |acc| acc.count());
-        let tris = match prim.mode() {
-            Mode::Triangles => corners / 3,
-            _ => corners.saturating_sub(2),
-        } as u64;
-        let what = format!("POSITION accessor {}", pos_acc.index());
-        self.meter
-            .check(Limit::Vertices, b.vertex_count() as u64 + n as u64)
-            .and_then(|()| self.meter.check(Limit::Polygons, *polygons + tris.div_ceil(2)))
-            .map_err(|over| Failure::OverAt(what, over))?;
-        let positions = self.floats(&pos_acc, "POSITION")?;
-        if positions.width != 3 {
-            return Err(Failure::Bad("POSITION must be VEC3".into()));
-        }
+    /// The primitive's material, its base colour texture decoded (the first time its image is named), and
+    /// the texture coordinate set that texture reads.
+    fn material(&mut self, prim: &gltf::Primitive<'_>) -> Result<(Material, Option<u32>), Failure> {
         let gmat = prim.material();
         let pbr = gmat.pbr_metallic_roughness();
         let mut material = Material {
@@ -134,10 +135,42 @@ impl Loader<'_> {
             material.sampler = Sampler { wrap_s: wrap(s.wrap_s()), wrap_t: wrap(s.wrap_t()) };
             uv_set = Some(info.tex_coord());
         }
+        Ok((material, uv_set))
+    }
+
+    fn primitive(
+        &mut self,
+        prim: &gltf::Primitive<'_>,
+        b: &mut MeshBuilder,
+        polygons: &mut u64,
+    ) -> Result<(), Failure> {
+        if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            self.out.skipped_primitives += 1;
+            return Ok(());
+        }
+        let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
+            self.out.skipped_primitives += 1;
+            return Ok(());
+        };
+        let n = pos_acc.count();
+        let corners = prim.indices().map_or(n, |acc| acc.count());
+        let tris = match prim.mode() {
+            Mode::Triangles => corners / 3,
+            _ => corners.saturating_sub(2),
+        } as u64;
+        self.meter
+            .check(Limit::Vertices, b.vertex_count() as u64 + n as u64)
+            .and_then(|()| self.meter.check(Limit::Polygons, *polygons + tris.div_ceil(2)))
+            .map_err(|over| Failure::OverAt { semantic: "POSITION", accessor: pos_acc.index(), over })?;
+        let positions = self.floats(&pos_acc, "POSITION")?;
+        if positions.width != 3 {
+            return Err(PrimitiveProblem::PositionWidth { components: positions.width }.into());
+        }
+        let (material, uv_set) = self.material(prim)?;
         let uvs = match uv_set.and_then(|set| prim.get(&gltf::Semantic::TexCoords(set))) {
             Some(acc) => {
                 let e = self.floats(&acc, "TEXCOORD")?;
-                check_attr(&e, n, 2, "TEXCOORD").map_err(Failure::Bad)?;
+                check_attr(&e, n, 2, "TEXCOORD")?;
                 Some(e)
             }
             None => None,
@@ -146,9 +179,9 @@ impl Loader<'_> {
             Some(acc) => {
                 let e = self.floats(&acc, "COLOR_0")?;
                 if e.width != 3 && e.width != 4 {
-                    return Err(Failure::Bad("COLOR_0 must be VEC3 or VEC4".into()));
+                    return Err(PrimitiveProblem::ColorWidth { components: e.width }.into());
                 }
-                check_attr(&e, n, e.width, "COLOR_0").map_err(Failure::Bad)?;
+                check_attr(&e, n, e.width, "COLOR_0")?;
                 Some(e)
             }
             None => None,
@@ -164,19 +197,11 @@ impl Loader<'_> {
                 &sequential
             }
         };
-        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
-            return Err(Failure::Bad(format!("index {bad} is out of range for {n} vertices")));
+        if let Some(&index) = indices.iter().find(|&&i| i as usize >= n) {
+            return Err(PrimitiveProblem::IndexOutOfRange { index, vertices: n }.into());
         }
         let base = b.vertex_count() as u32;
-        let mut verts = Vec::with_capacity(n);
-        for i in 0..n {
-            let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
-            let uv = uvs.as_ref().map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
-            let color = colors.as_ref().map_or(Vec4::ONE, |e| {
-                Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
-            });
-            verts.push(Vertex { position, uv, color });
-        }
+        let verts = vertices(n, &positions, uvs.as_deref(), colors.as_deref());
         let m = b.material(material);
         for v in &verts {
             b.vertex(*v);
@@ -214,12 +239,34 @@ pub fn reversed_winding(mesh: &Mesh) -> Result<Mesh, MeshError> {
     b.build()
 }
 
-fn check_attr(e: &Elements, n: usize, width: usize, what: &str) -> Result<(), String> {
+/// The first `n` vertices from their positions, texture coordinates (zero without) and colours (white
+/// without; opaque when RGB).
+fn vertices(n: usize, positions: &Elements, uvs: Option<&Elements>, colors: Option<&Elements>) -> Vec<Vertex> {
+    (0..n)
+        .map(|i| {
+            let position = Vec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
+            let uv = uvs.map_or(Vec2::ZERO, |e| Vec2::new(e.get(i, 0), e.get(i, 1)));
+            let color = colors.map_or(Vec4::ONE, |e| {
+                Vec4::new(e.get(i, 0), e.get(i, 1), e.get(i, 2), if e.width == 4 { e.get(i, 3) } else { 1.0 })
+            });
+            Vertex { position, uv, color }
+        })
+        .collect()
+}
+
+/// The primitive whose polygons include polygon `n` of the mesh, given each primitive's index and the
+/// mesh's polygon count after it (primitives in order).
+fn primitive_holding(ends: &[(usize, u64)], n: u64) -> Option<usize> {
+    ends.iter().find(|&&(_, end)| n < end).map(|&(primitive, _)| primitive)
+}
+
+/// Checks that an attribute has `width` components per element and one element per position (`n`).
+fn check_attr(e: &Elements, n: usize, width: usize, semantic: &'static str) -> Result<(), PrimitiveProblem> {
     if e.width != width {
-        return Err(format!("{what} has {} components, expected {width}", e.width));
+        return Err(PrimitiveProblem::Components { semantic, found: e.width, expected: width });
     }
     if e.len() != n {
-        return Err(format!("{what} has {} elements, POSITION has {n}", e.len()));
+        return Err(PrimitiveProblem::Elements { semantic, found: e.len(), positions: n });
     }
     Ok(())
 }
@@ -246,6 +293,14 @@ fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_polygon_is_traced_to_the_primitive_that_made_it() {
+        // Primitive 0 made polygons 0-4, primitive 1 none (points, skipped), primitive 2 polygons 5-6.
+        let ends = [(0, 5), (1, 5), (2, 7)];
+        let found: Vec<Option<usize>> = [0, 4, 5, 6, 7].iter().map(|&n| primitive_holding(&ends, n)).collect();
+        assert_eq!(found, [Some(0), Some(0), Some(2), Some(2), None]);
+    }
 
     #[test]
     fn strips_and_fans_follow_gltf_winding() {

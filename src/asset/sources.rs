@@ -13,7 +13,7 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use super::budget::{Limit, Meter};
-use super::error::AssetError;
+use super::error::{AssetError, BufferProblem, ImageProblem, ParseError, Place};
 use super::uri::{Located, locate};
 use crate::render::Texture;
 
@@ -30,26 +30,26 @@ pub struct Parsed<'a> {
     pub blob: Option<Cow<'a, [u8]>>,
 }
 
-/// Parses glTF JSON or a GLB container and validates the document; the error is the parser's message.
-pub fn parse(bytes: &[u8]) -> Result<Parsed<'_>, String> {
+/// Parses glTF JSON or a GLB container and validates the document.
+pub fn parse(bytes: &[u8]) -> Result<Parsed<'_>, ParseError> {
     let (json, blob): (Cow<'_, [u8]>, _) = if bytes.starts_with(b"glTF") {
         // `Glb::from_slice` subtracts the 12-byte header from the declared length without checking it
         // (an overflow panic in debug builds), so a length under 12 is refused here first.
         let declared = bytes.get(8..12).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
         match declared {
             Some(n) if n >= 12 => {}
-            Some(n) => return Err(format!("GLB header declares {n} bytes, less than the header itself")),
-            None => return Err("GLB header is cut short".into()),
+            Some(declared) => return Err(ParseError::GlbLength { declared }),
+            None => return Err(ParseError::GlbCut),
         }
-        let glb = gltf::Glb::from_slice(bytes).map_err(|e| e.to_string())?;
+        let glb = gltf::Glb::from_slice(bytes).map_err(ParseError::Gltf)?;
         (glb.json, glb.bin)
     } else {
         (Cow::Borrowed(bytes), None)
     };
     let root: gltf::json::Root =
-        gltf::json::deserialize::from_slice(&json).map_err(|e| gltf::Error::Deserialize(e).to_string())?;
-    super::validate::check_before_validation(&root).map_err(|e| e.to_string())?;
-    let doc = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
+        gltf::json::deserialize::from_slice(&json).map_err(|e| ParseError::Gltf(gltf::Error::Deserialize(e)))?;
+    super::validate::check_before_validation(&root)?;
+    let doc = gltf::Document::from_json(root).map_err(ParseError::Gltf)?;
     Ok(Parsed { doc, blob })
 }
 
@@ -88,7 +88,7 @@ pub fn load_buffers<'a>(
     meter: &mut Meter,
     file: &str,
 ) -> Result<Buffers<'a>, AssetError> {
-    let err = |index: usize, reason: String| AssetError::Buffer { file: file.to_string(), index, reason };
+    let err = |index: usize, problem: BufferProblem| AssetError::Buffer { file: file.to_string(), index, problem };
     let mut keys: BTreeMap<Key<'_>, usize> = BTreeMap::new();
     let mut pending: Vec<(usize, Option<Located<'_>>)> = vec![];
     let mut slot = Vec::with_capacity(doc.buffers().len());
@@ -96,7 +96,7 @@ pub fn load_buffers<'a>(
         let (key, located) = match b.source() {
             gltf::buffer::Source::Bin => (Key::Bin, None),
             gltf::buffer::Source::Uri(uri) => {
-                let located = locate(uri, base_dir).map_err(|e| err(b.index(), e.to_string()))?;
+                let located = locate(uri, base_dir).map_err(|e| err(b.index(), e.into()))?;
                 let key = match &located {
                     Located::File { path, .. } => Key::File(path.clone()),
                     Located::Data { .. } => Key::Data(uri),
@@ -111,14 +111,14 @@ pub fn load_buffers<'a>(
         if let Some(Located::File { size, .. }) = &located
             && *size < b.length() as u64
         {
-            return Err(err(b.index(), format!("holds {size} bytes, but byteLength says {}", b.length())));
+            return Err(err(b.index(), BufferProblem::Short { holds: *size, declared: b.length() }));
         }
         let next = keys.len();
         let s = *keys.entry(key).or_insert(next);
         if s == next {
             meter
                 .charge(Limit::BufferBytes, size)
-                .map_err(|over| AssetError::budget(file, format!("buffer {}", b.index()), over))?;
+                .map_err(|over| AssetError::budget(file, Place::Buffer(b.index()), over))?;
             pending.push((b.index(), located));
         }
         slot.push(s);
@@ -127,15 +127,15 @@ pub fn load_buffers<'a>(
     let mut data = Vec::with_capacity(pending.len());
     for (index, located) in pending {
         let bytes = match located {
-            Some(l) => Cow::Owned(l.read().map_err(|e| err(index, e.to_string()))?),
-            None => blob.take().ok_or_else(|| err(index, "refers to a GLB binary chunk that is missing".into()))?,
+            Some(l) => Cow::Owned(l.read().map_err(|e| err(index, e.into()))?),
+            None => blob.take().ok_or_else(|| err(index, BufferProblem::NoBinaryChunk))?,
         };
         data.push(bytes);
     }
     for (b, &s) in doc.buffers().zip(&slot) {
         let len = data.get(s).map_or(0, |d| d.len());
         if len < b.length() {
-            return Err(err(b.index(), format!("holds {len} bytes, but byteLength says {}", b.length())));
+            return Err(err(b.index(), BufferProblem::Short { holds: len as u64, declared: b.length() }));
         }
     }
     Ok(Buffers { data, slot })
@@ -163,24 +163,21 @@ impl<'d> Images<'d> {
         if let Some(&t) = self.by_image.get(&index) {
             return Ok(t);
         }
-        let err = |reason: String| AssetError::Image { file: file.to_string(), index, reason };
-        let json = doc.as_json().images.get(index).ok_or_else(|| err("does not exist".into()))?;
+        let err = |problem: ImageProblem| AssetError::Image { file: file.to_string(), index, problem };
+        let json = doc.as_json().images.get(index).ok_or_else(|| err(ImageProblem::Missing))?;
         let (key, bytes): (Key<'d>, Option<Cow<'_, [u8]>>) = match (&json.buffer_view, &json.uri) {
             (Some(v), _) => {
-                let view = doc.views().nth(v.value()).ok_or_else(|| err("names a missing buffer view".into()))?;
-                let buf = buffers
-                    .get(view.buffer().index())
-                    .ok_or_else(|| err("buffer view refers to a missing buffer".into()))?;
-                let end = view
-                    .offset()
-                    .checked_add(view.length())
-                    .ok_or_else(|| err("buffer view range overflows".into()))?;
-                let bytes =
-                    buf.get(view.offset()..end).ok_or_else(|| err("buffer view runs past its buffer".into()))?;
+                let view = doc.views().nth(v.value()).ok_or_else(|| err(ImageProblem::MissingView))?;
+                let buf = buffers.get(view.buffer().index()).ok_or_else(|| err(ImageProblem::ViewMissingBuffer))?;
+                let end = view.offset().checked_add(view.length()).ok_or_else(|| err(ImageProblem::ViewOverflow))?;
+                let bytes = buf.get(view.offset()..end).ok_or_else(|| {
+                    let (view, start, buffer_len) = (view.index(), view.offset(), buf.len());
+                    err(ImageProblem::ViewPastBuffer { view, start, end, buffer_len })
+                })?;
                 (Key::View { buffer: view.buffer().index(), start: view.offset(), end }, Some(Cow::Borrowed(bytes)))
             }
             (None, Some(uri)) => {
-                let located = locate(uri, base_dir).map_err(|e| err(e.to_string()))?;
+                let located = locate(uri, base_dir).map_err(|e| err(e.into()))?;
                 let key = match &located {
                     Located::File { path, .. } => Key::File(path.clone()),
                     Located::Data { .. } => Key::Data(uri),
@@ -191,18 +188,18 @@ impl<'d> Images<'d> {
                 }
                 meter
                     .charge(Limit::ImageBytes, located.size_bound())
-                    .map_err(|over| AssetError::budget(file, format!("image {index}"), over))?;
-                (key, Some(Cow::Owned(located.read().map_err(|e| err(e.to_string()))?)))
+                    .map_err(|over| AssetError::budget(file, Place::Image(index), over))?;
+                (key, Some(Cow::Owned(located.read().map_err(|e| err(e.into()))?)))
             }
-            (None, None) => return Err(err("has neither a uri nor a bufferView".into())),
+            (None, None) => return Err(err(ImageProblem::NoSource)),
         };
         let t = match self.by_key.get(&key) {
             Some(&t) => t,
             None => {
                 let bytes = bytes.unwrap_or_default();
                 let texture = decode_image(&bytes, meter).map_err(|e| match e {
-                    Decode::Bad(reason) => err(reason),
-                    Decode::Over(over) => AssetError::budget(file, format!("image {index}"), over),
+                    Decode::Bad(problem) => err(problem),
+                    Decode::Over(over) => AssetError::budget(file, Place::Image(index), over),
                 })?;
                 textures.push(texture);
                 self.by_key.insert(key, textures.len() - 1);
@@ -214,27 +211,26 @@ impl<'d> Images<'d> {
     }
 }
 
-/// Why an image did not decode.
+/// Why an image did not decode: the image is wrong, or it needs more than the budget.
 enum Decode {
-    Bad(String),
+    Bad(ImageProblem),
     Over(super::budget::OverBudget),
-}
-
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// Decodes PNG or JPEG bytes into a texture: the size is read from the header first and refused over
 /// [`MAX_IMAGE_SIDE`] or the texel budget before any pixel is decoded.
 fn decode_image(bytes: &[u8], meter: &mut Meter) -> Result<Texture, Decode> {
-    let bad = |e: image::ImageError| Decode::Bad(one_line(&e.to_string()));
-    let reader =
-        || image::ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| Decode::Bad(e.to_string()));
-    let (w, h) = reader()?.into_dimensions().map_err(bad)?;
-    if w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
-        return Err(Decode::Bad(format!("{w}x{h} is over the {MAX_IMAGE_SIDE}-texel limit per side")));
+    let bad = |e: image::ImageError| Decode::Bad(ImageProblem::Decode(e));
+    let reader = || {
+        image::ImageReader::new(Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| Decode::Bad(ImageProblem::Format(e)))
+    };
+    let (width, height) = reader()?.into_dimensions().map_err(bad)?;
+    if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+        return Err(Decode::Bad(ImageProblem::TooBig { width, height, limit: MAX_IMAGE_SIDE }));
     }
-    meter.charge(Limit::Texels, u64::from(w) * u64::from(h)).map_err(Decode::Over)?;
+    meter.charge(Limit::Texels, u64::from(width) * u64::from(height)).map_err(Decode::Over)?;
     let mut reader = reader()?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_IMAGE_SIDE);
@@ -242,5 +238,5 @@ fn decode_image(bytes: &[u8], meter: &mut Meter) -> Result<Texture, Decode> {
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
     let rgba = reader.decode().map_err(bad)?.into_rgba8();
-    Texture::from_rgba8(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|e| Decode::Bad(e.to_string()))
+    Texture::from_rgba8(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|e| Decode::Bad(e.into()))
 }

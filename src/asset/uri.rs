@@ -20,27 +20,70 @@ pub const MAX_BYTES: u64 = 512 << 20;
 #[derive(Debug, thiserror::Error)]
 pub enum UriError {
     /// Not a `data:` URI and not a plain relative path.
-    #[error("URI '{uri}' refused: {reason}")]
+    #[error("URI '{uri}' refused: {why}")]
     Refused {
         /// The URI as written (shortened).
         uri: String,
         /// Why.
-        reason: &'static str,
+        why: Refusal,
     },
     /// A `data:` URI whose payload does not decode.
     #[error("data URI does not decode: {0}")]
-    BadData(String),
+    BadData(#[source] DataProblem),
     /// The file is not a regular file, is too big, or could not be read.
     #[error(transparent)]
     File(#[from] UserFileError),
     /// The path could not be resolved.
-    #[error("cannot read '{path}': {reason}")]
+    #[error("cannot read '{path}': {source}")]
     Read {
         /// The path tried.
         path: PathBuf,
-        /// The I/O error.
-        reason: String,
+        /// Why.
+        source: std::io::Error,
     },
+}
+
+/// Why a URI that is not a `data:` URI was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum Refusal {
+    /// It has a scheme other than `data:`.
+    #[error("only data: URIs and relative paths are allowed")]
+    Scheme,
+    /// A `%` not followed by two hexadecimal digits, or bytes that are not UTF-8.
+    #[error("bad percent-encoding")]
+    PercentEncoding,
+    /// Nothing, or a NUL byte.
+    #[error("empty path")]
+    Empty,
+    /// An absolute path.
+    #[error("absolute paths are not allowed")]
+    Absolute,
+    /// A `..` or a root or prefix component.
+    #[error("paths may not leave the asset's folder")]
+    LeavesFolder,
+    /// A path inside the folder that a symbolic link leads out of it.
+    #[error("the path leads out of the asset's folder through a link")]
+    LinkLeavesFolder,
+}
+
+/// What is wrong with a `data:` URI.
+#[derive(Debug, thiserror::Error)]
+pub enum DataProblem {
+    /// No `,` between the media type and the payload.
+    #[error("no ',' in data URI")]
+    NoComma,
+    /// A payload that would decode to more than [`MAX_BYTES`].
+    #[error("payload of {chars} characters is larger than the limit of {MAX_BYTES} bytes")]
+    TooLarge {
+        /// Characters in the payload.
+        chars: usize,
+    },
+    /// A base64 payload that is not base64.
+    #[error("{0}")]
+    Base64(#[source] base64::DecodeError),
+    /// A `%` not followed by two hexadecimal digits, or bytes that are not UTF-8.
+    #[error("bad percent-encoding")]
+    PercentEncoding,
 }
 
 fn short(uri: &str) -> String {
@@ -106,10 +149,10 @@ impl Located<'_> {
         match self {
             Located::Data { base64: true, payload } => base64::engine::general_purpose::STANDARD
                 .decode(payload.trim())
-                .map_err(|e| UriError::BadData(e.to_string())),
-            Located::Data { base64: false, payload } => percent_decode(payload)
-                .map(String::into_bytes)
-                .ok_or_else(|| UriError::BadData("bad percent-encoding".into())),
+                .map_err(|e| UriError::BadData(DataProblem::Base64(e))),
+            Located::Data { base64: false, payload } => {
+                percent_decode(payload).map(String::into_bytes).ok_or(UriError::BadData(DataProblem::PercentEncoding))
+            }
             Located::File { path, size } => Ok(read_regular(path, *size, WHAT)?),
         }
     }
@@ -122,36 +165,36 @@ const WHAT: &str = "a file a glTF file names";
 /// path must stay inside `base_dir` (also through links) and be a regular file of at most [`MAX_BYTES`].
 pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError> {
     if let Some(rest) = uri.strip_prefix("data:") {
-        let (meta, payload) = rest.split_once(',').ok_or_else(|| UriError::BadData("no ',' in data URI".into()))?;
+        let (meta, payload) = rest.split_once(',').ok_or(UriError::BadData(DataProblem::NoComma))?;
         if payload.len() as u64 > MAX_BYTES * 4 / 3 + 4 {
-            return Err(UriError::BadData("payload is larger than the limit".into()));
+            return Err(UriError::BadData(DataProblem::TooLarge { chars: payload.len() }));
         }
         return Ok(Located::Data { base64: meta.ends_with(";base64"), payload });
     }
-    let refused = |reason| UriError::Refused { uri: short(uri), reason };
+    let refused = |why| UriError::Refused { uri: short(uri), why };
     let scheme_len = uri.find(':').unwrap_or(0);
     if scheme_len > 0 && uri[..scheme_len].chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)) {
-        return Err(refused("only data: URIs and relative paths are allowed"));
+        return Err(refused(Refusal::Scheme));
     }
-    let decoded = percent_decode(uri).ok_or_else(|| refused("bad percent-encoding"))?;
+    let decoded = percent_decode(uri).ok_or_else(|| refused(Refusal::PercentEncoding))?;
     if decoded.is_empty() || decoded.contains('\0') {
-        return Err(refused("empty path"));
+        return Err(refused(Refusal::Empty));
     }
     let rel = Path::new(&decoded);
     if decoded.starts_with('/') || decoded.starts_with('\\') || rel.is_absolute() {
-        return Err(refused("absolute paths are not allowed"));
+        return Err(refused(Refusal::Absolute));
     }
     if decoded.split(['/', '\\']).any(|c| c == "..")
         || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
     {
-        return Err(refused("paths may not leave the asset's folder"));
+        return Err(refused(Refusal::LeavesFolder));
     }
     let path = base_dir.join(rel);
-    let read_err = |e: std::io::Error| UriError::Read { path: path.clone(), reason: e.to_string() };
+    let read_err = |source: std::io::Error| UriError::Read { path: path.clone(), source };
     let canon = path.canonicalize().map_err(read_err)?;
     let base = base_dir.canonicalize().map_err(read_err)?;
     if !canon.starts_with(&base) {
-        return Err(refused("the path leads out of the asset's folder through a link"));
+        return Err(refused(Refusal::LinkLeavesFolder));
     }
     let size = check_regular(&canon, MAX_BYTES, WHAT)?;
     Ok(Located::File { path: canon, size })

@@ -63,21 +63,27 @@ pub enum ChartError {
     /// The bundled font for the chart's text did not load.
     #[error("the bundled chart font does not load")]
     Font,
-    /// The plotting backend failed.
-    #[error("drawing the chart: {reason}")]
-    Draw {
-        /// What the backend reported.
-        reason: String,
-    },
+    /// The SVG backend failed.
+    #[error("drawing the chart: {0}")]
+    Svg(#[source] SvgFailure),
+    /// The bitmap backend failed.
+    #[error("drawing the chart: {0}")]
+    Bitmap(#[source] BitmapFailure),
 }
 
+/// What the SVG backend reports when drawing fails.
+pub type SvgFailure = DrawingAreaErrorKind<<SVGBackend<'static> as DrawingBackend>::ErrorType>;
+/// What the bitmap backend reports when drawing fails.
+pub type BitmapFailure = DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>;
+
+/// Draws the chart on `root`; `e` makes the backend's failure a [`ChartError`].
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     rows: &[Row],
     title: &str,
     panel: Panel,
+    e: fn(DrawingAreaErrorKind<DB::ErrorType>) -> ChartError,
 ) -> Result<(), ChartError> {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| ChartError::Draw { reason: x.to_string() };
     root.fill(&WHITE).map_err(e)?;
     let finite: Vec<&Row> =
         rows.iter().filter(|r| panel.shows(r) && r.ms.is_finite() && r.ms > 0.0 && panel.y(r).is_finite()).collect();
@@ -151,7 +157,7 @@ pub fn svg(rows: &[Row], title: &str, panel: Panel) -> Result<String, ChartError
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, SIZE).into_drawing_area();
-        draw(&root, rows, title, panel)?;
+        draw(&root, rows, title, panel, ChartError::Svg)?;
     }
     Ok(out)
 }
@@ -189,7 +195,7 @@ pub fn pixels(rows: &[Row], title: &str, panel: Panel) -> Result<Vec<u32>, Chart
     let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, rows, title, panel)?;
+        draw(&root, rows, title, panel, ChartError::Bitmap)?;
     }
     Ok(rgb.chunks_exact(3).map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])).collect())
 }

@@ -102,39 +102,34 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     if terminal {
         eprintln!();
     }
-    let write = |name: &str, bytes: &[u8]| {
-        let p = args.out.join(name);
-        crate::userfile::replace_atomically(&p, bytes)
-            .map_err(|e| CliError::Write { path: p.display().to_string(), reason: e.to_string() })
-    };
-    write("bench.csv", csv(&rows, args.threads).as_bytes())?;
-    let title = format!(
-        "{} frames of {}, {} thread(s)",
-        frames.len(),
-        trace.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
-        args.threads
-    );
-    for (name, panel, what) in [
-        ("bench", Panel::Accuracy, "error against the reference"),
-        ("visibility", Panel::Visibility, "visibility error alone"),
-    ] {
-        let title = format!("{title}: {what}");
-        write(
-            &format!("{name}.svg"),
-            chart::svg(&rows, &title, panel)
-                .map_err(|source| CliError::Chart { name: name.to_string(), source })?
-                .as_bytes(),
-        )?;
-        let px =
-            chart::pixels(&rows, &title, panel).map_err(|source| CliError::Chart { name: name.to_string(), source })?;
-        write_png(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
-    }
+    let trace_name = trace.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    write_outputs(args, &rows, &format!("{} frames of {trace_name}, {} thread(s)", frames.len(), args.threads))?;
     print_summary(&rows);
     eprintln!("wrote {}/bench.csv, bench.svg, bench.png, visibility.svg and visibility.png", args.out.display());
     Ok(())
 }
 
 /// Prints the Pareto front and the default configuration as a table.
+/// Writes the CSV and, for each panel, the chart as SVG and PNG into `--out`; `title` heads the charts.
+fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliError> {
+    let write = |name: &str, bytes: &[u8]| {
+        let p = args.out.join(name);
+        crate::userfile::replace_atomically(&p, bytes).map_err(CliError::Write)
+    };
+    write("bench.csv", csv(rows, args.threads).as_bytes())?;
+    for (name, panel, what) in [
+        ("bench", Panel::Accuracy, "error against the reference"),
+        ("visibility", Panel::Visibility, "visibility error alone"),
+    ] {
+        let title = format!("{title}: {what}");
+        let chart_error = |source| CliError::Chart { name: name.to_string(), source };
+        write(&format!("{name}.svg"), chart::svg(rows, &title, panel).map_err(chart_error)?.as_bytes())?;
+        let px = chart::pixels(rows, &title, panel).map_err(chart_error)?;
+        write_png(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
+    }
+    Ok(())
+}
+
 fn print_summary(rows: &[Row]) {
     println!(
         "{:<28} {:>10} {:>8} {:>8} {:>9} {:>9}  front",

@@ -49,8 +49,7 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     let list = scene.draw_list(&instances);
     let chosen = Renderer::new().frame_meshes(args.width, args.height, &camera, &list, &RenderOptions::default());
     let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))?;
-    crate::userfile::replace_atomically(&args.out, &bytes)
-        .map_err(|e| CliError::Write { path: args.out.display().to_string(), reason: e.to_string() })?;
+    crate::userfile::replace_atomically(&args.out, &bytes).map_err(CliError::Write)?;
     eprintln!(
         "wrote {} (tick {}, {}x{}: {} instances, {} triangles, {} materials, {} bytes)",
         args.out.display(),

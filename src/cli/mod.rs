@@ -33,7 +33,7 @@ pub struct Cli {
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Open the game window (the default). Until the race exists, this flies a camera around a scene.
+    /// Open the game window and race (the default); with --scene or --demo, fly a camera around a scene.
     Play(PlayArgs),
     /// Draw a glTF scene to a PNG with the software renderer (headless).
     Render(RenderArgs),
@@ -70,13 +70,8 @@ pub enum CliError {
         names: String,
     },
     /// An output file could not be written.
-    #[error("cannot write '{path}': {reason}")]
-    Write {
-        /// The output path.
-        path: String,
-        /// The error.
-        reason: String,
-    },
+    #[error("cannot write {0}")]
+    Write(#[source] crate::userfile::UserFileError),
     /// An output folder's path names a file.
     #[error("{flag} {path}: is a file, not a folder; name a folder (new or existing) for {what}")]
     NotAFolder {
@@ -88,14 +83,14 @@ pub enum CliError {
         what: &'static str,
     },
     /// An output folder cannot be created or written into.
-    #[error("{flag} {path}: cannot write into this folder: {reason}")]
+    #[error("{flag} {path}: cannot write into this folder: {source}")]
     FolderNotWritable {
         /// The flag that named it.
         flag: &'static str,
         /// The path.
         path: String,
-        /// The operating system's reason.
-        reason: String,
+        /// The operating system's error.
+        source: std::io::Error,
     },
     /// The shipped assets folder was not found where the game looks for it.
     #[error("cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)")]
@@ -162,7 +157,7 @@ fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'static str) 
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::NotAFolder { flag, path, what });
     }
-    let fail = |e: std::io::Error| CliError::FolderNotWritable { flag, path: path.clone(), reason: e.to_string() };
+    let fail = |source: std::io::Error| CliError::FolderNotWritable { flag, path: path.clone(), source };
     std::fs::create_dir_all(dir).map_err(fail)?;
     let probe = crate::userfile::temp_sibling(&dir.join("write-probe"));
     std::fs::write(&probe, b"").map_err(fail)?;

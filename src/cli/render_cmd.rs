@@ -206,54 +206,8 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     }
     match args.stats {
         Some(StatsFormat::Json) => {
-            let threads = match options.threads {
-                0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-                n => n,
-            };
-            let json = serde_json::json!({
-                "scene": args.scene.display().to_string(),
-                "out": out.display().to_string(),
-                "camera": camera_name,
-                "method": options.method.name(),
-                "buckets": options.buckets,
-                "key": format!("{:?}", options.key).to_lowercase(),
-                "texture": format!("{:?}", options.texture_mode).to_lowercase(),
-                "filter": format!("{:?}", options.filter).to_lowercase(),
-                "threads": threads,
-                "lod": match options.lod {
-                    LodMode::Auto => "auto",
-                    LodMode::Force(level) => level.name(),
-                },
-                "lod_bias": options.lod_bias,
-                "lod_close": stats.lod_close,
-                "lod_mid": stats.lod_mid,
-                "lod_long": stats.lod_long,
-                "polygons_saved_by_lod": stats.polygons_saved_by_lod,
-                "width": args.width,
-                "height": args.height,
-                "frames": args.repeat,
-                "ms_load": ms_load,
-                "ms_median": ms_median,
-                "ms_min": ms_min,
-                "ms_transform": stats.ms_transform,
-                "ms_clip": stats.ms_clip,
-                "ms_order": stats.ms_order,
-                "ms_fill": stats.ms_fill,
-                "objects_in": stats.objects_in,
-                "objects_culled": stats.objects_culled,
-                "polygons_in": stats.polygons_in,
-                "polygons_in_culled_objects": stats.polygons_in_culled_objects,
-                "polygons_outside": stats.polygons_outside,
-                "polygons_clipped": stats.polygons_clipped,
-                "polygons_backface": stats.polygons_backface,
-                "polygons_degenerate": stats.polygons_degenerate,
-                "polygons_invalid": stats.polygons_invalid,
-                "polygons_split": stats.polygons_split,
-                "polygons_drawn": stats.polygons_drawn,
-                "pixels_shaded": stats.pixels_shaded,
-                "pixels_written": stats.pixels_written,
-                "pixels_rejected": stats.pixels_rejected,
-            });
+            let times = Timings { ms_load, ms_median, ms_min };
+            let json = stats_json(args, &options, &out, &camera_name, &stats, times);
             println!("{json}");
         }
         None => eprintln!(
@@ -269,4 +223,70 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
         ),
     }
     Ok(())
+}
+
+/// How long the load and the frames took, in milliseconds.
+struct Timings {
+    ms_load: f64,
+    ms_median: f64,
+    ms_min: f64,
+}
+
+/// `--stats json`: the settings, the timings and every counter of the last frame's [`Stats`].
+fn stats_json(
+    args: &RenderArgs,
+    options: &RenderOptions,
+    out: &Path,
+    camera_name: &str,
+    stats: &Stats,
+    times: Timings,
+) -> serde_json::Value {
+    let threads = match options.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "out": out.display().to_string(),
+        "camera": camera_name,
+        "method": options.method.name(),
+        "buckets": options.buckets,
+        "key": format!("{:?}", options.key).to_lowercase(),
+        "texture": format!("{:?}", options.texture_mode).to_lowercase(),
+        "filter": format!("{:?}", options.filter).to_lowercase(),
+        "threads": threads,
+        "lod": match options.lod {
+            LodMode::Auto => "auto",
+            LodMode::Force(level) => level.name(),
+        },
+        "lod_bias": options.lod_bias,
+        "lod_close": stats.lod_close,
+        "lod_mid": stats.lod_mid,
+        "lod_long": stats.lod_long,
+        "polygons_saved_by_lod": stats.polygons_saved_by_lod,
+        "width": args.width,
+        "height": args.height,
+        "frames": args.repeat,
+        "ms_load": times.ms_load,
+        "ms_median": times.ms_median,
+        "ms_min": times.ms_min,
+        "ms_transform": stats.ms_transform,
+        "ms_clip": stats.ms_clip,
+        "ms_order": stats.ms_order,
+        "ms_fill": stats.ms_fill,
+        "objects_in": stats.objects_in,
+        "objects_culled": stats.objects_culled,
+        "polygons_in": stats.polygons_in,
+        "polygons_in_culled_objects": stats.polygons_in_culled_objects,
+        "polygons_outside": stats.polygons_outside,
+        "polygons_clipped": stats.polygons_clipped,
+        "polygons_backface": stats.polygons_backface,
+        "polygons_degenerate": stats.polygons_degenerate,
+        "polygons_invalid": stats.polygons_invalid,
+        "polygons_split": stats.polygons_split,
+        "polygons_drawn": stats.polygons_drawn,
+        "pixels_shaded": stats.pixels_shaded,
+        "pixels_written": stats.pixels_written,
+        "pixels_rejected": stats.pixels_rejected,
+    })
 }

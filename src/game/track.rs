@@ -5,11 +5,14 @@ use glam::{Vec2, Vec3};
 use thiserror::Error;
 
 /// Why a centre line could not be read.
-#[derive(Debug, Error, PartialEq)]
+#[derive(Debug, Error)]
 pub enum TrackError {
-    /// The JSON does not parse or lacks fields.
+    /// The text is not JSON.
     #[error("centre line: {0}")]
-    Format(String),
+    Json(#[source] serde_json::Error),
+    /// The JSON has no `samples` array.
+    #[error("centre line: no samples")]
+    NoSamples,
     /// Too few samples to make a circuit.
     #[error("centre line: {found} samples, need at least {MIN_SAMPLES}")]
     TooFewSamples {
@@ -35,6 +38,12 @@ pub enum TrackError {
 /// What is wrong with one sample of a centre line.
 #[derive(Debug, Error, PartialEq)]
 pub enum SampleProblem {
+    /// The sample lacks its position, banking or width.
+    #[error("lacks p, bank or width")]
+    MissingFields,
+    /// The position is not three numbers.
+    #[error("has a bad position")]
+    BadPosition,
     /// A number is NaN or infinite.
     #[error("a number is not finite")]
     NotFinite,
@@ -156,17 +165,17 @@ impl Track {
 
     /// Reads `centerline.json` as written by the asset generator.
     pub fn from_json(text: &str) -> Result<Self, TrackError> {
-        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| TrackError::Format(e.to_string()))?;
-        let arr = v.get("samples").and_then(|s| s.as_array()).ok_or_else(|| TrackError::Format("no samples".into()))?;
+        let v: serde_json::Value = serde_json::from_str(text).map_err(TrackError::Json)?;
+        let arr = v.get("samples").and_then(|s| s.as_array()).ok_or(TrackError::NoSamples)?;
         let num = |x: Option<&serde_json::Value>| x.and_then(serde_json::Value::as_f64).map(|f| f as f32);
         let mut pts = Vec::with_capacity(arr.len());
         for (i, s) in arr.iter().enumerate() {
             let p = s.get("p").and_then(|p| p.as_array()).filter(|p| p.len() == 3);
             let (Some(p), Some(bank), Some(width)) = (p, num(s.get("bank")), num(s.get("width"))) else {
-                return Err(TrackError::Format(format!("sample {i} lacks p, bank or width")));
+                return Err(TrackError::Sample { index: i, problem: SampleProblem::MissingFields });
             };
             let (Some(x), Some(y), Some(z)) = (num(p.first()), num(p.get(1)), num(p.get(2))) else {
-                return Err(TrackError::Format(format!("sample {i} has a bad position")));
+                return Err(TrackError::Sample { index: i, problem: SampleProblem::BadPosition });
             };
             let barrier = match s.get("barrier").and_then(|b| b.as_array()) {
                 Some(b) => [num(b.first()).unwrap_or(0.0), num(b.get(1)).unwrap_or(0.0)],
@@ -341,10 +350,20 @@ mod tests {
 
     #[test]
     fn bad_centre_lines_are_errors() {
-        assert!(Track::from_json("{").is_err());
-        assert_eq!(Track::from_json(r#"{"samples": []}"#), Err(TrackError::TooFewSamples { found: 0 }));
-        let at = |index, problem| Err(TrackError::Sample { index, problem });
-        assert_eq!(Track::new(&[(Vec3::splat(f32::NAN), 0.0, 12.0); 10]), at(0, SampleProblem::NotFinite));
+        assert!(matches!(Track::from_json("{"), Err(TrackError::Json(_))));
+        assert!(matches!(Track::from_json("{}"), Err(TrackError::NoSamples)));
+        assert!(matches!(Track::from_json(r#"{"samples": []}"#), Err(TrackError::TooFewSamples { found: 0 })));
+        let bad = Track::from_json(r#"{"samples": [{"p": [0, "up", 0], "bank": 0, "width": 12}]}"#).map(|_| ());
+        assert_eq!(bad.unwrap_err().to_string(), "centre line: sample 0: has a bad position");
+        let bad = Track::from_json(r#"{"samples": [{"p": [0, 0, 0], "width": 12}]}"#).map(|_| ());
+        assert_eq!(bad.unwrap_err().to_string(), "centre line: sample 0: lacks p, bank or width");
+        // The sample and its problem, from a centre line that is refused for one sample.
+        let sample = |r: Result<Track, TrackError>| match r {
+            Err(TrackError::Sample { index, problem }) => Some((index, problem)),
+            _ => None,
+        };
+        let at = |index, problem| Some((index, problem));
+        assert_eq!(sample(Track::new(&[(Vec3::splat(f32::NAN), 0.0, 12.0); 10])), at(0, SampleProblem::NotFinite));
         let ring = |r: f32| -> Vec<(Vec3, f32, f32)> {
             (0..100)
                 .map(|i| i as f32 / 100.0 * std::f32::consts::TAU)
@@ -354,20 +373,20 @@ mod tests {
         assert!(Track::new(&ring(100.0)).is_ok());
         // Eight identical points: no direction and no length.
         let same = [(Vec3::new(1.0, 2.0, 3.0), 0.0, 12.0); 8];
-        assert_eq!(Track::new(&same), at(0, SampleProblem::TooClose { next: 1, distance: 0.0 }));
+        assert_eq!(sample(Track::new(&same)), at(0, SampleProblem::TooClose { next: 1, distance: 0.0 }));
         let mut repeated = ring(100.0);
         repeated[42] = repeated[41];
-        assert_eq!(Track::new(&repeated), at(41, SampleProblem::TooClose { next: 42, distance: 0.0 }));
+        assert_eq!(sample(Track::new(&repeated)), at(41, SampleProblem::TooClose { next: 42, distance: 0.0 }));
         // The last sample closes the loop onto the first.
         let mut closed = ring(100.0);
         closed[99] = closed[0];
-        assert_eq!(Track::new(&closed), at(99, SampleProblem::TooClose { next: 0, distance: 0.0 }));
+        assert_eq!(sample(Track::new(&closed)), at(99, SampleProblem::TooClose { next: 0, distance: 0.0 }));
         let mut huge = ring(100.0);
         huge[5].0.x = 1e30;
-        assert_eq!(Track::new(&huge), at(5, SampleProblem::TooFar { value: 1e30 }));
+        assert_eq!(sample(Track::new(&huge)), at(5, SampleProblem::TooFar { value: 1e30 }));
         let mut flat_road = ring(100.0);
         flat_road[3].2 = 0.0;
-        assert_eq!(Track::new(&flat_road), at(3, SampleProblem::NoWidth { width: 0.0 }));
+        assert_eq!(sample(Track::new(&flat_road)), at(3, SampleProblem::NoWidth { width: 0.0 }));
         assert!(matches!(Track::new(&ring(20.0)), Err(TrackError::TooShort { length }) if length < MIN_LAP_M));
         let message = Track::new(&repeated).unwrap_err().to_string();
         assert_eq!(message, "centre line: sample 41: too close to sample 42 (0 m apart, need at least 0.1 m)");

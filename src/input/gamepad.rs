@@ -55,7 +55,10 @@ pub enum PadButton {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PadEvent {
     /// A pad was plugged in (it becomes active if none was).
-    Connected(String),
+    Connected {
+        /// The pad's name, as its driver or SDL mapping gives it.
+        name: String,
+    },
     /// The active pad was unplugged.
     ActiveDisconnected,
     /// A button was pressed on the active pad.
@@ -123,7 +126,7 @@ impl Gamepads {
                     if self.active.is_none() {
                         self.active = Some(ev.id);
                     }
-                    out.push(PadEvent::Connected(name));
+                    out.push(PadEvent::Connected { name });
                 }
                 EventType::Disconnected if self.active == Some(ev.id) => {
                     self.active = g.gamepads().map(|(id, _)| id).find(|&id| id != ev.id);

@@ -1,14 +1,13 @@
 //! A race being recorded to a trace file: written to a new temporary file beside the target, and renamed
 //! over the target only when there is a race to keep.
 //!
-//! Why: recording used to create (truncate) the target at start-up, so `play --record best.trace` left a
-//! 142-byte header where the user's 58 KB race had been even when they quit from the main menu, and
-//! `play --ghost g.trace --record g.trace` destroyed the ghost it was about to race. Now the target is
-//! untouched until [`Recording::finish`]: a race of at least one tick replaces it (a race quit half-way is
-//! kept: its trace replays up to where it stopped, as a crash-cut trace does); with nothing raced the
-//! temporary file is removed and the target stays as it was. A process killed mid-race leaves the race in
-//! the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a rename that fails leaves it there too and
-//! says so; a recorded race is never deleted.
+//! Why: the target may hold a race the user wants to keep (their best race, or the very trace the ghost is
+//! searched in: `play --ghost g.trace --record g.trace`), and a run that races nothing (quitting from the
+//! main menu) must not cost it. So the target is untouched until [`Recording::finish`]: a race of at least
+//! one tick replaces it (a race quit half-way is kept: its trace replays up to where it stopped, as a
+//! crash-cut trace does); with nothing raced the temporary file is removed and the target stays as it was.
+//! A process killed mid-race leaves the race in the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a
+//! rename that fails leaves it there too and says so; a recorded race is never deleted.
 
 use std::path::{Path, PathBuf};
 
@@ -24,28 +23,40 @@ pub enum RecordError {
     #[error("cannot record to {0}")]
     Target(#[from] UserFileError),
     /// The temporary file beside the target could not be created.
-    #[error("cannot record to {target}: cannot create {tmp}: {reason}")]
+    #[error("cannot record to {target}: cannot create {tmp}: {source}")]
     Create {
         /// The file the race was to be recorded to.
         target: PathBuf,
         /// The temporary file.
         tmp: PathBuf,
-        /// The operating system's reason.
-        reason: String,
+        /// The operating system's error.
+        source: std::io::Error,
     },
     /// Writing the trace failed.
     #[error("recording stopped: {0}")]
     Write(#[from] TraceError),
     /// The recorded race could not be moved into place; it is still in the temporary file.
-    #[error("the race is recorded in {tmp} but could not be renamed to {target}: {reason}; rename it to keep it")]
+    #[error("the race is recorded in {tmp} but could not be renamed to {target}: {problem}; rename it to keep it")]
     Keep {
         /// The temporary file holding the race.
         tmp: PathBuf,
         /// The file it was meant to replace.
         target: PathBuf,
-        /// The operating system's reason.
-        reason: String,
+        /// What failed.
+        #[source]
+        problem: KeepProblem,
     },
+}
+
+/// Why a recorded race could not be moved into place.
+#[derive(Debug, Error)]
+pub enum KeepProblem {
+    /// The trace could not be flushed to the disk first.
+    #[error(transparent)]
+    Sync(TraceError),
+    /// The rename failed.
+    #[error(transparent)]
+    Rename(std::io::Error),
 }
 
 /// What [`Recording::finish`] did.
@@ -102,9 +113,11 @@ impl Recording {
             Err(e) => return Err(e.into()),
         }
         let tmp = temp_sibling(&dest);
-        let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|e| {
-            RecordError::Create { target: target.to_path_buf(), tmp: tmp.clone(), reason: e.to_string() }
-        })?;
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|source| RecordError::Create { target: target.to_path_buf(), tmp: tmp.clone(), source })?;
         match TraceWriter::new(file, &tmp.display().to_string(), header) {
             Ok(w) => Ok(Self { target: target.to_path_buf(), dest, tmp, writer: Some(w) }),
             Err(e) => {
@@ -139,10 +152,10 @@ impl Recording {
             let _ = std::fs::remove_file(&self.tmp);
             return Ok(nothing);
         }
-        let keep = |reason: String| RecordError::Keep { tmp: self.tmp.clone(), target: self.target.clone(), reason };
-        writer.sync().map_err(|e| keep(e.to_string()))?;
+        let keep = |problem| RecordError::Keep { tmp: self.tmp.clone(), target: self.target.clone(), problem };
+        writer.sync().map_err(|e| keep(KeepProblem::Sync(e)))?;
         drop(writer);
-        std::fs::rename(&self.tmp, &self.dest).map_err(|e| keep(e.to_string()))?;
+        std::fs::rename(&self.tmp, &self.dest).map_err(|e| keep(KeepProblem::Rename(e)))?;
         Ok(Kept::Race { path: self.target.clone(), ticks })
     }
 }

@@ -23,8 +23,6 @@ pub const MAGIC: &[u8; 8] = b"SRTRACE\0";
 pub const FORMAT_VERSION: u16 = 1;
 /// Version of the simulation rules: bumped when `game::step` changes behaviour, so an old trace is refused
 /// with a clear message instead of diverging (build details that do not change the simulation keep it).
-/// Version 2: the simulation's transcendental functions come from the portable `libm` crate, not the
-/// platform's maths library, so its checksums differ from version 1's in the last place.
 pub const SIM_VERSION: u32 = 2;
 /// Largest header accepted.
 const MAX_HEADER: u32 = 64 * 1024;
@@ -77,12 +75,12 @@ pub enum TraceError {
     #[error(transparent)]
     File(#[from] crate::userfile::UserFileError),
     /// The file could not be opened, read or written.
-    #[error("{path}: {reason}")]
+    #[error("{path}: {source}")]
     Io {
         /// The file.
         path: String,
-        /// The I/O error.
-        reason: String,
+        /// The operating system's error.
+        source: std::io::Error,
     },
     /// Not a trace file.
     #[error("{path}: not a scanline-racer trace (wrong magic bytes)")]
@@ -106,13 +104,14 @@ pub enum TraceError {
         /// The version in the file.
         found: u32,
     },
-    /// The header is missing, too long, or does not parse.
-    #[error("{path}: bad header: {reason}")]
+    /// The header is missing, too long, does not parse, or describes a race this build cannot run.
+    #[error("{path}: bad header: {problem}")]
     Header {
         /// The file.
         path: String,
         /// What is wrong.
-        reason: String,
+        #[source]
+        problem: HeaderProblem,
     },
     /// A record with an unknown tag.
     #[error("{path}: corrupt record at byte {offset} (tag {tag})")]
@@ -140,6 +139,44 @@ pub enum TraceError {
         /// Tick of the checksum record before it.
         previous: u64,
     },
+}
+
+/// What is wrong with a trace's header.
+#[derive(Debug, Error)]
+pub enum HeaderProblem {
+    /// The file ends before the header does.
+    #[error("file ends inside the header")]
+    Cut,
+    /// The header's length is over [`MAX_HEADER`].
+    #[error("header of {length} bytes is over the limit of {MAX_HEADER}")]
+    TooLong {
+        /// The length the file declares.
+        length: u32,
+    },
+    /// The header is not the JSON object a trace header is (or could not be written as one).
+    #[error("{0}")]
+    Json(#[source] serde_json::Error),
+    /// Another simulation tick rate.
+    #[error("tick rate {found} Hz differs from this build's {} Hz", crate::game::TICK_HZ)]
+    TickRate {
+        /// The rate in the header.
+        found: u32,
+    },
+    /// A number of cars this build cannot race.
+    #[error("{found} cars is out of range 1-64")]
+    Cars {
+        /// Cars in the header.
+        found: u32,
+    },
+    /// A number of laps this build cannot race.
+    #[error("{found} laps is out of range 1-99")]
+    Laps {
+        /// Laps in the header.
+        found: u32,
+    },
+    /// No ticks between checksums.
+    #[error("checksum interval 0 is out of range")]
+    ChecksumInterval,
 }
 
 /// Rounds controls to what a trace stores: steer in 1/32767 steps, throttle and brake in 1/255 steps.
@@ -175,17 +212,17 @@ impl TraceWriter {
     /// truncates an existing file.
     pub fn create(path: &Path, header: &Header) -> Result<Self, TraceError> {
         let name = path.display().to_string();
-        let file = File::create(path).map_err(|e| TraceError::Io { path: name.clone(), reason: e.to_string() })?;
+        let file = File::create(path).map_err(|source| TraceError::Io { path: name.clone(), source })?;
         Self::new(file, &name, header)
     }
 
     /// Writes the header to `file`, an empty file opened for writing; `name` stands for it in messages.
     pub fn new(file: File, name: &str, header: &Header) -> Result<Self, TraceError> {
         let name = name.to_string();
-        let io = |e: std::io::Error| TraceError::Io { path: name.clone(), reason: e.to_string() };
+        let io = |source: std::io::Error| TraceError::Io { path: name.clone(), source };
         let mut out = BufWriter::new(file);
-        let json =
-            serde_json::to_vec(header).map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
+        let json = serde_json::to_vec(header)
+            .map_err(|e| TraceError::Header { path: name.clone(), problem: HeaderProblem::Json(e) })?;
         out.write_all(MAGIC).map_err(io)?;
         out.write_all(&FORMAT_VERSION.to_le_bytes()).map_err(io)?;
         out.write_all(&(json.len() as u32).to_le_bytes()).map_err(io)?;
@@ -217,22 +254,27 @@ impl TraceWriter {
         rec[1..9].copy_from_slice(&tick.to_le_bytes());
         rec[9..17].copy_from_slice(&sum.to_le_bytes());
         self.write(&rec)?;
-        self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+        self.out.flush().map_err(|e| self.io(e))
     }
 
     /// Flushes what is buffered (dropping the writer does too, but cannot report an error).
     pub fn finish(&mut self) -> Result<(), TraceError> {
-        self.out.flush().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+        self.out.flush().map_err(|e| self.io(e))
     }
 
     /// Flushes what is buffered and waits until the file is on disk (before it is renamed into place).
     pub fn sync(&mut self) -> Result<(), TraceError> {
         self.finish()?;
-        self.out.get_ref().sync_all().map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+        self.out.get_ref().sync_all().map_err(|e| self.io(e))
     }
 
     fn write(&mut self, bytes: &[u8]) -> Result<(), TraceError> {
-        self.out.write_all(bytes).map_err(|e| TraceError::Io { path: self.path.clone(), reason: e.to_string() })
+        self.out.write_all(bytes).map_err(|e| self.io(e))
+    }
+
+    /// An I/O error writing this trace.
+    fn io(&self, source: std::io::Error) -> TraceError {
+        TraceError::Io { path: self.path.clone(), source }
     }
 }
 
@@ -260,8 +302,14 @@ impl TraceReader {
         let name = name.to_string();
         let mut input = BufReader::new(input);
         let mut head = [0u8; 14];
-        let short = || TraceError::Header { path: name.clone(), reason: "file ends inside the header".into() };
-        input.read_exact(&mut head).map_err(|_| short())?;
+        let bad = |problem| TraceError::Header { path: name.clone(), problem };
+        // The file ending inside the header is a problem of the header; any other failure to read is an I/O
+        // error of its own.
+        let read_failed = |e: std::io::Error| match e.kind() {
+            std::io::ErrorKind::UnexpectedEof => bad(HeaderProblem::Cut),
+            _ => TraceError::Io { path: name.clone(), source: e },
+        };
+        input.read_exact(&mut head).map_err(read_failed)?;
         if &head[..8] != MAGIC {
             return Err(TraceError::Magic { path: name });
         }
@@ -271,21 +319,25 @@ impl TraceReader {
         }
         let len = u32::from_le_bytes([head[10], head[11], head[12], head[13]]);
         if len > MAX_HEADER {
-            return Err(TraceError::Header { path: name, reason: format!("header of {len} bytes is over the limit") });
+            return Err(bad(HeaderProblem::TooLong { length: len }));
         }
         let mut json = vec![0u8; len as usize];
-        input.read_exact(&mut json).map_err(|_| short())?;
-        let header: Header = serde_json::from_slice(&json)
-            .map_err(|e| TraceError::Header { path: name.clone(), reason: e.to_string() })?;
+        input.read_exact(&mut json).map_err(read_failed)?;
+        let header: Header = serde_json::from_slice(&json).map_err(|e| bad(HeaderProblem::Json(e)))?;
         if header.sim_version != SIM_VERSION {
             return Err(TraceError::SimVersion { path: name, found: header.sim_version });
         }
-        let bad = |what: &str| TraceError::Header { path: name.clone(), reason: what.to_string() };
         if header.tick_hz != crate::game::TICK_HZ {
-            return Err(bad("tick rate differs from this build's"));
+            return Err(bad(HeaderProblem::TickRate { found: header.tick_hz }));
         }
-        if !(1..=64).contains(&header.cars) || !(1..=99).contains(&header.laps) || header.checksum_every == 0 {
-            return Err(bad("cars, laps or checksum interval out of range"));
+        if !(1..=64).contains(&header.cars) {
+            return Err(bad(HeaderProblem::Cars { found: header.cars }));
+        }
+        if !(1..=99).contains(&header.laps) {
+            return Err(bad(HeaderProblem::Laps { found: header.laps }));
+        }
+        if header.checksum_every == 0 {
+            return Err(bad(HeaderProblem::ChecksumInterval));
         }
         Ok((header, Self { input, path: name, offset: 14 + u64::from(len), last_checksum: None }))
     }

@@ -11,6 +11,7 @@ use std::time::Instant;
 
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
+use winit::error::{EventLoopError, OsError};
 use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
@@ -24,20 +25,60 @@ pub const HEADLESS_HINT: &str = "without a window use: scanline-racer replay TRA
 #[derive(Debug, thiserror::Error)]
 pub enum ShellError {
     /// No X11 or Wayland display could be reached.
-    #[error("no display available ({reason}); {HEADLESS_HINT}")]
-    NoDisplay {
-        /// What winit reported.
-        reason: String,
-    },
-    /// The window or its presentation surface failed.
+    #[error("no display available ({}); {HEADLESS_HINT}", plain_reason(&.0.to_string()))]
+    NoDisplay(#[source] EventLoopError),
+    /// The event loop failed while the window ran.
     #[error("window: {0}")]
-    Window(String),
+    EventLoop(#[source] EventLoopError),
+    /// The display connection broke while the window ran (winit's X11 backend panics then).
+    #[error("window: the display connection failed")]
+    DisplayLost,
+    /// The window could not be created.
+    #[error("window: {0}")]
+    Create(#[source] OsError),
+    /// The window's presentation surface failed at `step`.
+    #[error("window: {step}: {source}")]
+    Surface {
+        /// What was being done with the surface.
+        step: SurfaceStep,
+        /// What softbuffer reported.
+        source: softbuffer::SoftBufferError,
+    },
     /// Drawing failed.
     #[error("render: {0}")]
     Render(#[from] crate::render::RenderError),
     /// A screenshot could not be written.
     #[error(transparent)]
     Png(#[from] super::png::PngError),
+}
+
+/// What the window was doing with its presentation surface when it failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceStep {
+    /// Making the surface for a new window.
+    Create,
+    /// Resizing it to the window.
+    Resize,
+    /// Taking its buffer to draw a frame into.
+    Buffer,
+    /// Showing the frame.
+    Present,
+}
+
+impl std::fmt::Display for SurfaceStep {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SurfaceStep::Create => "creating the drawing surface",
+            SurfaceStep::Resize => "resizing the drawing surface",
+            SurfaceStep::Buffer => "getting the frame buffer",
+            SurfaceStep::Present => "presenting the frame",
+        })
+    }
+}
+
+/// The window's surface failed at `step`.
+fn surface_error(step: SurfaceStep) -> impl FnOnce(softbuffer::SoftBufferError) -> ShellError {
+    move |source| ShellError::Surface { step, source }
 }
 
 /// What a window shows: it is told the time and the keys, and draws frames.
@@ -118,7 +159,7 @@ fn plain_reason(s: &str) -> String {
 
 /// Opens the window and runs until it is closed.
 pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellError> {
-    let event_loop = EventLoop::new().map_err(|e| ShellError::NoDisplay { reason: plain_reason(&e.to_string()) })?;
+    let event_loop = EventLoop::new().map_err(ShellError::NoDisplay)?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
     let mut app = App {
@@ -142,8 +183,8 @@ pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellE
     let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| event_loop.run_app(&mut app)));
     std::panic::set_hook(hook);
     match ran {
-        Ok(result) => result.map_err(|e| ShellError::Window(e.to_string()))?,
-        Err(_) => return Err(ShellError::Window("the display connection failed".into())),
+        Ok(result) => result.map_err(ShellError::EventLoop)?,
+        Err(_) => return Err(ShellError::DisplayLost),
     }
     match app.error.take() {
         Some(e) => Err(e),
@@ -194,7 +235,7 @@ impl App<'_> {
         let (Some(ww), Some(wh)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
             return Ok(false);
         };
-        surface.resize(ww, wh).map_err(|e| ShellError::Window(e.to_string()))?;
+        surface.resize(ww, wh).map_err(surface_error(SurfaceStep::Resize))?;
         self.config.scale = self.content.scale(self.config.scale).clamp(MIN_SCALE, MAX_SCALE);
         let scale = self.config.scale.max(1);
         let (fw, fh) = (size.width.div_ceil(scale) as usize, size.height.div_ceil(scale) as usize);
@@ -203,7 +244,7 @@ impl App<'_> {
             self.frame_size = (fw, fh);
         }
         let status = self.content.draw(&mut self.frame, fw, fh)?;
-        let mut buffer = surface.buffer_mut().map_err(|e| ShellError::Window(e.to_string()))?;
+        let mut buffer = surface.buffer_mut().map_err(surface_error(SurfaceStep::Buffer))?;
         let (bw, s) = (size.width as usize, scale as usize);
         for (y, row) in buffer.chunks_mut(bw).enumerate() {
             let src = &self.frame[(y / s) * fw..(y / s) * fw + fw];
@@ -219,7 +260,7 @@ impl App<'_> {
             self.quit |= quit;
             ui.paint(&mut buffer, bw, size.height as usize);
         }
-        buffer.present().map_err(|e| ShellError::Window(e.to_string()))?;
+        buffer.present().map_err(surface_error(SurfaceStep::Present))?;
         self.frames += 1;
         let now = Instant::now();
         if now.duration_since(self.title_at).as_secs_f32() > 0.5 {
@@ -260,13 +301,13 @@ impl ApplicationHandler for App<'_> {
         }
         let window = match event_loop.create_window(attrs) {
             Ok(w) => Rc::new(w),
-            Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
+            Err(e) => return self.fail(event_loop, ShellError::Create(e)),
         };
         let surface =
             softbuffer::Context::new(window.clone()).and_then(|c| softbuffer::Surface::new(&c, window.clone()));
         match surface {
             Ok(s) => self.surface = Some(s),
-            Err(e) => return self.fail(event_loop, ShellError::Window(e.to_string())),
+            Err(e) => return self.fail(event_loop, surface_error(SurfaceStep::Create)(e)),
         }
         self.ui = Some(super::ui::Ui::new(&window));
         self.window = Some(window);

@@ -3,13 +3,26 @@
 
 use super::Race;
 use crate::game::rules::{Phase, format_ticks};
-use crate::input::ghost::{GhostFound, GhostLap, GhostSearch, Pose};
+use crate::input::ghost::{GhostFound, GhostLap, GhostSearch, LapRecorder, Pose};
+
+/// The ghost car's state. Whether it is drawn is a setting (`prefs`).
+#[derive(Default)]
+pub(super) struct Ghost {
+    /// The player's laps so far, the fastest kept for the ghost.
+    pub(super) laps: LapRecorder,
+    /// The lap the ghost car drives (from `--ghost FILE`, or the fastest lap of this session).
+    pub(super) lap: Option<GhostLap>,
+    /// The search for the fastest lap of `--ghost FILE`, while it runs.
+    search: Option<GhostSearch>,
+    /// A faster lap from the search, waiting for the player to cross the line (the ghost never jumps mid-lap).
+    pending: Option<GhostLap>,
+}
 
 impl Race {
     /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
     #[must_use]
     pub fn with_ghost(mut self, lap: GhostLap) -> Self {
-        self.ghost = Some(lap);
+        self.ghost.lap = Some(lap);
         self
     }
 
@@ -17,31 +30,31 @@ impl Race {
     /// before the green light or when the player crosses the line; the HUD says when the trace held none.
     #[must_use]
     pub fn with_ghost_search(mut self, search: GhostSearch) -> Self {
-        self.ghost_search = Some(search);
+        self.ghost.search = Some(search);
         self
     }
 
     /// Takes what the ghost search reported since the last frame.
     pub(super) fn ghost_search_reports(&mut self) {
-        let Some(search) = self.ghost_search.as_mut() else { return };
+        let Some(search) = self.ghost.search.as_mut() else { return };
         for found in search.poll() {
             match found {
                 GhostFound::Faster(lap) => {
-                    let best = self.ghost_pending.as_ref().or(self.ghost.as_ref());
+                    let best = self.ghost.pending.as_ref().or(self.ghost.lap.as_ref());
                     if best.is_none_or(|g| lap.ticks() < g.ticks()) {
-                        self.ghost_pending = Some(lap);
+                        self.ghost.pending = Some(lap);
                     }
                 }
                 GhostFound::End { laps } => {
                     if !laps {
                         self.notice = Some("ghost: the trace holds no complete lap to race against".into());
                     }
-                    self.ghost_search = None;
+                    self.ghost.search = None;
                     break;
                 }
                 GhostFound::Failed(e) => {
                     self.notice = Some(format!("ghost: {e} (the laps before it are raced against)"));
-                    self.ghost_search = None;
+                    self.ghost.search = None;
                     break;
                 }
             }
@@ -59,13 +72,13 @@ impl Race {
         if mid_lap {
             return;
         }
-        if let Some(lap) = self.ghost_pending.take()
-            && self.ghost.as_ref().is_none_or(|g| lap.ticks() < g.ticks())
+        if let Some(lap) = self.ghost.pending.take()
+            && self.ghost.lap.as_ref().is_none_or(|g| lap.ticks() < g.ticks())
         {
             if self.world.tick > 0 {
                 self.notice = Some(format!("ghost: the trace's best lap {}", format_ticks(lap.ticks())));
             }
-            self.ghost = Some(lap);
+            self.ghost.lap = Some(lap);
         }
     }
 
@@ -73,9 +86,9 @@ impl Race {
     pub(super) fn ghost_pose(&self) -> Option<Pose> {
         let race = &self.world.race;
         let me = &race.standings[0];
-        if !self.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
+        if !self.prefs.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
             return None;
         }
-        self.ghost.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
+        self.ghost.lap.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
     }
 }

@@ -45,6 +45,17 @@ impl RecordTo {
     }
 }
 
+/// The race's recording: the trace being written, and the main menu's switch.
+#[derive(Default)]
+pub(super) struct Recorder {
+    /// When recording, where the controls go (a file beside the target, renamed over it at the end).
+    pub(super) recorder: Option<Recording>,
+    /// The main menu's recording switch and the file it records to.
+    pub(super) to: RecordTo,
+    /// Whether a recorded race has replaced its target in this run.
+    kept_a_race: bool,
+}
+
 impl Race {
     /// Records races to `path`: at once when the race starts without the menu, else each race started from
     /// the main menu while its switch (now on, with this file) stays on. A path that cannot be recorded to
@@ -52,9 +63,9 @@ impl Race {
     pub fn record_to(mut self, path: &Path) -> Result<Self, RecordError> {
         let recording = Recording::start(path, &header_for(&self.world))?;
         let shown = path.display().to_string();
-        self.record_to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
+        self.recording.to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
         if self.screen == Screen::Race {
-            self.recorder = Some(recording);
+            self.recording.recorder = Some(recording);
         } else {
             // Only a check: the race's header (its laps) is known when it starts.
             drop(recording);
@@ -64,14 +75,15 @@ impl Race {
 
     /// Starts recording a race about to start from the grid, when the main menu's switch asks for it.
     pub(super) fn start_recording(&mut self) {
-        if !self.record_to.on || self.recorder.is_some() || self.source.is_some() || self.world.tick != 0 {
+        let rec = &self.recording;
+        if !rec.to.on || rec.recorder.is_some() || self.control.replaying() || self.world.tick != 0 {
             return;
         }
-        let path = self.record_to.path();
+        let path = rec.to.path();
         match Recording::start(&path, &header_for(&self.world)) {
             Ok(r) => {
                 self.notice = Some(format!("recording to {}", path.display()));
-                self.recorder = Some(r);
+                self.recording.recorder = Some(r);
             }
             Err(e) => self.notice = Some(format!("not recording: {e}")),
         }
@@ -80,10 +92,10 @@ impl Race {
     /// Ends the recording in the race (`why` says what ended it), keeping what was raced; the HUD says
     /// what became of it.
     pub(super) fn end_recording(&mut self, why: &str) {
-        let Some(mut rec) = self.recorder.take() else { return };
+        let Some(mut rec) = self.recording.recorder.take() else { return };
         self.notice = Some(match rec.finish() {
             Ok(kept) => {
-                self.kept_a_race |= matches!(kept, Kept::Race { .. });
+                self.recording.kept_a_race |= matches!(kept, Kept::Race { .. });
                 format!("{why}: {kept}")
             }
             Err(e) => format!("{why}: {e}"),
@@ -95,9 +107,10 @@ impl Race {
     /// there was nothing to record to or a race was already kept; [`Kept::Nothing`] when the switch was on
     /// and no race was recorded in this run.
     pub fn finish_recording(&mut self) -> Result<Option<Kept>, RecordError> {
-        match self.recorder.take() {
-            Some(mut rec) => rec.finish().map(Some),
-            None if self.record_to.on && !self.kept_a_race => Ok(Some(Kept::Nothing { path: self.record_to.path() })),
+        let rec = &mut self.recording;
+        match rec.recorder.take() {
+            Some(mut r) => r.finish().map(Some),
+            None if rec.to.on && !rec.kept_a_race => Ok(Some(Kept::Nothing { path: rec.to.path() })),
             None => Ok(None),
         }
     }
@@ -149,7 +162,7 @@ mod tests {
     fn a_name_typed_in_the_menu_is_recorded_to_trimmed() {
         let d = dir("typed");
         let mut race = race_on_the_menu().record_to(&d.join("given.trace")).unwrap();
-        race.record_to.text = format!("  {}  ", d.join("typed.trace").display());
+        race.recording.to.text = format!("  {}  ", d.join("typed.trace").display());
         race.start_race();
         race.tick();
         let typed = d.join("typed.trace");
