@@ -12,7 +12,7 @@ use super::budget::OverBudget;
 use super::uri::UriError;
 use super::validate::Unsupported;
 use crate::render::MeshError;
-use crate::render::texture::TextureError;
+use crate::render::core::texture::TextureError;
 use crate::userfile::FileProblem;
 
 /// Why an asset could not be loaded; every variant names the file.

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{CliError, values};
+use super::error::CliError;
+use super::values;
 use crate::bench::chart::Panel;
 use crate::bench::{Row, chart, collect_frames, configs, csv, run};
 use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
@@ -46,8 +47,8 @@ pub struct BenchArgs {
 /// Runs `bench`.
 pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     // Before the sweep (minutes long): an output folder that cannot be written fails now, not after it.
-    super::output_folder("--out", &args.out, "the CSV and the charts")?;
-    let dir = super::assets_dir()?;
+    super::error::output_folder("--out", &args.out, "the CSV and the charts")?;
+    let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
     let (frames, repeats, main, buckets, resolutions): (usize, usize, _, Vec<usize>, Vec<(usize, usize)>) =

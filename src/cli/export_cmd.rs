@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{CliError, values};
+use super::error::CliError;
+use super::values;
 use crate::asset::export::export_glb;
 use crate::input::replay::Replay;
 use crate::render::{RenderOptions, Renderer};
@@ -32,7 +33,7 @@ pub struct ExportArgs {
 /// Runs `export-frame`; prints what was written.
 pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     crate::userfile::check_output(&args.out).map_err(|source| CliError::Output { flag: "--out", source })?;
-    let dir = super::assets_dir()?;
+    let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     while replay.world.tick < args.tick {

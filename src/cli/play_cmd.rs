@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{CliError, values};
+use super::error::CliError;
+use super::values;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::GhostSearch;
 use crate::input::recording::Kept;
@@ -117,7 +118,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     match scene {
         Some(scene) => run(window, &mut Viewer::new(scene, options, aspect))?,
         None => {
-            let dir = super::assets_dir()?;
+            let dir = super::error::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
             // The trace is checked now; its laps are searched on a background thread while the race runs.
             let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;

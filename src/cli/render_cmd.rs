@@ -5,7 +5,8 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 
-use super::{CliError, values};
+use super::error::CliError;
+use super::values;
 use crate::asset::{LoadedScene, load};
 use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{

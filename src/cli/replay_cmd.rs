@@ -5,7 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{CliError, values};
+use super::error::CliError;
+use super::values;
 use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
@@ -64,9 +65,9 @@ pub struct ReplaySummary {
 /// Replays a trace without a window, checking checksums and writing frames; `progress` gets each tick.
 pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Result<ReplaySummary, CliError> {
     if let Some(d) = &args.frames {
-        super::output_folder("--frames", d, "the PNG frames")?;
+        super::error::output_folder("--frames", d, "the PNG frames")?;
     }
-    let dir = super::assets_dir()?;
+    let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     let options =
@@ -109,7 +110,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
-    let dir = super::assets_dir()?;
+    let dir = super::error::assets_dir()?;
     let options =
         RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
     let mut race =

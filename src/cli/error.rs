@@ -1,0 +1,123 @@
+//! Why a command failed: each module's typed error, wrapped for the user's one line, and the checks on the
+//! command line's paths that fail before any long work.
+
+use thiserror::Error;
+
+/// Why a command failed.
+#[derive(Debug, Error)]
+pub enum CliError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Asset(#[from] crate::asset::AssetError),
+    /// The race's circuit, cars or centre line could not be loaded.
+    #[error(transparent)]
+    RaceScene(#[from] crate::shell::race_scene::RaceSceneError),
+    /// The renderer refused the frame.
+    #[error("render: {0}")]
+    Render(#[from] crate::render::RenderError),
+    /// `--camera` names no camera in the scene.
+    #[error("{file}: no camera '{wanted}' (the scene has {count} camera node(s){names})")]
+    NoSuchCamera {
+        /// The scene file.
+        file: String,
+        /// What was asked for.
+        wanted: String,
+        /// How many cameras exist.
+        count: usize,
+        /// Their names, for the message.
+        names: String,
+    },
+    /// An output file could not be written.
+    #[error("cannot write {0}")]
+    Write(#[source] crate::userfile::UserFileError),
+    /// An output folder's path names a file.
+    #[error("{flag} {path}: is a file, not a folder; name a folder (new or existing) for {what}")]
+    NotAFolder {
+        /// The flag that named it.
+        flag: &'static str,
+        /// The path.
+        path: String,
+        /// What the folder is for.
+        what: &'static str,
+    },
+    /// An output folder cannot be created or written into.
+    #[error("{flag} {path}: cannot write into this folder: {source}")]
+    FolderNotWritable {
+        /// The flag that named it.
+        flag: &'static str,
+        /// The path.
+        path: String,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// The shipped assets folder was not found where the game looks for it.
+    #[error("cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)")]
+    NoAssets,
+    /// A frame could not be written out as GLB.
+    #[error("export-frame: {0}")]
+    Export(#[from] crate::asset::export::ExportError),
+    /// A bench chart could not be drawn.
+    #[error("bench chart '{name}': {source}")]
+    Chart {
+        /// The chart's file name stem.
+        name: String,
+        /// Why.
+        source: crate::bench::chart::ChartError,
+    },
+    /// The window could not be opened or failed.
+    #[error(transparent)]
+    Shell(#[from] crate::shell::window::ShellError),
+    /// `export-frame --tick` asks for a tick after the trace's end.
+    #[error("{trace}: the trace ends at tick {ends_at}, before tick {wanted}")]
+    TraceTooShort {
+        /// The trace.
+        trace: std::path::PathBuf,
+        /// The last tick it reaches.
+        ends_at: u64,
+        /// The tick asked for.
+        wanted: u64,
+    },
+    /// `bench --trace` names a trace with no racing frames to measure.
+    #[error("{trace}: no racing frames to measure")]
+    NoRacingFrames {
+        /// The trace.
+        trace: std::path::PathBuf,
+    },
+    /// A race could not be recorded, or its recording could not be kept.
+    #[error(transparent)]
+    Record(#[from] crate::input::recording::RecordError),
+    /// A trace could not be opened or replayed.
+    #[error(transparent)]
+    Trace(#[from] crate::input::replay::ReplayError),
+    /// A PNG could not be written.
+    #[error(transparent)]
+    Png(#[from] crate::shell::png::PngError),
+    /// An output file named on the command line cannot be written there (checked before the work).
+    #[error("cannot write {flag} {source}")]
+    Output {
+        /// The flag that named it (`--out`).
+        flag: &'static str,
+        /// What is wrong with the path.
+        source: crate::userfile::UserFileError,
+    },
+}
+
+/// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that
+/// says where it was looked for.
+pub(super) fn assets_dir() -> Result<std::path::PathBuf, CliError> {
+    crate::shell::race_scene::find_assets().ok_or(CliError::NoAssets)
+}
+
+/// Makes `dir` (named by `flag`, to hold `what`) a folder the command can write into, before any long work:
+/// creates it if missing and writes and removes a probe file, so a bad path fails at once in one line.
+pub(super) fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'static str) -> Result<(), CliError> {
+    let path = dir.display().to_string();
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::NotAFolder { flag, path, what });
+    }
+    let fail = |source: std::io::Error| CliError::FolderNotWritable { flag, path: path.clone(), source };
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    let probe = crate::userfile::temp_sibling(&dir.join("write-probe"));
+    std::fs::write(&probe, b"").map_err(fail)?;
+    std::fs::remove_file(&probe).map_err(fail)
+}
