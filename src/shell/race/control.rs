@@ -1,20 +1,20 @@
 //! Where the player's controls come from: the keyboard and a gamepad together, the AI (autopilot), or a
-//! trace being replayed, chosen in one place ([`Race::player_controls`]); and the keys and pad buttons
-//! that pause, change the view, drive the menus and steer a replay.
+//! trace being replayed, chosen in one place ([`Control::player_controls`]); and what the keys and pad
+//! buttons that do not drive ask of the race ([`Command`]: pause, change the view, drive the menus, steer a
+//! replay), which the race carries out.
 
 use std::path::{Path, PathBuf};
 
 use winit::keyboard::KeyCode;
 
-use super::{Race, Screen};
+use super::screen::Screen;
 use crate::game::ai::{Driver, drive};
-use crate::game::rules::Phase;
-use crate::game::{Controls, DT};
+use crate::game::{Controls, DT, World};
 use crate::input::bindings::Action;
 use crate::input::gamepad::{Gamepads, PadButton, PadEvent};
 use crate::input::replay::{ReplayError, TraceSource};
-use crate::render::RenderOptions;
-use crate::shell::race_scene::{FIELD, RaceScene};
+use crate::render::Method;
+use crate::shell::race_scene::FIELD;
 use crate::shell::window::method_key;
 
 /// Keyboard state turned into smoothed controls.
@@ -63,25 +63,42 @@ pub(super) struct Control {
     replay: Option<Replaying>,
 }
 
-impl Control {
-    /// Whether the player's controls come from a trace.
-    pub(super) fn replaying(&self) -> bool {
-        self.replay.is_some()
-    }
+/// What a key or a pad button asks of the race beyond driving (the driving keys [`Control`] takes itself),
+/// for the race to carry out: most of it changes parts of the race that are not the player's inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Command {
+    /// Quit the game (Esc in the main menu or on a frozen replay).
+    Quit,
+    /// Pause a race being raced, resume a paused one.
+    TogglePause,
+    /// Leave the pause menu for the race (the pad's Back button).
+    Resume,
+    /// Leave the main menu for the race (Enter).
+    StartRace,
+    /// Show the next camera view.
+    NextView,
+    /// Show or hide the debug overlay (F3).
+    ToggleDebug,
+    /// Draw with this visibility method (1-5).
+    Method(Method),
+    /// Replay the trace being replayed from its start (R).
+    RestartReplay,
+    /// Run one tick of a paused replay (N).
+    Step,
+    /// Halve the replay's speed, down to 1/4x (`[`).
+    Slower,
+    /// Double the replay's speed, up to 16x (`]`).
+    Faster,
+    /// Show this notice (a gamepad was plugged in).
+    Notice(String),
+    /// The active gamepad was unplugged: a race being raced pauses, and the notice says why.
+    PadLost,
 }
 
-impl Race {
-    /// A replay of the trace at `path`: the trace drives the player's car; P pauses, N steps a tick, `[`
-    /// and `]` halve and double the speed (1/4x to 16x), R restarts.
-    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &Path) -> Result<Self, ReplayError> {
-        let mut race = Self::new(scene, options, 3, false);
-        race.start_replay(path)?;
-        Ok(race)
-    }
-
-    /// Switches to replaying the trace at `path` from its start; refuses a file that is not a trace of
-    /// this track and field.
-    pub(super) fn start_replay(&mut self, path: &Path) -> Result<(), ReplayError> {
+impl Replaying {
+    /// Opens the trace at `path` to replay; refuses a file that is not a trace of this field (its track is
+    /// checked by [`Control::replay`], against the world set up for the trace's laps).
+    pub(super) fn open(path: &Path) -> Result<Self, ReplayError> {
         let source = TraceSource::open(path)?;
         if source.header.cars as usize != FIELD {
             return Err(ReplayError::Cars {
@@ -90,28 +107,45 @@ impl Race {
                 expected: FIELD,
             });
         }
-        self.laps = source.header.laps;
-        self.restart();
-        source.check_track(&self.world)?;
-        self.control.replay = Some(Replaying { source, path: path.to_path_buf() });
-        self.screen = Screen::Race;
+        Ok(Self { source, path: path.to_path_buf() })
+    }
+
+    /// Laps of the race the trace recorded: the race replaying it is set up with them.
+    pub(super) fn laps(&self) -> u32 {
+        self.source.header.laps
+    }
+}
+
+impl Control {
+    /// Whether the player's controls come from a trace.
+    pub(super) fn replaying(&self) -> bool {
+        self.replay.is_some()
+    }
+
+    /// The file of the trace being replayed, for R to replay it again from its start.
+    pub(super) fn replay_path(&self) -> Option<PathBuf> {
+        self.replay.as_ref().map(|r| r.path.clone())
+    }
+
+    /// Takes the player's controls from `replay` from now on, once its track is that of `world` (the
+    /// world on the grid, set up for the trace's laps); on a refusal the controls come from where they came.
+    pub(super) fn replay(&mut self, replay: Replaying, world: &World) -> Result<(), ReplayError> {
+        replay.source.check_track(world)?;
+        self.replay = Some(replay);
         Ok(())
     }
 
-    /// The player's controls for the next tick (the seam between live play and a replay): from the trace
-    /// when replaying, else from the AI with the autopilot on, else the keyboard and pad together. `None`
-    /// when the replay has ended or failed: the race is then paused and the notice says why.
-    pub(super) fn player_controls(&mut self) -> Option<Controls> {
-        let control = &mut self.control;
-        match control.replay.as_mut() {
-            None if control.autopilot => {
-                let w = &self.world;
-                Some(drive(&Driver::field(FIELD), 0, &w.cars, &w.track, &w.params))
-            }
+    /// The player's controls for the next tick of `world` (the seam between live play and a replay): from
+    /// the trace when replaying, else from the AI with the autopilot on, else the keyboard and pad
+    /// together. `Err` says why there are none when the replay has ended or failed: the race then pauses
+    /// and shows it.
+    pub(super) fn player_controls(&mut self, world: &World) -> Result<Controls, String> {
+        match self.replay.as_mut() {
+            None if self.autopilot => Ok(drive(&Driver::field(FIELD), 0, &world.cars, &world.track, &world.params)),
             None => {
                 // Keyboard and pad together: steering adds, pedals take the larger.
-                let k = control.keys.controls();
-                Some(match control.pads.controls() {
+                let k = self.keys.controls();
+                Ok(match self.pads.controls() {
                     Some(p) => Controls {
                         steer: (k.steer + p.steer).clamp(-1.0, 1.0),
                         throttle: k.throttle.max(p.throttle),
@@ -120,47 +154,32 @@ impl Race {
                     None => k,
                 })
             }
-            Some(Replaying { source, .. }) => match source.next_controls(&self.world) {
-                Ok(Some(c)) => Some(c),
+            Some(Replaying { source, .. }) => match source.next_controls(world) {
+                Ok(Some(c)) => Ok(c),
                 Ok(None) => {
-                    self.notice = Some(format!(
-                        "end of replay at tick {} ({} checksums verified)",
-                        self.world.tick, source.verified
-                    ));
-                    self.screen = Screen::Paused;
-                    None
+                    Err(format!("end of replay at tick {} ({} checksums verified)", world.tick, source.verified))
                 }
-                Err(e) => {
-                    self.notice = Some(e.to_string());
-                    self.screen = Screen::Paused;
-                    None
-                }
+                Err(e) => Err(e.to_string()),
             },
         }
     }
 
-    /// Reacts to gamepad buttons and hot-plug: unplugging the active pad mid-race pauses the race.
-    pub(super) fn gamepad_events(&mut self) {
-        for ev in self.control.pads.poll() {
-            match ev {
-                PadEvent::Connected { name } => self.notice = Some(format!("gamepad connected: {name}")),
-                PadEvent::ActiveDisconnected => {
-                    if self.screen == Screen::Race {
-                        self.screen = Screen::Paused;
-                    }
-                    self.notice = Some("gamepad disconnected: race paused".into());
-                }
-                PadEvent::Pressed(b @ (PadButton::Confirm | PadButton::Up | PadButton::Down))
-                    if matches!(self.screen, Screen::Menu | Screen::Paused)
-                        || self.world.race.phase == Phase::Finished =>
-                {
-                    self.pad_menu_key(b);
-                }
-                PadEvent::Pressed(PadButton::Pause) => self.toggle_pause(),
-                PadEvent::Pressed(PadButton::Back) if self.screen == Screen::Paused => self.screen = Screen::Race,
-                PadEvent::Pressed(PadButton::View) => self.drawing.view = self.drawing.view.next(),
-                PadEvent::Pressed(_) => {}
+    /// What gamepad event `ev` asks of the race on `screen` (`finished`: the results are shown). In menus
+    /// the pad works like the keyboard: its D-pad and A become key presses for the UI, taken here.
+    pub(super) fn pad_event(&mut self, ev: PadEvent, screen: Screen, finished: bool) -> Option<Command> {
+        match ev {
+            PadEvent::Connected { name } => Some(Command::Notice(format!("gamepad connected: {name}"))),
+            PadEvent::ActiveDisconnected => Some(Command::PadLost),
+            PadEvent::Pressed(b @ (PadButton::Confirm | PadButton::Up | PadButton::Down))
+                if matches!(screen, Screen::Menu | Screen::Paused) || finished =>
+            {
+                self.pad_menu_key(b);
+                None
             }
+            PadEvent::Pressed(PadButton::Pause) => Some(Command::TogglePause),
+            PadEvent::Pressed(PadButton::Back) if screen == Screen::Paused => Some(Command::Resume),
+            PadEvent::Pressed(PadButton::View) => Some(Command::NextView),
+            PadEvent::Pressed(_) => None,
         }
     }
 
@@ -172,65 +191,50 @@ impl Race {
             _ => (egui::Key::Enter, egui::Modifiers::NONE),
         };
         for pressed in [true, false] {
-            self.control.pad_ui.push(egui::Event::Key { key, physical_key: None, pressed, repeat: false, modifiers });
+            self.pad_ui.push(egui::Event::Key { key, physical_key: None, pressed, repeat: false, modifiers });
         }
     }
 
-    /// A key went down or up: a key Settings waits for is bound; otherwise Esc and the bound keys drive,
-    /// pause and change the view, F3 shows the debug overlay, R N `[` `]` steer a replay and 1-5 pick the
-    /// visibility method. Returns true to quit (Esc in the main menu or on a frozen replay).
-    pub(super) fn key_event(&mut self, code: KeyCode, down: bool) -> bool {
-        let name = crate::shell::keys::key_name(code);
-        if let Some(action) = self.prefs.rebinding
-            && down
-        {
-            self.rebind(action, code, &name);
-            return false;
-        }
-        let keys = &mut self.control.keys;
-        match (code, self.prefs.bindings.action(&name)) {
-            (KeyCode::Escape, _) if down => match self.screen {
-                Screen::Menu | Screen::Frozen => return true,
-                Screen::Race | Screen::Paused => self.toggle_pause(),
-            },
-            (KeyCode::Enter, _) if down && self.screen == Screen::Menu => self.start_race(),
-            (_, Some(Action::SteerLeft)) => keys.left = down,
-            (_, Some(Action::SteerRight)) => keys.right = down,
-            (_, Some(Action::Throttle)) => keys.throttle = down,
-            (_, Some(Action::Brake)) => keys.brake = down,
-            _ if !down => {}
-            (_, Some(Action::ChangeView)) => self.drawing.view = self.drawing.view.next(),
-            (_, Some(Action::Pause)) => self.toggle_pause(),
-            (KeyCode::F3, _) => self.drawing.debug.visible = !self.drawing.debug.visible,
-            (KeyCode::KeyR | KeyCode::KeyN | KeyCode::BracketLeft | KeyCode::BracketRight, _)
-                if self.control.replaying() =>
-            {
-                self.replay_key(code);
+    /// Key `code` went down or up on `screen`, bound to `action` if any: the driving keys are taken here;
+    /// for the others, what they ask: Esc and the bound keys pause and change the view, F3 shows the debug
+    /// overlay, R N `[` `]` steer a replay, 1-5 pick the visibility method, and Esc quits in the main menu
+    /// or on a frozen replay.
+    pub(super) fn key(&mut self, code: KeyCode, down: bool, action: Option<Action>, screen: Screen) -> Option<Command> {
+        match (code, action) {
+            (KeyCode::Escape, _) if down => Some(match screen {
+                Screen::Menu | Screen::Frozen => Command::Quit,
+                Screen::Race | Screen::Paused => Command::TogglePause,
+            }),
+            (KeyCode::Enter, _) if down && screen == Screen::Menu => Some(Command::StartRace),
+            (_, Some(Action::SteerLeft)) => hold(&mut self.keys.left, down),
+            (_, Some(Action::SteerRight)) => hold(&mut self.keys.right, down),
+            (_, Some(Action::Throttle)) => hold(&mut self.keys.throttle, down),
+            (_, Some(Action::Brake)) => hold(&mut self.keys.brake, down),
+            _ if !down => None,
+            (_, Some(Action::ChangeView)) => Some(Command::NextView),
+            (_, Some(Action::Pause)) => Some(Command::TogglePause),
+            (KeyCode::F3, _) => Some(Command::ToggleDebug),
+            (KeyCode::KeyR | KeyCode::KeyN | KeyCode::BracketLeft | KeyCode::BracketRight, _) if self.replaying() => {
+                replay_key(code, screen)
             }
-            _ => {
-                if let Some(m) = method_key(code) {
-                    self.drawing.options.method = m;
-                }
-            }
+            _ => method_key(code).map(Command::Method),
         }
-        false
     }
+}
 
-    /// R restarts the replay, N steps one tick while paused, `[` and `]` halve and double its speed.
-    fn replay_key(&mut self, code: KeyCode) {
-        let clock = &mut self.clock;
-        match code {
-            KeyCode::KeyR => {
-                if let Some(path) = self.control.replay.as_ref().map(|r| r.path.clone())
-                    && let Err(e) = self.start_replay(&path)
-                {
-                    self.notice = Some(e.to_string());
-                }
-            }
-            KeyCode::KeyN if self.screen == Screen::Paused => clock.steps += 1,
-            KeyCode::BracketLeft => clock.speed = (clock.speed * 0.5).max(0.25),
-            KeyCode::BracketRight => clock.speed = (clock.speed * 2.0).min(16.0),
-            _ => {}
-        }
+/// A driving key went down or up: it is held while down, and asks nothing more of the race.
+fn hold(held: &mut bool, down: bool) -> Option<Command> {
+    *held = down;
+    None
+}
+
+/// In a replay: R restarts it, N steps one tick while paused, `[` and `]` halve and double its speed.
+fn replay_key(code: KeyCode, screen: Screen) -> Option<Command> {
+    match code {
+        KeyCode::KeyR => Some(Command::RestartReplay),
+        KeyCode::KeyN if screen == Screen::Paused => Some(Command::Step),
+        KeyCode::BracketLeft => Some(Command::Slower),
+        KeyCode::BracketRight => Some(Command::Faster),
+        _ => None,
     }
 }

@@ -1,7 +1,8 @@
 //! The ghost car in the race: the lap it drives, from `--ghost FILE` (searched on a background thread while
-//! the race runs) or from the player's own fastest lap, and where it is drawn each tick.
+//! the race runs) or from the player's own fastest lap, and where it is drawn each tick. It reads the world
+//! being raced and says what changed in the race's notice; both are passed in.
 
-use super::Race;
+use crate::game::World;
 use crate::game::rules::{Phase, format_ticks};
 use crate::input::ghost::{GhostFound, GhostLap, GhostSearch, LapRecorder, Pose};
 
@@ -18,77 +19,82 @@ pub(super) struct Ghost {
     pending: Option<GhostLap>,
 }
 
-impl Race {
-    /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
-    #[must_use]
-    pub fn with_ghost(mut self, lap: GhostLap) -> Self {
-        self.ghost.lap = Some(lap);
-        self
-    }
-
+impl Ghost {
     /// Races against the fastest lap `search` finds in a trace: each faster lap it reports takes over
-    /// before the green light or when the player crosses the line; the HUD says when the trace held none.
-    #[must_use]
-    pub fn with_ghost_search(mut self, search: GhostSearch) -> Self {
-        self.ghost.search = Some(search);
-        self
+    /// before the green light or when the player crosses the line.
+    pub(super) fn search(&mut self, search: GhostSearch) {
+        self.search = Some(search);
     }
 
-    /// Takes what the ghost search reported since the last frame.
-    pub(super) fn ghost_search_reports(&mut self) {
-        let Some(search) = self.ghost.search.as_mut() else { return };
+    /// Takes what the ghost search reported since the last frame, racing in `world`; `notice` says when
+    /// the trace held no lap or the search failed, and which lap took over.
+    pub(super) fn search_reports(&mut self, world: &World, notice: &mut Option<String>) {
+        let Some(search) = self.search.as_mut() else { return };
         for found in search.poll() {
             match found {
                 GhostFound::Faster(lap) => {
-                    let best = self.ghost.pending.as_ref().or(self.ghost.lap.as_ref());
+                    let best = self.pending.as_ref().or(self.lap.as_ref());
                     if best.is_none_or(|g| lap.ticks() < g.ticks()) {
-                        self.ghost.pending = Some(lap);
+                        self.pending = Some(lap);
                     }
                 }
                 GhostFound::End { laps } => {
                     if !laps {
-                        self.notice = Some("ghost: the trace holds no complete lap to race against".into());
+                        *notice = Some("ghost: the trace holds no complete lap to race against".into());
                     }
-                    self.ghost.search = None;
+                    self.search = None;
                     break;
                 }
                 GhostFound::Failed(e) => {
-                    self.notice = Some(format!("ghost: {e} (the laps before it are raced against)"));
-                    self.ghost.search = None;
+                    *notice = Some(format!("ghost: {e} (the laps before it are raced against)"));
+                    self.search = None;
                     break;
                 }
             }
         }
-        if self.world.race.phase != Phase::Racing {
-            self.take_pending_ghost();
+        if world.race.phase != Phase::Racing {
+            self.take_pending(world, notice);
         }
     }
 
     /// Lets a lap the search found take over the ghost, when that does not make it jump: before the green
-    /// light, or on the tick the player crosses the line.
-    pub(super) fn take_pending_ghost(&mut self) {
-        let race = &self.world.race;
-        let mid_lap = race.phase == Phase::Racing && self.world.tick != race.standings[0].lap_start;
+    /// light, or on the tick the player crosses the line in `world`; `notice` says so once racing.
+    pub(super) fn take_pending(&mut self, world: &World, notice: &mut Option<String>) {
+        let race = &world.race;
+        let mid_lap = race.phase == Phase::Racing && world.tick != race.standings[0].lap_start;
         if mid_lap {
             return;
         }
-        if let Some(lap) = self.ghost.pending.take()
-            && self.ghost.lap.as_ref().is_none_or(|g| lap.ticks() < g.ticks())
+        if let Some(lap) = self.pending.take()
+            && self.lap.as_ref().is_none_or(|g| lap.ticks() < g.ticks())
         {
-            if self.world.tick > 0 {
-                self.notice = Some(format!("ghost: the trace's best lap {}", format_ticks(lap.ticks())));
+            if world.tick > 0 {
+                *notice = Some(format!("ghost: the trace's best lap {}", format_ticks(lap.ticks())));
             }
-            self.ghost.lap = Some(lap);
+            self.lap = Some(lap);
         }
     }
 
-    /// Where the ghost car is this tick: on its lap as far in as the player is into theirs.
-    pub(super) fn ghost_pose(&self) -> Option<Pose> {
-        let race = &self.world.race;
+    /// Watches the player's laps in `world` after each tick: a lap faster than the ghost's becomes the
+    /// ghost's, and `notice` says so.
+    pub(super) fn observe(&mut self, world: &World, notice: &mut Option<String>) {
+        if self.laps.observe(world)
+            && let Some(best) = &self.laps.best
+            && self.lap.as_ref().is_none_or(|g| best.ticks() < g.ticks())
+        {
+            *notice = Some(format!("best lap {}: the ghost drives it now", format_ticks(best.ticks())));
+            self.lap = Some(best.clone());
+        }
+    }
+
+    /// Where the ghost car is this tick of `world`, when `shown` (the setting): on its lap as far in as the
+    /// player is into theirs.
+    pub(super) fn pose(&self, world: &World, shown: bool) -> Option<Pose> {
+        let race = &world.race;
         let me = &race.standings[0];
-        if !self.prefs.show_ghost || race.phase != Phase::Racing || me.finished.is_some() {
+        if !shown || race.phase != Phase::Racing || me.finished.is_some() {
             return None;
         }
-        self.ghost.lap.as_ref()?.pose(self.world.tick.saturating_sub(me.lap_start))
+        self.lap.as_ref()?.pose(world.tick.saturating_sub(me.lap_start))
     }
 }

@@ -1,106 +1,106 @@
 //! What is drawn over the race: position, lap, times, the countdown, speed, replay notices and the
-//! renderer's frame time; and the status line the window shows in its title bar.
+//! renderer's frame time; and the status line the window shows in its title bar. Both are drawn from the
+//! parts of the race they show, passed in.
 
-use super::Race;
-use crate::game::TICK_HZ;
+use super::screen::Drawing;
 use crate::game::rules::{Phase, format_ticks};
+use crate::game::{TICK_HZ, World};
 
-impl Race {
-    /// Speed, position, lap, times and the countdown.
-    pub(super) fn hud(&self, ctx: &egui::Context) {
-        let race = &self.world.race;
-        let me = &race.standings[0];
-        let big = |t: String, size: f32| egui::RichText::new(t).size(size).strong().color(egui::Color32::WHITE);
-        egui::Area::new(egui::Id::unique("hud-left")).anchor(egui::Align2::LEFT_TOP, [16.0, 12.0]).show(ctx, |ui| {
-            ui.label(big(format!("P{} / {}", race.position(0), race.standings.len()), 30.0));
-            ui.label(big(format!("LAP {} / {}", (me.laps + 1).min(race.laps), race.laps), 18.0));
-            let now = if race.holding() { 0 } else { self.world.tick.saturating_sub(me.lap_start) };
-            ui.label(big(format!("TIME {}", format_ticks(now)), 16.0));
-            ui.label(big(format!("BEST {}", me.best_lap.map_or_else(|| "-:--.---".into(), format_ticks)), 16.0));
-        });
-        let since_green = self.world.tick.saturating_sub(race.start_tick);
-        let banner = match race.phase {
-            Phase::Countdown(left) => Some(format!("{}", left.div_ceil(u64::from(TICK_HZ)))),
-            Phase::Racing if since_green < u64::from(TICK_HZ) => Some("GO!".to_string()),
-            _ => None,
-        };
-        if let Some(text) = banner {
-            egui::Area::new(egui::Id::unique("hud-countdown")).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(
-                ctx,
-                |ui| {
-                    ui.label(big(text, 64.0));
-                },
-            );
-        }
-        if self.control.replaying() || self.notice.is_some() {
-            let text = match &self.notice {
-                Some(n) => n.clone(),
-                None => format!("REPLAY {}x — P pause, N step, [ ] speed, R restart", self.clock.speed),
-            };
-            egui::Area::new(egui::Id::unique("hud-notice")).anchor(egui::Align2::CENTER_BOTTOM, [0.0, -40.0]).show(
-                ctx,
-                |ui| {
-                    ui.label(big(text, 16.0));
-                },
-            );
-        }
-        let car = &self.world.cars[0];
-        egui::Area::new(egui::Id::unique("hud-speed")).anchor(egui::Align2::RIGHT_BOTTOM, [-16.0, -12.0]).show(
+/// Speed, position, lap, times and the countdown of the player in `world`; the race's `notice`, else the
+/// replay's keys at `replay_speed` when replaying; the view, method and frame time of `drawing`.
+pub(super) fn hud(
+    ctx: &egui::Context,
+    world: &World,
+    notice: Option<&str>,
+    replay_speed: Option<f64>,
+    drawing: &Drawing,
+) {
+    let race = &world.race;
+    let me = &race.standings[0];
+    let big = |t: String, size: f32| egui::RichText::new(t).size(size).strong().color(egui::Color32::WHITE);
+    egui::Area::new(egui::Id::unique("hud-left")).anchor(egui::Align2::LEFT_TOP, [16.0, 12.0]).show(ctx, |ui| {
+        ui.label(big(format!("P{} / {}", race.position(0), race.standings.len()), 30.0));
+        ui.label(big(format!("LAP {} / {}", (me.laps + 1).min(race.laps), race.laps), 18.0));
+        let now = if race.holding() { 0 } else { world.tick.saturating_sub(me.lap_start) };
+        ui.label(big(format!("TIME {}", format_ticks(now)), 16.0));
+        ui.label(big(format!("BEST {}", me.best_lap.map_or_else(|| "-:--.---".into(), format_ticks)), 16.0));
+    });
+    let since_green = world.tick.saturating_sub(race.start_tick);
+    let banner = match race.phase {
+        Phase::Countdown(left) => Some(format!("{}", left.div_ceil(u64::from(TICK_HZ)))),
+        Phase::Racing if since_green < u64::from(TICK_HZ) => Some("GO!".to_string()),
+        _ => None,
+    };
+    if let Some(text) = banner {
+        egui::Area::new(egui::Id::unique("hud-countdown")).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(
             ctx,
             |ui| {
-                ui.label(big(format!("{:.0} km/h", car.speed().abs() * 3.6), 28.0));
-                ui.add(
-                    egui::ProgressBar::new((car.speed().abs() / self.world.params.top_speed).clamp(0.0, 1.0))
-                        .desired_width(180.0),
-                );
-            },
-        );
-        egui::Area::new(egui::Id::unique("hud-debug")).anchor(egui::Align2::LEFT_BOTTOM, [12.0, -8.0]).show(
-            ctx,
-            |ui| {
-                ui.label(
-                    egui::RichText::new(format!(
-                        "{:?} view — {} — {:.1} ms/frame",
-                        self.drawing.view, self.drawing.options.method, self.drawing.frame_ms
-                    ))
-                    .size(12.0)
-                    .color(egui::Color32::from_gray(230)),
-                );
+                ui.label(big(text, 64.0));
             },
         );
     }
+    let line = match (notice, replay_speed) {
+        (Some(n), _) => Some(n.to_string()),
+        (None, Some(speed)) => Some(format!("REPLAY {speed}x — P pause, N step, [ ] speed, R restart")),
+        (None, None) => None,
+    };
+    if let Some(text) = line {
+        egui::Area::new(egui::Id::unique("hud-notice")).anchor(egui::Align2::CENTER_BOTTOM, [0.0, -40.0]).show(
+            ctx,
+            |ui| {
+                ui.label(big(text, 16.0));
+            },
+        );
+    }
+    let car = &world.cars[0];
+    egui::Area::new(egui::Id::unique("hud-speed")).anchor(egui::Align2::RIGHT_BOTTOM, [-16.0, -12.0]).show(ctx, |ui| {
+        ui.label(big(format!("{:.0} km/h", car.speed().abs() * 3.6), 28.0));
+        ui.add(
+            egui::ProgressBar::new((car.speed().abs() / world.params.top_speed).clamp(0.0, 1.0)).desired_width(180.0),
+        );
+    });
+    egui::Area::new(egui::Id::unique("hud-debug")).anchor(egui::Align2::LEFT_BOTTOM, [12.0, -8.0]).show(ctx, |ui| {
+        ui.label(
+            egui::RichText::new(format!(
+                "{:?} view — {} — {:.1} ms/frame",
+                drawing.view, drawing.options.method, drawing.frame_ms
+            ))
+            .size(12.0)
+            .color(egui::Color32::from_gray(230)),
+        );
+    });
+}
 
-    /// The race status for the title bar: countdown, lap, times, position, or the results.
-    pub(super) fn status(&self) -> String {
-        let race = &self.world.race;
-        let me = &race.standings[0];
-        let pos = race.position(0);
-        match race.phase {
-            Phase::Countdown(left) => format!("{}...", left.div_ceil(u64::from(TICK_HZ))),
-            Phase::Racing => {
-                let now = self.world.tick.saturating_sub(me.lap_start);
-                let best = me.best_lap.map_or_else(|| "-".into(), format_ticks);
-                format!(
-                    "{:.0} km/h — P{pos}/{} — lap {}/{} {} (best {best})",
-                    self.world.cars[0].speed().abs() * 3.6,
-                    race.standings.len(),
-                    (me.laps + 1).min(race.laps),
-                    race.laps,
-                    format_ticks(now)
-                )
-            }
-            Phase::Finished => {
-                let results: Vec<String> = race
-                    .finish_order
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &car)| {
-                        let who = if car == 0 { "you".to_string() } else { format!("car {}", car + 1) };
-                        format!("{}. {who}", k + 1)
-                    })
-                    .collect();
-                format!("FINISHED P{pos} — {}", results.join(", "))
-            }
+/// The status of the race in `world` for the title bar: countdown, lap, times, position, or the results.
+pub(super) fn status(world: &World) -> String {
+    let race = &world.race;
+    let me = &race.standings[0];
+    let pos = race.position(0);
+    match race.phase {
+        Phase::Countdown(left) => format!("{}...", left.div_ceil(u64::from(TICK_HZ))),
+        Phase::Racing => {
+            let now = world.tick.saturating_sub(me.lap_start);
+            let best = me.best_lap.map_or_else(|| "-".into(), format_ticks);
+            format!(
+                "{:.0} km/h — P{pos}/{} — lap {}/{} {} (best {best})",
+                world.cars[0].speed().abs() * 3.6,
+                race.standings.len(),
+                (me.laps + 1).min(race.laps),
+                race.laps,
+                format_ticks(now)
+            )
+        }
+        Phase::Finished => {
+            let results: Vec<String> = race
+                .finish_order
+                .iter()
+                .enumerate()
+                .map(|(k, &car)| {
+                    let who = if car == 0 { "you".to_string() } else { format!("car {}", car + 1) };
+                    format!("{}. {who}", k + 1)
+                })
+                .collect();
+            format!("FINISHED P{pos} — {}", results.join(", "))
         }
     }
 }

@@ -1,9 +1,12 @@
 //! The race's menus: the main menu over the grid (laps, recording, replaying a file, the keys), the pause
-//! menu, and the results table at the finish. Each returns true when the player chose Quit.
+//! menu, and the results table at the finish. Each is drawn from the parts of the race it shows and returns
+//! the player's [`Choice`]s, which the race carries out (in the order they were made) once it is drawn.
 
-use super::{Race, Screen};
-use crate::game::rules::format_ticks;
-use crate::input::bindings::Action;
+use std::path::PathBuf;
+
+use super::record::RecordTo;
+use crate::game::rules::{RaceProgress, format_ticks};
+use crate::input::bindings::{Action, Bindings};
 
 /// What the menus keep between frames.
 #[derive(Debug, Default)]
@@ -12,43 +15,71 @@ pub(super) struct MenuState {
     replay_input: String,
 }
 
+/// What the player chose in a menu, for the race to do.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) enum Choice {
+    /// Leave the main menu for the race (recording it when the switch asks for it).
+    Race,
+    /// Back to the race from the pause menu.
+    Resume,
+    /// A fresh start on the grid, racing at once (Restart, Race again).
+    Restart,
+    /// A fresh start on the grid, behind the main menu.
+    MainMenu,
+    /// Race this many laps: a fresh start on the grid with them.
+    Laps(u32),
+    /// Replay the trace at this path.
+    Replay(PathBuf),
+    /// Open or close the Settings window.
+    Settings,
+    /// Quit the game.
+    Quit,
+}
+
 /// A menu window in the middle of the screen.
 fn centred(title: &str) -> egui::Window<'static> {
     egui::Window::new(title).anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0]).collapsible(false).resizable(false)
 }
 
-impl Race {
-    /// The main menu: laps, the recording switch, Race / Settings / Quit, replaying a file, the keys.
-    pub(super) fn main_menu(&mut self, ctx: &egui::Context) -> bool {
-        let mut quit = false;
+impl MenuState {
+    /// The main menu: the race's `laps`, the recording switch `to`, Race / Settings / Quit, replaying a file,
+    /// the `notice` and the keys as `bindings` has them.
+    pub(super) fn main_menu(
+        &mut self,
+        ctx: &egui::Context,
+        laps: u32,
+        to: &mut RecordTo,
+        notice: Option<&str>,
+        bindings: &Bindings,
+    ) -> Vec<Choice> {
+        let mut chose = vec![];
         centred("scanline-racer").show(ctx, |ui| {
             ui.label("Eight cars, 4.2 km, one bridge.");
-            let before = self.laps;
-            ui.add(egui::Slider::new(&mut self.laps, 1..=10).text("laps"));
-            if self.laps != before {
-                self.restart();
+            let mut wanted = laps;
+            ui.add(egui::Slider::new(&mut wanted, 1..=10).text("laps"));
+            if wanted != laps {
+                chose.push(Choice::Laps(wanted));
             }
             ui.horizontal(|ui| {
-                let to = &mut self.recording.to;
                 ui.checkbox(&mut to.on, "record the race to");
                 ui.add(egui::TextEdit::singleline(&mut to.text).desired_width(150.0));
             });
             ui.horizontal(|ui| {
                 if ui.button("Race").clicked() {
-                    self.start_race();
+                    chose.push(Choice::Race);
                 }
                 if ui.button("Settings").clicked() {
-                    self.prefs.open = !self.prefs.open;
+                    chose.push(Choice::Settings);
                 }
                 if ui.button("Quit").clicked() {
-                    quit = true;
+                    chose.push(Choice::Quit);
                 }
             });
-            ui.horizontal(|ui| self.replay_a_file(ui));
-            if let Some(n) = &self.notice {
-                ui.label(n.as_str());
+            ui.horizontal(|ui| self.replay_a_file(ui, &mut chose));
+            if let Some(n) = notice {
+                ui.label(n);
             }
-            let keys = |a: Action| self.prefs.bindings.keys(a).join("/");
+            let keys = |a: Action| bindings.keys(a).join("/");
             ui.label(format!(
                 "Keys: {} and {} steer, {} accelerates, {} brakes, {} changes the view, Esc pauses (Settings rebinds).",
                 keys(Action::SteerLeft),
@@ -59,76 +90,62 @@ impl Race {
             ));
             ui.label("Gamepad: stick steers, triggers drive; D-pad and A in menus; Start pauses.");
         });
-        quit
+        chose
     }
 
     /// The main menu's field for a trace's path and its "Replay a file" button.
-    fn replay_a_file(&mut self, ui: &mut egui::Ui) {
-        ui.add(egui::TextEdit::singleline(&mut self.menu.replay_input).hint_text("race.trace").desired_width(180.0));
+    fn replay_a_file(&mut self, ui: &mut egui::Ui, chose: &mut Vec<Choice>) {
+        ui.add(egui::TextEdit::singleline(&mut self.replay_input).hint_text("race.trace").desired_width(180.0));
         if ui.button("Replay a file").clicked() {
-            let path = std::path::PathBuf::from(self.menu.replay_input.trim());
-            if let Err(e) = self.start_replay(&path) {
-                self.notice = Some(e.to_string());
-            }
+            chose.push(Choice::Replay(PathBuf::from(self.replay_input.trim())));
         }
     }
+}
 
-    /// The pause menu: Resume, Restart, Settings, Main menu, Quit.
-    pub(super) fn pause_menu(&mut self, ctx: &egui::Context) -> bool {
-        let mut quit = false;
-        centred("Paused").show(ctx, |ui| {
-            if ui.button("Resume").clicked() {
-                self.screen = Screen::Race;
+/// The pause menu: Resume, Restart, Settings, Main menu, Quit.
+pub(super) fn pause_menu(ctx: &egui::Context) -> Vec<Choice> {
+    let mut chose = vec![];
+    centred("Paused").show(ctx, |ui| {
+        for (label, choice) in [
+            ("Resume", Choice::Resume),
+            ("Restart", Choice::Restart),
+            ("Settings", Choice::Settings),
+            ("Main menu", Choice::MainMenu),
+            ("Quit", Choice::Quit),
+        ] {
+            if ui.button(label).clicked() {
+                chose.push(choice);
             }
-            if ui.button("Restart").clicked() {
-                self.restart();
-                self.screen = Screen::Race;
-            }
-            if ui.button("Settings").clicked() {
-                self.prefs.open = !self.prefs.open;
-            }
-            if ui.button("Main menu").clicked() {
-                self.restart();
-                self.screen = Screen::Menu;
-            }
-            if ui.button("Quit").clicked() {
-                quit = true;
-            }
-        });
-        quit
-    }
+        }
+    });
+    chose
+}
 
-    /// The results table, with Race again, Main menu and Quit.
-    pub(super) fn results(&mut self, ctx: &egui::Context) -> bool {
-        let mut quit = false;
-        let race = self.world.race.clone();
-        centred("Results").show(ctx, |ui| {
-            egui::Grid::new("results").striped(true).show(ui, |ui| {
-                ui.strong("Pos");
-                ui.strong("Driver");
-                ui.strong("Best lap");
+/// The results table of `race`, with Race again, Main menu and Quit.
+pub(super) fn results(ctx: &egui::Context, race: &RaceProgress) -> Vec<Choice> {
+    let mut chose = vec![];
+    centred("Results").show(ctx, |ui| {
+        egui::Grid::new("results").striped(true).show(ui, |ui| {
+            ui.strong("Pos");
+            ui.strong("Driver");
+            ui.strong("Best lap");
+            ui.end_row();
+            for (k, &car) in race.order().iter().enumerate() {
+                ui.label(format!("{}", k + 1));
+                ui.label(if car == 0 { "You".to_string() } else { format!("Car {}", car + 1) });
+                ui.label(race.standings[car].best_lap.map_or_else(|| "-".into(), format_ticks));
                 ui.end_row();
-                for (k, &car) in race.order().iter().enumerate() {
-                    ui.label(format!("{}", k + 1));
-                    ui.label(if car == 0 { "You".to_string() } else { format!("Car {}", car + 1) });
-                    ui.label(race.standings[car].best_lap.map_or_else(|| "-".into(), format_ticks));
-                    ui.end_row();
-                }
-            });
-            ui.horizontal(|ui| {
-                if ui.button("Race again").clicked() {
-                    self.restart();
-                    self.screen = Screen::Race;
-                }
-                if ui.button("Main menu").clicked() {
-                    self.restart();
-                    self.screen = Screen::Menu;
-                }
-                if ui.button("Quit").clicked() {
-                    quit = true;
-                }
-            });
+            }
         });
-        quit
-    }
+        ui.horizontal(|ui| {
+            for (label, choice) in
+                [("Race again", Choice::Restart), ("Main menu", Choice::MainMenu), ("Quit", Choice::Quit)]
+            {
+                if ui.button(label).clicked() {
+                    chose.push(choice);
+                }
+            }
+        });
+    });
+    chose
 }

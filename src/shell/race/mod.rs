@@ -1,14 +1,21 @@
 //! The race in the window: the simulation fed at a fixed tick from the real clock.
 //!
 //! [`Race`] is the session: the world, the screen shown, and the clock that turns real time into ticks.
-//! Each concern around it has its own file and owns its part of the state:
+//! Each concern around it has its own file and owns its part of the state, and the race hands each the
+//! parts it needs (records flow down: no concern imports the race):
+//! - `screen`: the screen shown and how frames are drawn, the two parts several concerns share;
 //! - `control`: where the player's controls come from (keyboard and gamepad, the autopilot, or a trace
-//!   being replayed: the one seam where the source changes), and the keys and buttons that drive menus;
-//! - `menus`: the main menu, the pause menu and the results table;
+//!   being replayed: the one seam where the source changes), and what the keys and buttons ask of the race;
+//! - `menus`: the main menu, the pause menu and the results table, and what the player chose in them;
 //! - `prefs`: the settings as the race holds them, the Settings window, and saving them to the file;
 //! - `hud`: what is drawn over the race, and the title bar's status line;
-//! - `record`: recording races to a trace;
+//! - `record`: recording races to a trace, with the header and checksum interval every trace has;
 //! - `ghost`: the ghost car and the lap it drives.
+//!
+//! This file ties them together: the race's builders, the tick, and carrying out what the keys, the pad
+//! and the menus ask.
+
+use std::path::Path;
 
 use winit::keyboard::KeyCode;
 
@@ -18,32 +25,28 @@ mod hud;
 mod menus;
 mod prefs;
 mod record;
+mod screen;
 
-use super::debug_overlay::DebugOverlay;
-use super::race_scene::{FIELD, RaceScene, View};
+pub use record::{CHECKSUM_EVERY, header_for};
+
+use self::control::{Command, Control, Keys, Replaying};
+use self::ghost::Ghost;
+use self::menus::{Choice, MenuState};
+use self::prefs::Prefs;
+use self::record::Recorder;
+use self::screen::{Drawing, Screen};
+use super::race_scene::{FIELD, RaceScene};
+use super::settings::{Settings, SettingsFile};
 use super::window::{Content, ShellError};
-use crate::game::rules::{Phase, format_ticks};
-use crate::game::{DT, TICK_HZ, World};
-use crate::input::recording::Recording;
-use crate::input::replay::{lap_mm, step_recorded};
-use crate::input::trace::{Header, SIM_VERSION};
-use crate::render::{RenderOptions, Renderer};
+use crate::game::rules::Phase;
+use crate::game::{DT, World};
+use crate::input::ghost::{GhostLap, GhostSearch};
+use crate::input::recording::{Kept, RecordError, Recording};
+use crate::input::replay::{ReplayError, step_recorded};
+use crate::render::RenderOptions;
 
 /// Most simulated time one frame may catch up after a stall (the game slows down instead of jumping).
 const MAX_CATCH_UP: f64 = 0.25;
-
-/// Which screen the race shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Screen {
-    /// The main menu over the grid (nothing moves).
-    Menu,
-    /// Racing.
-    Race,
-    /// The pause menu (nothing moves).
-    Paused,
-    /// A replay stopped at its `--stop-at` tick: the frame stays, nothing moves, no menu.
-    Frozen,
-}
 
 /// How real time becomes simulation ticks.
 #[derive(Debug)]
@@ -58,19 +61,6 @@ struct Clock {
     stop_at: Option<u64>,
 }
 
-/// How frames are drawn.
-struct Drawing {
-    renderer: Renderer,
-    options: RenderOptions,
-    view: View,
-    /// The frame time, smoothed, for the HUD.
-    frame_ms: f64,
-    /// The F3 window.
-    debug: DebugOverlay,
-    /// Whether menus and HUD are drawn over the race.
-    hud: bool,
-}
-
 /// The race.
 pub struct Race {
     scene: RaceScene,
@@ -83,33 +73,15 @@ pub struct Race {
     clock: Clock,
     drawing: Drawing,
     /// Where the player's controls come from.
-    control: control::Control,
+    control: Control,
     /// The menus' own state.
-    menu: menus::MenuState,
+    menu: MenuState,
     /// The settings and where they are saved.
-    prefs: prefs::Prefs,
+    prefs: Prefs,
     /// Recording races to a trace.
-    recording: record::Recorder,
+    recording: Recorder,
     /// The ghost car.
-    ghost: ghost::Ghost,
-}
-
-/// Ticks between checksums in recorded traces: one second.
-pub const CHECKSUM_EVERY: u32 = TICK_HZ;
-
-/// The trace header for a race of `world`.
-#[must_use]
-pub fn header_for(world: &World) -> Header {
-    Header {
-        sim_version: SIM_VERSION,
-        game_version: env!("CARGO_PKG_VERSION").to_string(),
-        track_length_mm: lap_mm(world),
-        cars: world.cars.len() as u32,
-        laps: world.race.laps,
-        seed: 0,
-        tick_hz: TICK_HZ,
-        checksum_every: CHECKSUM_EVERY,
-    }
+    ghost: Ghost,
 }
 
 impl Race {
@@ -124,20 +96,21 @@ impl Race {
             screen: if menu { Screen::Menu } else { Screen::Race },
             notice: None,
             clock: Clock { accumulator: 0.0, speed: 1.0, steps: 0, stop_at: None },
-            drawing: Drawing {
-                renderer: Renderer::new(),
-                options,
-                view: View::ChaseNear,
-                frame_ms: 0.0,
-                debug: DebugOverlay::default(),
-                hud: true,
-            },
-            control: control::Control::default(),
-            menu: menus::MenuState::default(),
-            prefs: prefs::Prefs::default(),
-            recording: record::Recorder::default(),
-            ghost: ghost::Ghost::default(),
+            drawing: Drawing::new(options),
+            control: Control::default(),
+            menu: MenuState::default(),
+            prefs: Prefs::default(),
+            recording: Recorder::default(),
+            ghost: Ghost::default(),
         }
+    }
+
+    /// A replay of the trace at `path`: the trace drives the player's car; P pauses, N steps a tick, `[`
+    /// and `]` halve and double the speed (1/4x to 16x), R restarts.
+    pub fn replaying(scene: RaceScene, options: RenderOptions, path: &Path) -> Result<Self, ReplayError> {
+        let mut race = Self::new(scene, options, 3, false);
+        race.start_replay(path)?;
+        Ok(race)
     }
 
     /// Freezes the replay when the world reaches `tick` (and prints one line saying so), and hides the HUD
@@ -156,6 +129,54 @@ impl Race {
         self
     }
 
+    /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
+    /// changes made in Settings to `file`; `note` (a problem reading the file) is shown in the menu.
+    #[must_use]
+    pub fn with_settings(
+        mut self,
+        settings: Settings,
+        file: Option<SettingsFile>,
+        scale: Option<u32>,
+        note: Option<String>,
+    ) -> Self {
+        self.prefs.apply(settings, file, scale, &mut self.control.pads);
+        if note.is_some() {
+            self.notice = note;
+        }
+        self
+    }
+
+    /// Races against `lap` as a see-through ghost car from the start (a faster lap driven now replaces it).
+    #[must_use]
+    pub fn with_ghost(mut self, lap: GhostLap) -> Self {
+        self.ghost.lap = Some(lap);
+        self
+    }
+
+    /// Races against the fastest lap `search` finds in a trace: each faster lap it reports takes over
+    /// before the green light or when the player crosses the line; the HUD says when the trace held none.
+    #[must_use]
+    pub fn with_ghost_search(mut self, search: GhostSearch) -> Self {
+        self.ghost.search(search);
+        self
+    }
+
+    /// Records races to `path`: at once when the race starts without the menu, else each race started from
+    /// the main menu while its switch (now on, with this file) stays on. A path that cannot be recorded to
+    /// (a folder, a missing folder) is refused now, before the window opens; `path` itself is not touched.
+    pub fn record_to(mut self, path: &Path) -> Result<Self, RecordError> {
+        self.recording.record_to(path, &self.world, self.screen == Screen::Race)?;
+        Ok(self)
+    }
+
+    /// Ends the recording when the window has closed (by any path: Quit, Esc in the main menu, the window's
+    /// close button, `--exit-after-frames`, an error): what was raced replaces the target. `None` when
+    /// there was nothing to record to or a race was already kept; [`Kept::Nothing`] when the switch was on
+    /// and no race was recorded in this run.
+    pub fn finish_recording(&mut self) -> Result<Option<Kept>, RecordError> {
+        self.recording.finish()
+    }
+
     /// The world being raced.
     #[must_use]
     pub fn world(&self) -> &World {
@@ -163,30 +184,43 @@ impl Race {
     }
 
     /// One simulation tick with the player's controls from their source, recorded if asked; then the laps
-    /// and the ghost are brought up to date.
+    /// and the ghost are brought up to date. A replay that has ended or failed pauses the race instead,
+    /// and the notice says why.
     fn tick(&mut self) {
-        let Some(c) = self.player_controls() else { return };
+        let c = match self.control.player_controls(&self.world) {
+            Ok(c) => c,
+            Err(why) => {
+                self.notice = Some(why);
+                self.screen = Screen::Paused;
+                return;
+            }
+        };
         if let Err(e) = step_recorded(
             &mut self.world,
             c,
             self.recording.recorder.as_mut().and_then(Recording::writer),
             CHECKSUM_EVERY,
         ) {
-            self.end_recording(&format!("recording stopped: {e}"));
+            self.recording.end(&format!("recording stopped: {e}"), &mut self.notice);
         }
-        self.take_pending_ghost();
-        if self.ghost.laps.observe(&self.world)
-            && let Some(best) = &self.ghost.laps.best
-            && self.ghost.lap.as_ref().is_none_or(|g| best.ticks() < g.ticks())
-        {
-            self.notice = Some(format!("best lap {}: the ghost drives it now", format_ticks(best.ticks())));
-            self.ghost.lap = Some(best.clone());
-        }
+        self.ghost.take_pending(&self.world, &mut self.notice);
+        self.ghost.observe(&self.world, &mut self.notice);
+    }
+
+    /// Switches to replaying the trace at `path` from its start; refuses a file that is not a trace of
+    /// this track and field.
+    fn start_replay(&mut self, path: &Path) -> Result<(), ReplayError> {
+        let replay = Replaying::open(path)?;
+        self.laps = replay.laps();
+        self.restart();
+        self.control.replay(replay, &self.world)?;
+        self.screen = Screen::Race;
+        Ok(())
     }
 
     /// Leaves the main menu for the race, recording it first when the menu's toggle asks for it.
     fn start_race(&mut self) {
-        self.start_recording();
+        self.recording.start(&self.world, self.control.replaying(), &mut self.notice);
         self.screen = Screen::Race;
     }
 
@@ -203,19 +237,108 @@ impl Race {
     fn restart(&mut self) {
         self.world = World::with_laps(self.scene.track.clone(), FIELD, self.laps);
         self.clock.accumulator = 0.0;
-        self.control.keys = control::Keys::default();
+        self.control.keys = Keys::default();
         self.drawing.renderer.reset_lod();
         self.ghost.laps.restart();
-        if self.recording.recorder.is_some() {
-            self.end_recording("recording ended at the restart");
+        self.recording.end("recording ended at the restart", &mut self.notice);
+    }
+
+    /// Saves the settings if they changed since the last save (a failure is shown in the notice).
+    fn save_settings(&mut self) {
+        self.prefs.save(&self.control.pads, &mut self.notice);
+    }
+
+    /// A key went down or up: a key Settings waits for is bound; any other is what the player's controls
+    /// make of it. Returns true to quit (Esc in the main menu or on a frozen replay).
+    fn key_event(&mut self, code: KeyCode, down: bool) -> bool {
+        let name = crate::shell::keys::key_name(code);
+        if let Some(action) = self.prefs.rebinding
+            && down
+        {
+            self.prefs.rebind(action, code, &name, &mut self.notice);
+            return false;
         }
+        let action = self.prefs.bindings.action(&name);
+        self.control.key(code, down, action, self.screen).is_some_and(|command| self.obey(command))
+    }
+
+    /// Reacts to gamepad buttons and hot-plug, one event at a time (each sees the screen the last left).
+    fn gamepad_events(&mut self) {
+        for ev in self.control.pads.poll() {
+            let finished = self.world.race.phase == Phase::Finished;
+            if let Some(command) = self.control.pad_event(ev, self.screen, finished) {
+                self.obey(command);
+            }
+        }
+    }
+
+    /// Carries out what a key or a pad button asked; true to quit.
+    fn obey(&mut self, command: Command) -> bool {
+        match command {
+            Command::Quit => return true,
+            Command::TogglePause => self.toggle_pause(),
+            Command::Resume => self.screen = Screen::Race,
+            Command::StartRace => self.start_race(),
+            Command::NextView => self.drawing.view = self.drawing.view.next(),
+            Command::ToggleDebug => self.drawing.debug.visible = !self.drawing.debug.visible,
+            Command::Method(m) => self.drawing.options.method = m,
+            Command::RestartReplay => {
+                if let Some(path) = self.control.replay_path()
+                    && let Err(e) = self.start_replay(&path)
+                {
+                    self.notice = Some(e.to_string());
+                }
+            }
+            Command::Step => self.clock.steps += 1,
+            Command::Slower => self.clock.speed = (self.clock.speed * 0.5).max(0.25),
+            Command::Faster => self.clock.speed = (self.clock.speed * 2.0).min(16.0),
+            Command::Notice(n) => self.notice = Some(n),
+            Command::PadLost => {
+                if self.screen == Screen::Race {
+                    self.screen = Screen::Paused;
+                }
+                self.notice = Some("gamepad disconnected: race paused".into());
+            }
+        }
+        false
+    }
+
+    /// Carries out the menus' choices in the order they were made; true when one was Quit.
+    fn choose(&mut self, choices: Vec<Choice>) -> bool {
+        let mut quit = false;
+        for choice in choices {
+            match choice {
+                Choice::Race => self.start_race(),
+                Choice::Resume => self.screen = Screen::Race,
+                Choice::Restart => {
+                    self.restart();
+                    self.screen = Screen::Race;
+                }
+                Choice::MainMenu => {
+                    self.restart();
+                    self.screen = Screen::Menu;
+                }
+                Choice::Laps(laps) => {
+                    self.laps = laps;
+                    self.restart();
+                }
+                Choice::Replay(path) => {
+                    if let Err(e) = self.start_replay(&path) {
+                        self.notice = Some(e.to_string());
+                    }
+                }
+                Choice::Settings => self.prefs.open = !self.prefs.open,
+                Choice::Quit => quit = true,
+            }
+        }
+        quit
     }
 }
 
 impl Content for Race {
     fn update(&mut self, dt: f64) {
         self.gamepad_events();
-        self.ghost_search_reports();
+        self.ghost.search_reports(&self.world, &mut self.notice);
         while self.clock.steps > 0 {
             self.clock.steps -= 1;
             self.tick();
@@ -242,7 +365,7 @@ impl Content for Race {
 
     fn draw(&mut self, frame: &mut [u32], width: usize, height: usize) -> Result<String, ShellError> {
         let t = std::time::Instant::now();
-        let ghost = self.ghost_pose();
+        let ghost = self.ghost.pose(&self.world, self.prefs.show_ghost);
         let d = &mut self.drawing;
         let stats = self.scene.render_with_ghost(
             &mut d.renderer,
@@ -259,7 +382,7 @@ impl Content for Race {
         Ok(format!(
             "{}{} — {:?} — {} {:.1} ms, {} polygons",
             if self.screen == Screen::Paused { "PAUSED — " } else { "" },
-            self.status(),
+            hud::status(&self.world),
             self.drawing.view,
             self.drawing.options.method,
             ms,
@@ -281,22 +404,31 @@ impl Content for Race {
         if !self.drawing.hud || self.screen == Screen::Frozen {
             return false;
         }
-        let mut quit = match self.screen {
-            Screen::Menu => self.main_menu(ctx),
-            Screen::Paused => self.pause_menu(ctx),
-            Screen::Race | Screen::Frozen => false,
+        let chose = match self.screen {
+            Screen::Menu => self.menu.main_menu(
+                ctx,
+                self.laps,
+                &mut self.recording.to,
+                self.notice.as_deref(),
+                &self.prefs.bindings,
+            ),
+            Screen::Paused => menus::pause_menu(ctx),
+            Screen::Race | Screen::Frozen => Vec::new(),
         };
+        let mut quit = self.choose(chose);
         if self.prefs.open && self.screen != Screen::Race {
-            self.settings_window(ctx);
+            let ghost_ticks = self.ghost.lap.as_ref().map(GhostLap::ticks);
+            self.prefs.window(ctx, &mut self.drawing, &mut self.control.pads, ghost_ticks);
         } else {
             self.prefs.rebinding = None;
         }
         self.save_settings();
         self.drawing.debug.show(ctx);
         if self.screen != Screen::Menu {
-            self.hud(ctx);
+            let replay_speed = self.control.replaying().then_some(self.clock.speed);
+            hud::hud(ctx, &self.world, self.notice.as_deref(), replay_speed, &self.drawing);
         }
-        if self.world.race.phase == Phase::Finished && self.results(ctx) {
+        if self.world.race.phase == Phase::Finished && self.choose(menus::results(ctx, &self.world.race)) {
             quit = true;
         }
         quit

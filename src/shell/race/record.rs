@@ -3,17 +3,45 @@
 //! A race started from the main menu with the switch on (or at once with `--no-menu`) is recorded to a
 //! temporary file beside the target ([`Recording`]), and the target is replaced only when the recording
 //! ends with at least one tick raced: at a restart, on the way back to the main menu, when a write fails,
-//! and when the window closes whatever closed it ([`Race::finish_recording`], called after the window's
-//! loop returns). Quitting from the main menu before racing leaves the target as it was. A race left
-//! half-way is kept: its trace replays up to where it stopped. Each race is a recording of its own, and the
-//! last one raced wins: a race of one tick started from the menu replaces a full race recorded earlier in
-//! the session (the README says so; keeping the longest would make the file depend on races no longer
-//! shown anywhere).
+//! and when the window closes whatever closed it ([`Recorder::finish`], called through
+//! `Race::finish_recording` after the window's loop returns). Quitting from the main menu before racing
+//! leaves the target as it was. A race left half-way is kept: its trace replays up to where it stopped.
+//! Each race is a recording of its own, and the last one raced wins: a race of one tick started from the
+//! menu replaces a full race recorded earlier in the session (the README says so; keeping the longest would
+//! make the file depend on races no longer shown anywhere).
+//!
+//! Every trace of a race starts with the header [`header_for`] makes and holds a checksum every
+//! [`CHECKSUM_EVERY`] ticks; the asset generator writes the demo traces with the same two.
 
 use std::path::{Path, PathBuf};
 
-use super::{Race, Screen, header_for};
+use crate::game::{TICK_HZ, World};
 use crate::input::recording::{Kept, RecordError, Recording};
+use crate::input::replay::lap_mm;
+use crate::input::trace::{Header, SIM_VERSION};
+
+/// Ticks between checksums in recorded traces: one second.
+///
+/// A replay checks its world against each, so a trace that drifts is caught within a second of play.
+pub const CHECKSUM_EVERY: u32 = TICK_HZ;
+
+/// The trace header for a race of `world`.
+///
+/// One function for the recorder and the asset generator, so that a demo trace is read like a race
+/// recorded in the game.
+#[must_use]
+pub fn header_for(world: &World) -> Header {
+    Header {
+        sim_version: SIM_VERSION,
+        game_version: env!("CARGO_PKG_VERSION").to_string(),
+        track_length_mm: lap_mm(world),
+        cars: world.cars.len() as u32,
+        laps: world.race.laps,
+        seed: 0,
+        tick_hz: TICK_HZ,
+        checksum_every: CHECKSUM_EVERY,
+    }
+}
 
 /// The main menu's "record the race to" switch and the file it records to.
 #[derive(Clone, Debug)]
@@ -56,46 +84,48 @@ pub(super) struct Recorder {
     kept_a_race: bool,
 }
 
-impl Race {
-    /// Records races to `path`: at once when the race starts without the menu, else each race started from
-    /// the main menu while its switch (now on, with this file) stays on. A path that cannot be recorded to
-    /// (a folder, a missing folder) is refused now, before the window opens; `path` itself is not touched.
-    pub fn record_to(mut self, path: &Path) -> Result<Self, RecordError> {
-        let recording = Recording::start(path, &header_for(&self.world))?;
+impl Recorder {
+    /// Records races to `path`: at once when the race in `world` is `racing` (started without the menu),
+    /// else each race started from the main menu while its switch (now on, with this file) stays on. A
+    /// path that cannot be recorded to (a folder, a missing folder) is refused now, before the window
+    /// opens; `path` itself is not touched.
+    pub(super) fn record_to(&mut self, path: &Path, world: &World, racing: bool) -> Result<(), RecordError> {
+        let recording = Recording::start(path, &header_for(world))?;
         let shown = path.display().to_string();
-        self.recording.to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
-        if self.screen == Screen::Race {
-            self.recording.recorder = Some(recording);
+        self.to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
+        if racing {
+            self.recorder = Some(recording);
         } else {
             // Only a check: the race's header (its laps) is known when it starts.
             drop(recording);
         }
-        Ok(self)
+        Ok(())
     }
 
-    /// Starts recording a race about to start from the grid, when the main menu's switch asks for it.
-    pub(super) fn start_recording(&mut self) {
-        let rec = &self.recording;
-        if !rec.to.on || rec.recorder.is_some() || self.control.replaying() || self.world.tick != 0 {
+    /// Starts recording the race about to start from the grid of `world`, when the main menu's switch asks
+    /// for it and the player's controls do not come from a trace (`replaying`); `notice` says where to, or
+    /// why not.
+    pub(super) fn start(&mut self, world: &World, replaying: bool, notice: &mut Option<String>) {
+        if !self.to.on || self.recorder.is_some() || replaying || world.tick != 0 {
             return;
         }
-        let path = rec.to.path();
-        match Recording::start(&path, &header_for(&self.world)) {
+        let path = self.to.path();
+        match Recording::start(&path, &header_for(world)) {
             Ok(r) => {
-                self.notice = Some(format!("recording to {}", path.display()));
-                self.recording.recorder = Some(r);
+                *notice = Some(format!("recording to {}", path.display()));
+                self.recorder = Some(r);
             }
-            Err(e) => self.notice = Some(format!("not recording: {e}")),
+            Err(e) => *notice = Some(format!("not recording: {e}")),
         }
     }
 
-    /// Ends the recording in the race (`why` says what ended it), keeping what was raced; the HUD says
+    /// Ends the recording in the race (`why` says what ended it), keeping what was raced; `notice` says
     /// what became of it.
-    pub(super) fn end_recording(&mut self, why: &str) {
-        let Some(mut rec) = self.recording.recorder.take() else { return };
-        self.notice = Some(match rec.finish() {
+    pub(super) fn end(&mut self, why: &str, notice: &mut Option<String>) {
+        let Some(mut rec) = self.recorder.take() else { return };
+        *notice = Some(match rec.finish() {
             Ok(kept) => {
-                self.recording.kept_a_race |= matches!(kept, Kept::Race { .. });
+                self.kept_a_race |= matches!(kept, Kept::Race { .. });
                 format!("{why}: {kept}")
             }
             Err(e) => format!("{why}: {e}"),
@@ -106,11 +136,10 @@ impl Race {
     /// close button, `--exit-after-frames`, an error): what was raced replaces the target. `None` when
     /// there was nothing to record to or a race was already kept; [`Kept::Nothing`] when the switch was on
     /// and no race was recorded in this run.
-    pub fn finish_recording(&mut self) -> Result<Option<Kept>, RecordError> {
-        let rec = &mut self.recording;
-        match rec.recorder.take() {
+    pub(super) fn finish(&mut self) -> Result<Option<Kept>, RecordError> {
+        match self.recorder.take() {
             Some(mut r) => r.finish().map(Some),
-            None if rec.to.on && !rec.kept_a_race => Ok(Some(Kept::Nothing { path: rec.to.path() })),
+            None if self.to.on && !self.kept_a_race => Ok(Some(Kept::Nothing { path: self.to.path() })),
             None => Ok(None),
         }
     }
@@ -118,6 +147,7 @@ impl Race {
 
 #[cfg(test)]
 mod tests {
+    use super::super::screen::Screen;
     use super::super::tests::race_on_the_menu;
     use super::*;
 

@@ -8,150 +8,29 @@
 //! used. A file that cannot be read or is not a JSON object means defaults and one line saying why, and it
 //! is never written in that run: one typo must not cost the user the rest of the file.
 //!
-//! Reading the file field by field is in `read`; saving a change onto the file as it is at that moment
-//! (never a file that does not parse; unknown keys and hand edits kept) is in `save`.
+//! What the file holds is in `values` (the settings, their defaults and ranges) and the file as a run knows
+//! it in `file` (where it is, what was last saved, whether it may be written), below the two that use them:
+//! reading the file field by field is in `read`; saving a change onto the file as it is at that moment
+//! (never a file that does not parse; unknown keys and hand edits kept) is in `save`. This file only ties
+//! them together.
 
+mod file;
 mod read;
 mod save;
+mod values;
 
-use std::path::{Path, PathBuf};
-
-use serde::{Deserialize, Serialize};
-
+pub use file::{SettingsFile, default_path};
 pub use read::UnusableSettings;
 pub use save::SettingsError;
-
-use crate::input::bindings::Bindings;
-use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
-use crate::shell::window::{MAX_SCALE, MIN_SCALE};
-
-/// Largest settings file read (a hand-edited file never comes near it).
-const MAX_BYTES: u64 = 64 * 1024;
-
-/// Everything the settings file holds.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct Settings {
-    /// Keyboard bindings.
-    pub keys: Bindings,
-    /// Gamepad stick deadzone (radial), 0 to 0.3.
-    pub deadzone: f32,
-    /// Gamepad steering response exponent, 1 (linear) to 3.
-    pub curve: f32,
-    /// Window pixels per rendered pixel, 1 to [`MAX_SCALE`].
-    pub scale: u32,
-    /// Whether the ghost car (the best lap) is drawn.
-    pub ghost: bool,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Self { keys: Bindings::default(), deadzone: DEFAULT_DEADZONE, curve: DEFAULT_CURVE, scale: 1, ghost: true }
-    }
-}
-
-impl Settings {
-    /// The settings with every value in range (NaN and out-of-range numbers back to defaults or clamped)
-    /// and the bindings repaired; the notes say what changed.
-    #[must_use]
-    pub fn sanitized(mut self) -> (Self, Vec<String>) {
-        let d = Settings::default();
-        let mut notes = vec![];
-        if !self.deadzone.is_finite() || !(0.0..=0.3).contains(&self.deadzone) {
-            notes.push(format!("deadzone {} out of 0-0.3: {} used", self.deadzone, d.deadzone));
-            self.deadzone = d.deadzone;
-        }
-        if !self.curve.is_finite() || !(1.0..=3.0).contains(&self.curve) {
-            notes.push(format!("curve {} out of 1-3: {} used", self.curve, d.curve));
-            self.curve = d.curve;
-        }
-        if !(MIN_SCALE..=MAX_SCALE).contains(&self.scale) {
-            notes.push(format!("scale {} out of {MIN_SCALE}-{MAX_SCALE}: {MIN_SCALE} used", self.scale));
-            self.scale = MIN_SCALE;
-        }
-        let (keys, key_notes) = self.keys.repaired(crate::shell::keys::is_key_name);
-        self.keys = keys;
-        notes.extend(key_notes);
-        (self, notes)
-    }
-}
-
-/// The settings file: where it is, what was last loaded or saved, and whether it may be written.
-#[derive(Clone, Debug)]
-pub struct SettingsFile {
-    path: PathBuf,
-    /// The settings as this run last loaded or saved them; a setting that differs from this is saved.
-    saved: Settings,
-    /// False when the file could not be read as a JSON object (at start, or at a save): it is then left
-    /// alone for the rest of the run.
-    writable: bool,
-}
-
-impl SettingsFile {
-    /// Reads `path`: its settings (defaults when it does not exist or cannot be used), the file to save
-    /// changes to, and one line for the user when something in it was not used (`None` when all was well).
-    #[must_use]
-    pub fn load(path: &Path) -> (Self, Settings, Option<String>) {
-        let mut file = Self { path: path.to_path_buf(), saved: Settings::default(), writable: false };
-        let doc = match read::read_object(path) {
-            Ok(Some(doc)) => doc,
-            Ok(None) => {
-                file.writable = true;
-                return (file, Settings::default(), None);
-            }
-            Err(e) => {
-                let note =
-                    format!("settings {e}; defaults used; the file is left as it is and changes will not be saved");
-                return (file, Settings::default(), Some(note));
-            }
-        };
-        let (settings, mut notes) = Settings::from_object(&doc);
-        let (settings, range_notes) = settings.sanitized();
-        notes.extend(range_notes);
-        let note = (!notes.is_empty()).then(|| format!("settings {}: {}", path.display(), notes.join("; ")));
-        file.saved = settings.clone();
-        file.writable = true;
-        (file, settings, note)
-    }
-
-    /// The file's path.
-    #[must_use]
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
-    /// Whether changes are saved (false once the file could not be read as a JSON object, at start or at a
-    /// save).
-    #[must_use]
-    pub fn writable(&self) -> bool {
-        self.writable
-    }
-
-    /// Takes `settings` as what the file holds, so that only a later change to them is saved (a value given
-    /// on the command line for this run only).
-    pub fn assume_saved(&mut self, settings: Settings) {
-        self.saved = settings;
-    }
-}
-
-/// Where the settings live when no `--settings` is given: `$SCANLINE_RACER_SETTINGS`, else the XDG config
-/// folder; `None` with no home folder to put it in.
-#[must_use]
-pub fn default_path() -> Option<PathBuf> {
-    if let Some(p) = std::env::var_os("SCANLINE_RACER_SETTINGS").filter(|p| !p.is_empty()) {
-        return Some(PathBuf::from(p));
-    }
-    let config = std::env::var_os("XDG_CONFIG_HOME")
-        .filter(|p| !p.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").filter(|p| !p.is_empty()).map(|h| PathBuf::from(h).join(".config")))?;
-    Some(config.join("scanline-racer").join("settings.json"))
-}
+pub use values::Settings;
 
 #[cfg(test)]
 mod tests {
+    use std::path::PathBuf;
+
     use super::*;
-    use crate::input::bindings::Action;
+    use crate::input::bindings::{Action, Bindings};
+    use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
 
     pub(super) fn tmp(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("scanline-racer-settings-{}", std::process::id()));

@@ -1,5 +1,6 @@
-//! Reading the settings file: its JSON object, then the settings in it field by field, so that one field
-//! of the wrong type costs only that field (it gets its default and a note naming it).
+//! Reading the settings file at start ([`SettingsFile::load`]): its JSON object, then the settings in it
+//! field by field, so that one field of the wrong type costs only that field (it gets its default and a
+//! note naming it). Saving reads the object again, with [`read_object`], before it sets what changed.
 
 use std::path::{Path, PathBuf};
 
@@ -8,10 +9,14 @@ use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
 use thiserror::Error;
 
-use super::{MAX_BYTES, Settings};
+use super::file::SettingsFile;
+use super::values::Settings;
 use crate::input::bindings::Bindings;
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 use crate::userfile::UserFileError;
+
+/// Largest settings file read (a hand-edited file never comes near it).
+const MAX_BYTES: u64 = 64 * 1024;
 
 /// Why a settings file could not be used at all (it is then never written).
 #[derive(Debug, Error)]
@@ -121,12 +126,40 @@ impl Settings {
     }
 }
 
+impl SettingsFile {
+    /// Reads `path`: its settings (defaults when it does not exist or cannot be used), the file to save
+    /// changes to, and one line for the user when something in it was not used (`None` when all was well).
+    #[must_use]
+    pub fn load(path: &Path) -> (Self, Settings, Option<String>) {
+        let mut file = Self { path: path.to_path_buf(), saved: Settings::default(), writable: false };
+        let doc = match read_object(path) {
+            Ok(Some(doc)) => doc,
+            Ok(None) => {
+                file.writable = true;
+                return (file, Settings::default(), None);
+            }
+            Err(e) => {
+                let note =
+                    format!("settings {e}; defaults used; the file is left as it is and changes will not be saved");
+                return (file, Settings::default(), Some(note));
+            }
+        };
+        let (settings, mut notes) = Settings::from_object(&doc);
+        let (settings, range_notes) = settings.sanitized();
+        notes.extend(range_notes);
+        let note = (!notes.is_empty()).then(|| format!("settings {}: {}", path.display(), notes.join("; ")));
+        file.saved = settings.clone();
+        file.writable = true;
+        (file, settings, note)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::tests::tmp;
-    use super::super::{DEFAULT_DEADZONE, SettingsFile};
     use super::*;
     use crate::input::bindings::Action;
+    use crate::input::gamepad::DEFAULT_DEADZONE;
     #[test]
     fn a_field_of_the_wrong_type_gets_its_default_and_the_rest_of_the_file_is_used() {
         for (scale, written) in [("-1", "-1"), ("2.5", "2.5"), ("5e9", "5000000000.0"), ("\"big\"", "\"big\"")] {

@@ -10,8 +10,9 @@ use std::path::PathBuf;
 use serde_json::Value;
 use thiserror::Error;
 
+use super::file::SettingsFile;
 use super::read::{UnusableSettings, read_object};
-use super::{Settings, SettingsFile};
+use super::values::Settings;
 use crate::userfile::UserFileError;
 
 /// Why the settings could not be saved.
