@@ -50,9 +50,7 @@
 //!    (above its doc comment and attributes, or among them).
 //!
 //! Each check is a function from the sources (held in memory) to a list of problems; the tests at the end
-//! run them on the real tree and on small made-up trees that must fail. Checks 1 and 3 fail on the tree
-//! issue 17 starts from, so their tests on the real tree are marked ignored until it is done: run them with
-//! `cargo test --test architecture -- --include-ignored`.
+//! run them on the real tree and on small made-up trees that must fail.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fs;
@@ -1292,12 +1290,7 @@ fn assert_none(title: &str, problems: &[String]) {
 // The checks on the real tree
 // ---------------------------------------------------------------------------------------------------------
 
-// Today's circles (all through records a parent or a stage file defines and its children or neighbours use):
-// render/ (mod, pipeline, project, bands, transform, transform_avx2; span, span_lanes, span_avx2), cli/mod.rs
-// and each command, shell/race/mod.rs and record.rs, and assetgen's cars/ and track/ with their mod.rs.
-// Remove the `ignore` when issue 17 has broken them.
 #[test]
-#[ignore = "issue 17: circles in render/ (pipeline, project, transform; span, span_lanes), cli/, shell/race/, assetgen"]
 fn no_import_circle_between_files_under_src() {
     let graph = Graph::build(&Tree::real());
     assert!(!graph.edges.is_empty(), "the reader found no import at all under src/: the checker is broken");
@@ -1312,10 +1305,7 @@ fn every_import_follows_the_layers_of_architecture_md() {
     assert_none("imports that break the ```layers block of ARCHITECTURE.md", &layer_problems(&tree, &graph));
 }
 
-// Today: six files over 500 lines and fourteen functions over 80 without a reason. Remove the `ignore` when
-// issue 17 has split them (or written the `long:` reasons).
 #[test]
-#[ignore = "issue 17: files under src/ still over 500 lines"]
 fn no_file_over_500_lines_and_no_unexplained_fn_over_80() {
     assert_none("files or functions too long", &size_problems(&Tree::real()));
 }

@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use thiserror::Error;
 use winit::keyboard::KeyCode;
 
 use super::screen::Screen;
@@ -40,6 +41,22 @@ impl Keys {
             brake: f32::from(u8::from(self.brake)),
         }
     }
+}
+
+/// Why a replay gives the race no more controls: what the paused race then shows.
+#[derive(Debug, Error)]
+pub(super) enum ReplayStop {
+    /// The trace ended.
+    #[error("end of replay at tick {tick} ({verified} checksums verified)")]
+    Ended {
+        /// The tick the race reached.
+        tick: u64,
+        /// Checksums verified on the way.
+        verified: u64,
+    },
+    /// The trace could not be read on, or the race left the recording.
+    #[error(transparent)]
+    Failed(ReplayError),
 }
 
 /// A trace being replayed: the source of the player's controls, and its path for R (restart).
@@ -139,7 +156,7 @@ impl Control {
     /// the trace when replaying, else from the AI with the autopilot on, else the keyboard and pad
     /// together. `Err` says why there are none when the replay has ended or failed: the race then pauses
     /// and shows it.
-    pub(super) fn player_controls(&mut self, world: &World) -> Result<Controls, String> {
+    pub(super) fn player_controls(&mut self, world: &World) -> Result<Controls, ReplayStop> {
         match self.replay.as_mut() {
             None if self.autopilot => Ok(drive(&Driver::field(FIELD), 0, &world.cars, &world.track, &world.params)),
             None => {
@@ -156,10 +173,8 @@ impl Control {
             }
             Some(Replaying { source, .. }) => match source.next_controls(world) {
                 Ok(Some(c)) => Ok(c),
-                Ok(None) => {
-                    Err(format!("end of replay at tick {} ({} checksums verified)", world.tick, source.verified))
-                }
-                Err(e) => Err(e.to_string()),
+                Ok(None) => Err(ReplayStop::Ended { tick: world.tick, verified: source.verified }),
+                Err(e) => Err(ReplayStop::Failed(e)),
             },
         }
     }

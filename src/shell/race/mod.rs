@@ -190,7 +190,7 @@ impl Race {
         let c = match self.control.player_controls(&self.world) {
             Ok(c) => c,
             Err(why) => {
-                self.notice = Some(why);
+                self.notice = Some(why.to_string());
                 self.screen = Screen::Paused;
                 return;
             }
@@ -436,60 +436,4 @@ impl Content for Race {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::shell::settings::SettingsFile;
-
-    /// A race on the main menu with the shipped assets.
-    pub(super) fn race_on_the_menu() -> Race {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
-        Race::new(RaceScene::load(&dir).unwrap(), RenderOptions::default(), 1, true)
-    }
-
-    /// Settings changed in the game are saved onto the file as it is at that moment: a key added by hand
-    /// while the game runs stays, with both changes; a file broken by hand is then left alone, said once.
-    #[test]
-    fn settings_saved_by_the_game_keep_a_hand_edit_made_meanwhile() {
-        let dir = std::env::temp_dir().join(format!("scanline-racer-race-settings-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("settings.json");
-        std::fs::write(&p, "{\"scale\": 2}").unwrap();
-        let (file, settings, note) = SettingsFile::load(&p);
-        let mut race = race_on_the_menu().with_settings(settings, Some(file), None, note);
-        race.prefs.show_ghost = false;
-        race.save_settings();
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"ghost\": false,\n  \"scale\": 2\n}\n");
-        std::fs::write(&p, "{\n  \"ghost\": false,\n  \"scale\": 2,\n  \"theme\": \"dark\"\n}\n").unwrap();
-        race.control.pads.deadzone = 0.25;
-        race.save_settings();
-        let want = "{\n  \"deadzone\": 0.25,\n  \"ghost\": false,\n  \"scale\": 2,\n  \"theme\": \"dark\"\n}\n";
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), want);
-        assert_eq!(race.notice, None);
-        // Broken by hand: not written, said once.
-        std::fs::write(&p, "{\"theme\": ").unwrap();
-        race.control.pads.curve = 2.0;
-        race.save_settings();
-        let said = race.notice.take().unwrap_or_default();
-        assert!(said.ends_with("the file is left as it is and changes will not be saved"), "{said}");
-        race.control.pads.curve = 2.5;
-        race.save_settings();
-        assert_eq!((race.notice.as_deref(), std::fs::read_to_string(&p).unwrap().as_str()), (None, "{\"theme\": "));
-    }
-
-    /// P, the pad's Start button and Esc toggle between racing and the pause menu through one function,
-    /// which leaves the other screens alone.
-    #[test]
-    fn the_pause_toggle_switches_only_between_racing_and_paused() {
-        let mut race = race_on_the_menu();
-        for (from, to) in [
-            (Screen::Race, Screen::Paused),
-            (Screen::Paused, Screen::Race),
-            (Screen::Menu, Screen::Menu),
-            (Screen::Frozen, Screen::Frozen),
-        ] {
-            race.screen = from;
-            race.toggle_pause();
-            assert_eq!(race.screen, to, "{from:?}");
-        }
-    }
-}
+mod tests;
