@@ -188,7 +188,7 @@ impl OneShot {
     /// Adds up to `frames` frames of the sound to interleaved stereo `out`, scaled by `gain`.
     pub fn render(&mut self, sine: &SineTable, out: &mut [f32], gain: f32) {
         let inv = 1.0 / SAMPLE_RATE as f32;
-        let crunch_k = OnePole::coeff(2500.0);
+        let crunch_k = OnePole::coeff(1500.0);
         for frame in out.chunks_exact_mut(2) {
             if self.delay > 0 {
                 self.delay -= 1;
@@ -207,7 +207,7 @@ impl OneShot {
                     let t = self.age as f32 * inv;
                     self.phase += thud_hz * (0.6 + 0.4 * libm::expf(-t / 0.05)) * inv;
                     let crunch = self.lp.run(self.noise.sample(), crunch_k);
-                    0.7 * sine.sin(self.phase) + 2.0 * crunch * libm::expf(-t / 0.03)
+                    0.7 * sine.sin(self.phase) + 1.6 * crunch * libm::expf(-t / 0.03)
                 }
                 Kind::Chime { hz } => {
                     self.phase += hz * inv;
