@@ -8,6 +8,8 @@
 //!   (`examples/small_scene.rs` times the same scene as a best of rounds, steadier for comparing builds).
 //! - `huge/*`: 8 screen-filling quads at 1280x720: pixels per second.
 //! - `deep/*`: 64 overlapping half-screen quads at 640x480 (depth complexity 32): overdraw.
+//! - `race/audio-1s`: the mixer over the second of the demo race from tick 3000 (all eight cars' voices),
+//!   beside the frame time: its time divided by one second is its share of real time.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
@@ -15,6 +17,8 @@ mod scenes;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Vec3};
+use scanline_racer::audio::Mixer;
+use scanline_racer::game::TICK_HZ;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::render::{DrawList, Instance, Mesh, Method, RenderOptions, Renderer};
 use scanline_racer::shell::race_scene::{FIELD, RaceScene, View, camera_for};
@@ -95,6 +99,23 @@ fn race(c: &mut Criterion) {
             });
         }
     }
+    // The sound of one second of the same race (120 worlds), from a mixer already running.
+    let mut worlds = vec![];
+    while worlds.len() < TICK_HZ as usize && replay.advance().unwrap() {
+        worlds.push(replay.world.clone());
+    }
+    let mut samples = Vec::with_capacity(2 * 48_000);
+    g.throughput(Throughput::Elements(48_000));
+    g.bench_function("audio-1s", |b| {
+        b.iter(|| {
+            let mut mixer = Mixer::new();
+            samples.clear();
+            for w in &worlds {
+                mixer.advance(w);
+                mixer.render(&mut samples);
+            }
+        })
+    });
     g.finish();
 }
 

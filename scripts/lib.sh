@@ -39,6 +39,7 @@ ensure_rust() {
     fi
 }
 
-# Packages the build needs: pkg-config and libudev for gamepad support through gilrs; a C compiler and libc
-# headers for linking (and for the portable-maths test, which builds a stand-in maths library).
-BUILD_PACKAGES=(pkg-config libudev-dev gcc libc6-dev)
+# Packages the build needs: pkg-config and libudev for gamepad support through gilrs; ALSA's headers for
+# sound through cpal; a C compiler and libc headers for linking (and for the portable-maths test, which
+# builds a stand-in maths library).
+BUILD_PACKAGES=(pkg-config libudev-dev libasound2-dev gcc libc6-dev)

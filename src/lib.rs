@@ -5,6 +5,7 @@
 //! command-line shell.
 
 pub mod asset;
+pub mod audio;
 pub mod bench;
 pub mod cli;
 pub mod game;

@@ -92,6 +92,12 @@ pub enum CliError {
     /// A PNG could not be written.
     #[error(transparent)]
     Png(#[from] crate::shell::png::PngError),
+    /// A soundtrack longer than a WAV file can hold.
+    #[error("--audio: the race's sound would exceed the WAV format's 4 GiB (about {hours:.1} hours of racing)")]
+    AudioTooLong {
+        /// The most a WAV file holds, in hours of sound.
+        hours: f64,
+    },
     /// An output file named on the command line cannot be written there (checked before the work).
     #[error("cannot write {flag} {source}")]
     Output {

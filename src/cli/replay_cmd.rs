@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::error::CliError;
 use super::values;
+use crate::audio::{CHANNELS, Mixer, wav};
 use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
@@ -25,6 +26,10 @@ pub struct ReplayArgs {
     /// Folder for PNG frames (headless), named `frame_TICK.png`.
     #[arg(long)]
     pub frames: Option<PathBuf>,
+    /// Headless: write the race's soundtrack to this WAV file (48 kHz stereo, 16-bit PCM), the same bits on
+    /// every run.
+    #[arg(long, requires = "headless")]
+    pub audio: Option<PathBuf>,
     /// Write every Nth tick's frame (1 to 10^9).
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
     pub every: u64,
@@ -60,6 +65,8 @@ pub struct ReplaySummary {
     pub verified: u64,
     /// Frames written.
     pub frames: u64,
+    /// Stereo sample frames of soundtrack written (0 without `--audio`).
+    pub audio_frames: u64,
 }
 
 /// Replays a trace without a window, checking checksums and writing frames; `progress` gets each tick.
@@ -67,17 +74,27 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     if let Some(d) = &args.frames {
         super::error::output_folder("--frames", d, "the PNG frames")?;
     }
+    if let Some(a) = &args.audio {
+        crate::userfile::check_output(a).map_err(|source| CliError::Output { flag: "--audio", source })?;
+    }
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
+    let mut sound = args.audio.as_ref().map(|_| Soundtrack::new());
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     let options =
         RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
+    if let Some(s) = &mut sound {
+        s.tick(&replay.world)?;
+    }
     while replay.advance()? {
         let world = &replay.world;
         progress(world.tick);
+        if let Some(s) = &mut sound {
+            s.tick(world)?;
+        }
         if let Some(d) = &args.frames
             && world.tick.is_multiple_of(args.every.max(1))
         {
@@ -86,7 +103,53 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
             frames += 1;
         }
     }
-    Ok(ReplaySummary { ticks: replay.world.tick, verified: replay.source.verified, frames })
+    let audio_frames = match (sound, &args.audio) {
+        (Some(s), Some(path)) => s.write(path)?,
+        _ => 0,
+    };
+    Ok(ReplaySummary { ticks: replay.world.tick, verified: replay.source.verified, frames, audio_frames })
+}
+
+/// A race's soundtrack as it is rendered: the mixer, and the WAV file's bytes so far (2 bytes a sample, so
+/// an hour of racing holds 691 MB; the format's 4 GiB limit is checked as it grows).
+struct Soundtrack {
+    mixer: Mixer,
+    block: Vec<f32>,
+    bytes: Vec<u8>,
+}
+
+impl Soundtrack {
+    fn new() -> Self {
+        Self { mixer: Mixer::new(), block: vec![], bytes: vec![0; wav::HEADER_BYTES] }
+    }
+
+    /// The sound of the tick that led to `world` (the WAV's samples `400 t .. 400 (t + 1)` follow tick `t`).
+    fn tick(&mut self, world: &crate::game::World) -> Result<(), CliError> {
+        self.mixer.advance(world);
+        self.mixer.render(&mut self.block);
+        self.flush()
+    }
+
+    fn flush(&mut self) -> Result<(), CliError> {
+        wav::append(&self.block, &mut self.bytes);
+        self.block.clear();
+        if self.bytes.len() > wav::MAX_BYTES {
+            return Err(CliError::AudioTooLong { hours: wav::MAX_BYTES as f64 / wav::bytes_per_second() / 3600.0 });
+        }
+        Ok(())
+    }
+
+    /// Ends the sound cleanly and writes the file; returns the frames written.
+    fn write(mut self, path: &std::path::Path) -> Result<u64, CliError> {
+        self.mixer.finish(&mut self.block);
+        self.flush()?;
+        let frames = (self.bytes.len() - wav::HEADER_BYTES) / (2 * CHANNELS);
+        let head = wav::header(frames)
+            .ok_or(CliError::AudioTooLong { hours: wav::MAX_BYTES as f64 / wav::bytes_per_second() / 3600.0 })?;
+        self.bytes[..wav::HEADER_BYTES].copy_from_slice(&head);
+        crate::userfile::replace_atomically(path, &self.bytes).map_err(CliError::Write)?;
+        Ok(frames as u64)
+    }
 }
 
 /// Runs `replay`.
@@ -102,11 +165,15 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
             }
         })?;
         eprintln!(
-            "\rreplayed {} ticks ({:.1} s), {} checksums verified, {} frames written",
+            "\rreplayed {} ticks ({:.1} s), {} checksums verified, {} frames written{}",
             summary.ticks,
             summary.ticks as f64 / 120.0,
             summary.verified,
-            summary.frames
+            summary.frames,
+            match &args.audio {
+                Some(p) => format!(", {:.1} s of sound to {}", summary.audio_frames as f64 / 48_000.0, p.display()),
+                None => String::new(),
+            }
         );
         return Ok(());
     }

@@ -1,0 +1,333 @@
+//! The race's soundtrack as `replay TRACE --headless --audio OUT.wav` writes it, for the demo traces in
+//! `assets/replays/`, checked against the world states the same trace replays to.
+//!
+//! The WAV's block of 400 frames number `t` is the sound after the world of tick `t` (tick 0 is the grid).
+//! Pitch is found by a Goertzel scan (0.4% steps, 30-700 Hz, Hann window) of 0.5 s windows.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use scanline_racer::audio::FRAMES_PER_TICK;
+use scanline_racer::audio::engine::{Engine, EngineNote, IDLE_RPM, firing_hz};
+use scanline_racer::game::car::BODY_HALF_WIDTH;
+use scanline_racer::game::rules::Phase;
+use scanline_racer::game::{Track, World};
+use scanline_racer::input::replay::Replay;
+use scanline_racer::shell::race_scene::FIELD;
+
+/// Frames a tick.
+const TICK: usize = FRAMES_PER_TICK;
+/// Ticks in a 0.5 s analysis window.
+const WINDOW_TICKS: usize = 60;
+/// Largest sample-to-sample jump allowed around gear changes and voice starts, as a share of full scale,
+/// beside the sound's own steepest slope (see `no_clicks_at_gear_changes_and_voice_starts`).
+const CLICK_BOUND: f32 = 0.12;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Soundtracks written so far, by trace, thread count and run number.
+type Cache = Mutex<BTreeMap<(String, usize, usize), Arc<Vec<u8>>>>;
+
+/// The soundtrack's bytes for `trace` at `--threads threads`, written by the real binary (cached per run).
+#[allow(clippy::expect_used)]
+fn wav_bytes(trace: &str, threads: usize, run: usize) -> Arc<Vec<u8>> {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(BTreeMap::new()));
+    let key = (trace.to_string(), threads, run);
+    let mut map = cache.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some(b) = map.get(&key) {
+        return Arc::clone(b);
+    }
+    let dir = std::env::temp_dir().join(format!("scanline-racer-audio-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp folder");
+    let out = dir.join(format!("{trace}-{threads}-{run}.wav"));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .current_dir(root())
+        .args(["replay", &format!("assets/replays/{trace}.trace"), "--headless", "--threads", &threads.to_string()])
+        .arg("--audio")
+        .arg(&out)
+        .status()
+        .expect("runs the binary");
+    assert!(status.success(), "replay --audio failed for {trace}");
+    let bytes = Arc::new(std::fs::read(&out).expect("the WAV was written"));
+    let _ = std::fs::remove_file(&out);
+    map.insert(key, Arc::clone(&bytes));
+    bytes
+}
+
+/// Interleaved stereo samples in [-1, 1] from a 16-bit 48 kHz stereo WAV (its header checked).
+fn samples(bytes: &[u8]) -> Vec<f32> {
+    let u32_at = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    assert_eq!(&bytes[0..4], b"RIFF");
+    assert_eq!(&bytes[8..16], b"WAVEfmt ");
+    assert_eq!(u32_at(24), 48_000, "sample rate");
+    assert_eq!(u16::from_le_bytes([bytes[22], bytes[23]]), 2, "channels");
+    assert_eq!(u16::from_le_bytes([bytes[34], bytes[35]]), 16, "bits");
+    assert_eq!(u32_at(40) as usize, bytes.len() - 44, "data size");
+    bytes[44..].chunks_exact(2).map(|c| f32::from(i16::from_le_bytes([c[0], c[1]])) / 32767.0).collect()
+}
+
+/// Every world of `trace` from the grid (tick 0) to its end.
+#[allow(clippy::expect_used)]
+fn worlds(trace: &str) -> Vec<World> {
+    let text = std::fs::read_to_string(root().join("assets/track/centerline.json")).expect("centre line");
+    let track = Arc::new(Track::from_json(&text).expect("track"));
+    let mut r = Replay::open(&root().join(format!("assets/replays/{trace}.trace")), track, FIELD).expect("trace");
+    let mut v = vec![r.world.clone()];
+    while r.advance().expect("replays") {
+        v.push(r.world.clone());
+    }
+    v
+}
+
+/// The player's engine, tick by tick, as the engine-speed curve gives it.
+fn notes(worlds: &[World]) -> Vec<EngineNote> {
+    let mut e = Engine::new();
+    worlds.iter().map(|w| e.update(&w.cars[0], &w.params)).collect()
+}
+
+/// Left plus right over two.
+fn mono(s: &[f32]) -> Vec<f32> {
+    s.chunks_exact(2).map(|f| 0.5 * (f[0] + f[1])).collect()
+}
+
+/// The strongest frequency (30-700 Hz) of `x` at 48 kHz.
+fn pitch(x: &[f32]) -> f32 {
+    // Averaging fours: 12 kHz is plenty below 700 Hz and makes the scan four times cheaper.
+    let d: Vec<f32> = x.chunks_exact(4).map(|c| 0.25 * c.iter().sum::<f32>()).collect();
+    let n = d.len() as f32;
+    let w: Vec<f32> =
+        d.iter().enumerate().map(|(i, v)| v * (0.5 - 0.5 * libm::cosf(std::f32::consts::TAU * i as f32 / n))).collect();
+    let (mut best, mut best_p) = (0.0, 0.0);
+    let mut f = 30.0f32;
+    while f < 700.0 {
+        let c = 2.0 * libm::cosf(std::f32::consts::TAU * f / 12_000.0);
+        let (mut s1, mut s2) = (0.0f32, 0.0f32);
+        for &v in &w {
+            let s0 = v + c * s1 - s2;
+            s2 = s1;
+            s1 = s0;
+        }
+        let p = s1 * s1 + s2 * s2 - c * s1 * s2;
+        if p > best_p {
+            (best, best_p) = (f, p);
+        }
+        f *= 1.004;
+    }
+    best
+}
+
+/// The mono samples of ticks `from..to`.
+fn ticks(m: &[f32], from: usize, to: usize) -> &[f32] {
+    &m[from * TICK..(to * TICK).min(m.len())]
+}
+
+fn max_jump(x: &[f32]) -> f32 {
+    x.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f32::max)
+}
+
+#[test]
+fn engine_pitch_follows_the_engine_speed_curve_across_shifts() {
+    let w = worlds("demo-race");
+    let notes = notes(&w);
+    let m = mono(&samples(&wav_bytes("demo-race", 1, 0)));
+    let (mut checked, mut within, mut gears) = (0, 0, std::collections::BTreeSet::new());
+    for start in (0..w.len() - WINDOW_TICKS).step_by(WINDOW_TICKS) {
+        let hz: Vec<f32> = notes[start..start + WINDOW_TICKS].iter().map(EngineNote::hz).collect();
+        let (lo, hi) = hz.iter().fold((f32::MAX, 0.0f32), |(a, b), &h| (a.min(h), b.max(h)));
+        if hi > 1.03 * lo {
+            continue; // a shift or a hard acceleration inside the window: no single pitch to find
+        }
+        let want = 0.5 * (lo + hi);
+        let got = pitch(ticks(&m, start, start + WINDOW_TICKS));
+        checked += 1;
+        if (got / want - 1.0).abs() <= 0.05 {
+            within += 1;
+            gears.insert(notes[start].gear);
+        } else {
+            eprintln!("tick {start}: engine {want:.1} Hz, loudest {got:.1} Hz");
+        }
+    }
+    eprintln!("{within} of {checked} steady windows within 5%, in gears {gears:?}");
+    assert!(checked >= 60, "only {checked} steady windows");
+    assert!(within * 10 >= checked * 9, "{within} of {checked} windows within 5%");
+    assert!(gears.len() >= 4, "matched in gears {gears:?} only");
+}
+
+#[test]
+fn engines_idle_on_the_grid_then_rev_at_the_start() {
+    let w = worlds("demo-race");
+    let start = w.iter().position(|w| w.race.phase == Phase::Racing).expect("the race starts");
+    let m = mono(&samples(&wav_bytes("demo-race", 1, 0)));
+    let idle = firing_hz(IDLE_RPM);
+    for from in [30, 150, 270] {
+        let got = pitch(ticks(&m, from, from + WINDOW_TICKS));
+        assert!((got / idle - 1.0).abs() < 0.05, "grid at tick {from}: {got} Hz, idle is {idle} Hz");
+    }
+    let revving = pitch(ticks(&m, start + 60, start + 60 + WINDOW_TICKS));
+    assert!(revving > 1.8 * idle, "0.5-1 s after the start: {revving} Hz against idle {idle} Hz");
+}
+
+/// Energy of the squeal band (1.9-3.1 kHz) in each tick's block, by Goertzel at 100 Hz steps.
+fn squeal_band(m: &[f32]) -> Vec<f32> {
+    m.chunks(TICK)
+        .map(|b| {
+            (19..=31)
+                .map(|k| {
+                    let c = 2.0 * libm::cosf(std::f32::consts::TAU * (k * 100) as f32 / 48_000.0);
+                    let (mut s1, mut s2) = (0.0f32, 0.0f32);
+                    for &v in b {
+                        let s0 = v + c * s1 - s2;
+                        s2 = s1;
+                        s1 = s0;
+                    }
+                    s1 * s1 + s2 * s2 - c * s1 * s2
+                })
+                .sum()
+        })
+        .collect()
+}
+
+fn slip(c: &scanline_racer::game::car::Car) -> f32 {
+    let f = c.forward();
+    c.vel.dot(glam::Vec2::new(-f.y, f.x)).abs()
+}
+
+#[test]
+fn tyre_squeal_rises_in_the_scuffle_slides() {
+    let w = worlds("scuffle");
+    let band = squeal_band(&mono(&samples(&wav_bytes("scuffle", 0, 0))));
+    let (mut slide, mut grip) = (vec![], vec![]);
+    for (t, world) in w.iter().enumerate().skip(1) {
+        if slip(&world.cars[0]) > 4.0 {
+            slide.push(band[t]);
+        } else if world.cars.iter().all(|c| slip(c) < 1.0) && world.race.phase == Phase::Racing {
+            grip.push(band[t]);
+        }
+    }
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len().max(1) as f32;
+    eprintln!(
+        "{} sliding ticks: {:.3e}; {} gripping ticks: {:.3e}",
+        slide.len(),
+        mean(&slide),
+        grip.len(),
+        mean(&grip)
+    );
+    assert!(slide.len() >= 60 && grip.len() >= 60, "{} sliding, {} gripping ticks", slide.len(), grip.len());
+    assert!(mean(&slide) > 10.0 * mean(&grip), "squeal band {} sliding vs {} gripping", mean(&slide), mean(&grip));
+}
+
+/// Ticks at which the player's car hits a barrier or a car at more than 3 m/s, after 100 ms without one.
+fn player_contacts(w: &[World]) -> Vec<(usize, f32)> {
+    let mut out: Vec<(usize, f32)> = vec![];
+    for t in 1..w.len() {
+        let (a, b) = (&w[t].cars[0], &w[t - 1].cars[0]);
+        let mut speed = 0.0f32;
+        let side = usize::from(a.loc.lateral > 0.0);
+        if a.loc.lateral.abs() >= a.loc.barrier[side] - BODY_HALF_WIDTH - 1e-3 {
+            let (_, dir) = w[t].track.point_at(a.loc.s, 0.0);
+            let out = glam::Vec2::new(-dir.y, dir.x) * a.loc.lateral.signum();
+            speed = speed.max(b.vel.dot(out) - a.vel.dot(out));
+        }
+        for j in 1..w[t].cars.len() {
+            let d = w[t].cars[j].pos - a.pos;
+            if d.length() <= 2.0 * w[t].params.radius + 0.02 {
+                speed = speed.max(-(w[t - 1].cars[j].vel - b.vel).dot(d.normalize_or_zero()));
+            }
+        }
+        if speed > 3.0 && out.last().is_none_or(|&(last, _)| t > last + 12) {
+            out.push((t, speed));
+        }
+    }
+    out
+}
+
+#[test]
+fn an_impact_transient_at_each_contact_tick() {
+    let w = worlds("scuffle");
+    let m = mono(&samples(&wav_bytes("scuffle", 0, 0)));
+    let hf = |x: &[f32]| x.windows(2).map(|p| (p[1] - p[0]) * (p[1] - p[0])).sum::<f32>();
+    let hits = player_contacts(&w);
+    assert!(hits.len() >= 2, "the scuffle has contacts: {hits:?}");
+    for &(t, speed) in &hits {
+        let before = hf(&m[t * TICK - 1440..t * TICK]);
+        let after = hf(&m[t * TICK..t * TICK + 1440]);
+        eprintln!("tick {t}: {speed:.1} m/s, high-band energy x{:.1}", after / before.max(1e-12));
+        assert!(after > 3.0 * before, "tick {t} ({speed:.1} m/s): {after} after vs {before} before");
+    }
+}
+
+#[test]
+fn no_clipping() {
+    for trace in ["demo-race", "scuffle"] {
+        let s = samples(&wav_bytes(trace, if trace == "scuffle" { 0 } else { 1 }, 0));
+        let peak = s.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+        eprintln!("{trace}: peak {peak:.3} of full scale");
+        assert!(peak < 0.99, "{trace}: peak {peak}");
+        assert!(peak > 0.1, "{trace}: nearly silent ({peak})");
+    }
+}
+
+#[test]
+fn no_clicks_at_gear_changes_and_voice_starts() {
+    // A click is a jump between two samples steeper than the sound around it. At every gear change and
+    // every voice start (beeps, impacts, the finish), the steepest jump in the first 2 ms from the event may
+    // exceed neither CLICK_BOUND nor 1.5 times the steepest jump of the sound around it (the 50 ms before
+    // and the 10-60 ms after, once the voice has started) plus 0.005.
+    for trace in ["demo-race", "scuffle"] {
+        let w = worlds(trace);
+        let s = samples(&wav_bytes(trace, if trace == "scuffle" { 0 } else { 1 }, 0));
+        let (left, right): (Vec<f32>, Vec<f32>) = s.chunks_exact(2).map(|f| (f[0], f[1])).unzip();
+        let notes = notes(&w);
+        let mut events: Vec<usize> = (0..w.len()).filter(|&t| notes[t].shifted).collect();
+        let shifts = events.len();
+        events.extend([0, 120, 240, 360]);
+        events.extend(player_contacts(&w).iter().map(|h| h.0));
+        events.extend(
+            (1..w.len()).filter(|&t| {
+                w[t].race.standings[0].finished.is_some() && w[t - 1].race.standings[0].finished.is_none()
+            }),
+        );
+        let mut worst = 0.0f32;
+        for &t in &events {
+            for ch in [&left, &right] {
+                let at = t * TICK;
+                let jump = max_jump(&ch[at.saturating_sub(1)..at + 96]);
+                let around = max_jump(&ch[at.saturating_sub(2400)..at.max(1)]).max(max_jump(&ch[at + 480..at + 2880]));
+                worst = worst.max(jump);
+                assert!(
+                    jump <= CLICK_BOUND && jump <= 1.5 * around + 0.005,
+                    "{trace} tick {t}: jump {jump}, around it {around}"
+                );
+            }
+        }
+        eprintln!("{trace}: {shifts} gear changes, {} events, steepest jump {worst:.4}", events.len());
+        assert!(shifts >= 5 || trace == "scuffle", "{trace}: only {shifts} gear changes");
+    }
+}
+
+#[test]
+fn every_sound_ends_cleanly() {
+    for trace in ["demo-race", "scuffle"] {
+        let s = samples(&wav_bytes(trace, if trace == "scuffle" { 0 } else { 1 }, 0));
+        let ticks = worlds(trace).len();
+        assert!(s.len() >= 2 * ticks * TICK, "{trace}: a block for every tick");
+        let tail = &s[2 * ticks * TICK..];
+        assert!(
+            tail.len() <= 2 * 48_000 / 2,
+            "{trace}: the ending takes at most 0.5 s, took {} frames",
+            tail.len() / 2
+        );
+        assert!(s[s.len() - 2 * 2 * TICK..].iter().all(|&x| x == 0.0), "{trace}: ends in digital silence");
+        assert!(max_jump(&s[2 * (ticks - 6) * TICK..]) <= CLICK_BOUND, "{trace}: the fade clicks");
+    }
+}
+
+#[test]
+fn the_soundtrack_is_bit_identical_across_runs_and_thread_counts() {
+    assert!(*wav_bytes("demo-race", 1, 0) == *wav_bytes("demo-race", 3, 0), "--threads 1 and 3 differ");
+    assert!(*wav_bytes("scuffle", 0, 0) == *wav_bytes("scuffle", 0, 1), "two runs differ");
+}
