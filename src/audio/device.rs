@@ -13,8 +13,8 @@ use std::sync::Arc;
 use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
 use thiserror::Error;
 
+use super::format::{CHANNELS, SAMPLE_RATE};
 use super::ring::Ring;
-use super::{CHANNELS, SAMPLE_RATE};
 
 /// Device buffer asked for (frames): 10 ms at 48 kHz.
 pub const DEVICE_FRAMES: u32 = 480;

@@ -3,7 +3,7 @@
 //! Everything here is plain `f32` arithmetic plus `libm` (no platform maths), so a sound computed on one
 //! machine has the same bits on every other.
 
-use super::SAMPLE_RATE;
+use super::format::SAMPLE_RATE;
 
 /// Samples in one cycle of the sine table (a power of two, so the index wraps with a mask).
 const TABLE_LEN: usize = 2048;

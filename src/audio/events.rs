@@ -6,8 +6,8 @@
 
 use glam::Vec2;
 
-use super::SAMPLE_RATE;
 use super::dsp::{Noise, OnePole, SineTable};
+use super::format::SAMPLE_RATE;
 use super::voice::Spatial;
 use crate::game::car::{BODY_HALF_WIDTH, Car, CarParams};
 use crate::game::track::Track;

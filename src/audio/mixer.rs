@@ -7,8 +7,8 @@
 
 use super::dsp::{Ramp, SineTable};
 use super::events::{OneShot, contacts};
+use super::format::{CHANNELS, FRAMES_PER_TICK};
 use super::voice::{CarVoice, Spatial, place};
-use super::{CHANNELS, FRAMES_PER_TICK};
 use crate::game::World;
 use crate::game::car::Car;
 use crate::game::rules::Phase;

@@ -7,6 +7,7 @@
 //! replay writes the same WAV bits on every run and every machine (`wav`). `device` plays the same samples
 //! on the default output device through a ring buffer the game thread fills and never waits on.
 //!
+//! - `format`: the sample rate, channels and samples per tick every part counts in.
 //! - `dsp`: sine table, seeded noise, filters, per-tick ramps.
 //! - `engine`: the gearbox and engine-speed curve inferred from a car's speed and acceleration.
 //! - `voice`: one car's engine, tyre squeal and kerb/grass rumble, panned, attenuated and Doppler-shifted.
@@ -19,19 +20,12 @@ pub mod device;
 pub mod dsp;
 pub mod engine;
 pub mod events;
+pub mod format;
 pub mod mixer;
 pub mod ring;
 pub mod voice;
 pub mod wav;
 
 pub use device::{AudioError, Output, open};
+pub use format::{CHANNELS, FRAMES_PER_TICK, SAMPLE_RATE};
 pub use mixer::Mixer;
-
-/// Samples per second per channel.
-pub const SAMPLE_RATE: u32 = 48_000;
-/// Channels (interleaved left, right).
-pub const CHANNELS: usize = 2;
-/// Stereo frames per simulation tick: 48,000 / 120 = 400, exactly, so ticks and samples never drift.
-pub const FRAMES_PER_TICK: usize = (SAMPLE_RATE / crate::game::TICK_HZ) as usize;
-
-const _: () = assert!(SAMPLE_RATE.is_multiple_of(crate::game::TICK_HZ), "a tick must be a whole number of samples");

@@ -9,7 +9,7 @@ use glam::Vec2;
 
 use super::dsp::{BandPass, Noise, OnePole, Ramp, SineTable, smoothstep};
 use super::engine::{Engine, EngineNote};
-use super::{FRAMES_PER_TICK, SAMPLE_RATE};
+use super::format::{FRAMES_PER_TICK, SAMPLE_RATE};
 use crate::game::car::{Car, CarParams, KERB};
 
 /// Partial weights of the engine note at full load: a buzzy, bright note.

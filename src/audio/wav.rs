@@ -3,7 +3,7 @@
 //! The conversion rounds each sample the same way on every machine, so a soundtrack's file is as
 //! reproducible as its samples.
 
-use super::{CHANNELS, SAMPLE_RATE};
+use super::format::{CHANNELS, SAMPLE_RATE};
 
 /// Bytes of the header before the samples.
 pub const HEADER_BYTES: usize = 44;
