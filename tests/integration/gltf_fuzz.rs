@@ -15,8 +15,6 @@
 //! mutations reach too: a GLB header declaring under 12 bytes (`Glb::from_slice` subtracts unchecked) and
 //! the cameras and images of `asset::validate::check`.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};

@@ -8,10 +8,6 @@
 //! percentage points (`cargo test --release --test failures -- --nocapture` prints the table). A scene a
 //! method draws exactly has a bound of 0.05%: a few pixels of tie-breaking, never a visible fault.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::PathBuf;
 
 use scanline_racer::asset::{LoadedScene, load};

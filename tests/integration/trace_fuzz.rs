@@ -8,14 +8,10 @@
 //! 100,000 cases per property) found no panic, no multi-line error and no runaway read: the reader had been
 //! written against hostile input from the start (bounded header, records of fixed size, quantized controls).
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::io::Cursor;
 use std::sync::OnceLock;
 
-use common::*;
+use crate::common::*;
 use proptest::prelude::*;
 use scanline_racer::game::World;
 use scanline_racer::input::replay::TraceSource;

@@ -7,13 +7,9 @@
 //! difference image and prints where they are. To accept an intended change, regenerate on purpose with
 //! `UPDATE_GOLDENS=1 cargo test --test golden` and look at the new PNGs before committing them.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::*;
+use crate::common::*;
 use scanline_racer::asset::load;
 use scanline_racer::render::{Filter, Level, LodMode, Method, RenderOptions, Renderer, TextureMode};
 

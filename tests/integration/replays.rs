@@ -16,14 +16,10 @@
 //! `target/golden-failures/` and print the command that regenerates the expectations on purpose:
 //! `UPDATE_GOLDENS=1 cargo test --test replays` (then look at the PNGs before committing them).
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use common::*;
+use crate::common::*;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::measure::flip;
 use scanline_racer::render::{DepthKey, Filter, Method, RenderOptions, Renderer, TextureMode};
