@@ -216,7 +216,7 @@ fn fields_the_gltf_crate_would_unwrap_are_refused_in_one_line() {
         ),
         ("noimage.gltf", textured(json!({})), "image 0: has neither a uri nor a bufferView"),
         ("nomime.gltf", textured(json!({"bufferView": 0})), "image 0: has a bufferView but no mimeType"),
-        // The crate's own validation indexes this accessor unchecked (found by tests/gltf_fuzz.rs).
+        // The crate's own validation indexes this accessor unchecked (found by tests/integration/gltf_fuzz.rs).
         (
             "position.gltf",
             {

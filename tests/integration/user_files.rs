@@ -59,7 +59,7 @@ impl Game {
     }
 
     /// Types `keys` (xdotool names) into the window once it is up, `pause` apart; false when xdotool is
-    /// not installed (the test is then not run, as `tests/window.rs` does).
+    /// not installed (the test is then not run, as `tests/integration/window.rs` does).
     fn type_keys(&mut self, keys: &[&str], pause: Duration) -> bool {
         let Some(wid) = xdotool(&self.display, &["search", "--sync", "--name", "scanline-racer"]) else {
             return false;
