@@ -1,4 +1,5 @@
-/* A stand-in for another platform's maths library, loaded with LD_PRELOAD by tests/portable_maths.rs.
+/* A stand-in for another platform's maths library, loaded with LD_PRELOAD by
+ * tests/integration/portable_maths.rs.
  *
  * Each function returns what the system's (glibc's) returns, moved by one unit in the last place when the
  * low bit of its first argument's representation is set: a library that is still accurate to within one

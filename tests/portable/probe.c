@@ -1,5 +1,5 @@
-/* Prints the system maths library's results for a few inputs, so that tests/portable_maths.rs can check
- * that the perturbed library is really loaded and really changes some of them. */
+/* Prints the system maths library's results for a few inputs, so that tests/integration/portable_maths.rs
+ * can check that the perturbed library is really loaded and really changes some of them. */
 #include <math.h>
 #include <stdio.h>
 

@@ -4,29 +4,16 @@
 //! key reaches is one the next start accepts; a hand edit made while the game runs survives its next save.
 //! Every file is checked byte for byte; every game is killed after a time bound (a hang fails the test).
 //!
-//! The games run one at a time ([`one_window_at_a_time`]): each is a debug build drawing on its own Xvfb,
-//! and several at once on a loaded two-core CI machine made the time bounds measure the machine.
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
+//! The games run one at a time, as every windowed game of this binary does ([`Xvfb`] holds a lock).
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use common::xvfb::{Xvfb, xdotool};
+use crate::common::xvfb::{Xvfb, xdotool};
 
 /// Seconds a game may run before it is killed and the test fails.
 const BOUND: u64 = 60;
-
-/// Held by each test while its game runs, so that the windowed games of this file run one at a time (a
-/// test that failed while holding it does not stop the others).
-fn one_window_at_a_time() -> MutexGuard<'static, ()> {
-    static WINDOWS: Mutex<()> = Mutex::new(());
-    WINDOWS.lock().unwrap_or_else(PoisonError::into_inner)
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("user-files").join(name);
@@ -72,7 +59,7 @@ impl Game {
     }
 
     /// Types `keys` (xdotool names) into the window once it is up, `pause` apart; false when xdotool is
-    /// not installed (the test is then not run, as `tests/window.rs` does).
+    /// not installed (the test is then not run, as `tests/integration/window.rs` does).
     fn type_keys(&mut self, keys: &[&str], pause: Duration) -> bool {
         let Some(wid) = xdotool(&self.display, &["search", "--sync", "--name", "scanline-racer"]) else {
             return false;
@@ -155,7 +142,6 @@ fn replayed(trace: &Path) -> Result<String, String> {
 
 #[test]
 fn quitting_without_racing_leaves_the_trace_recorded_over_as_it_was() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("no-race");
     let settings = dir.join("settings.json");
@@ -183,7 +169,6 @@ fn quitting_without_racing_leaves_the_trace_recorded_over_as_it_was() {
 
 #[test]
 fn a_race_replaces_the_trace_recorded_over_however_the_window_closes() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("race");
     let settings = dir.join("settings.json");
@@ -255,7 +240,6 @@ fn press_equal(x: &Xvfb, dir: &Path, settings: &Path, times: usize) -> Option<St
 
 #[test]
 fn a_settings_file_that_does_not_parse_is_never_overwritten() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("typo");
     let settings = dir.join("settings.json");
@@ -271,7 +255,6 @@ fn a_settings_file_that_does_not_parse_is_never_overwritten() {
 
 #[test]
 fn a_save_keeps_unknown_keys_and_a_linked_file_stays_a_link() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("keep");
     let real = dir.join("real.json");
@@ -288,7 +271,6 @@ fn a_save_keeps_unknown_keys_and_a_linked_file_stays_a_link() {
 
 #[test]
 fn the_largest_scale_the_key_reaches_is_saved_and_accepted_at_the_next_start() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("scale");
     let settings = dir.join("settings.json");
@@ -306,12 +288,11 @@ fn the_largest_scale_the_key_reaches_is_saved_and_accepted_at_the_next_start() {
 
 #[test]
 fn a_long_ghost_trace_does_not_hold_up_the_window() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("long-ghost");
     // 50 MB: ten million ticks, 23 hours of racing; replaying it all took over 60 s before the window opened.
     let ghost = dir.join("long.trace");
-    common::write_idle_trace(&ghost, 10_000_000);
+    crate::common::write_idle_trace(&ghost, 10_000_000);
     assert!(std::fs::metadata(&ghost).unwrap().len() > 50_000_000);
     let t = Instant::now();
     let args = ["--no-menu", "--ghost", ghost.to_str().unwrap(), "--exit-after-frames", "30"];
@@ -327,7 +308,6 @@ fn a_long_ghost_trace_does_not_hold_up_the_window() {
 /// the scale, the file is edited, `=` saves again.
 #[test]
 fn a_hand_edit_made_while_the_game_runs_survives_its_next_save() {
-    let _one = one_window_at_a_time();
     let Some(x) = Xvfb::start() else { return };
     let dir = tmp("hand-edit");
     let settings = dir.join("settings.json");

@@ -3,20 +3,16 @@
 //! Each is refused (or, for settings, reported and replaced by defaults) at once, in one line, without a
 //! panic; every child is killed after a time bound, and still running then is a failure.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::*;
+use crate::common::*;
 
 /// Seconds a refusal may take (loading the race's assets takes about one in a debug build).
 const BOUND: u64 = 30;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile").join(name);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile-files").join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -5,15 +5,11 @@
 //! absorbs float differences on other CPUs without hiding a real change (a one-pixel shift of an edge over
 //! a whole scene is already several times the threshold). On failure the test writes the actual frame and a
 //! difference image and prints where they are. To accept an intended change, regenerate on purpose with
-//! `UPDATE_GOLDENS=1 cargo test --test golden` and look at the new PNGs before committing them.
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
+//! `UPDATE_GOLDENS=1 cargo test --test integration golden::` and look at the new PNGs before committing them.
 
 use std::path::{Path, PathBuf};
 
-use common::*;
+use crate::common::*;
 use scanline_racer::asset::load;
 use scanline_racer::render::{Filter, Level, LodMode, Method, RenderOptions, Renderer, TextureMode};
 
@@ -144,7 +140,7 @@ fn scenes_match_their_golden_images() {
     }
     assert!(
         failures.is_empty(),
-        "{}\nIf the change is intended, regenerate with: UPDATE_GOLDENS=1 cargo test --test golden (then look at tests/golden/*.png)",
+        "{}\nIf the change is intended, regenerate with: UPDATE_GOLDENS=1 cargo test --test integration golden:: (then look at tests/golden/*.png)",
         failures.join("\n")
     );
 }

@@ -1,11 +1,7 @@
 //! Watertightness and fill-rule tests: additive counting over thousands of random fans, tessellations and
 //! closed meshes with sub-pixel vertices, checked against an independent edge-function reference.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Vec3, Vec4};
 use scanline_racer::render::core::fixed::Fx28_4;
 use scanline_racer::render::core::vertex::{ATTRS, ScreenVertex};

@@ -15,15 +15,12 @@
 //! tick 480. Linux (glibc) only: `LD_PRELOAD` is how the test swaps the library.
 
 #![cfg(all(target_os = "linux", target_env = "gnu"))]
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::files_under;
+use crate::common::files_under;
 use std::sync::OnceLock;
 
 fn root() -> PathBuf {

@@ -1,7 +1,5 @@
 //! Helpers shared by the integration tests: a small deterministic RNG, an independent reference
-#![allow(clippy::unwrap_used, clippy::expect_used)]
 //! rasterizer on the 1/16-pixel grid, and scene builders.
-#![allow(dead_code)]
 
 pub mod xvfb;
 

@@ -8,10 +8,6 @@
 //! `tests/hostile/black-8192.png`: an 8,229-byte 1-bit PNG of 8192x8192 black texels (made with Python's
 //! `zlib`: one IHDR of bit depth 1, one IDAT of 8192 zero rows compressed at level 9, IEND).
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::Mutex;
@@ -32,7 +28,7 @@ fn heavy() -> std::sync::MutexGuard<'static, ()> {
 
 /// A fresh folder for one test's files.
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile").join(name);
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile-gltf").join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -220,7 +216,7 @@ fn fields_the_gltf_crate_would_unwrap_are_refused_in_one_line() {
         ),
         ("noimage.gltf", textured(json!({})), "image 0: has neither a uri nor a bufferView"),
         ("nomime.gltf", textured(json!({"bufferView": 0})), "image 0: has a bufferView but no mimeType"),
-        // The crate's own validation indexes this accessor unchecked (found by tests/gltf_fuzz.rs).
+        // The crate's own validation indexes this accessor unchecked (found by tests/integration/gltf_fuzz.rs).
         (
             "position.gltf",
             {
@@ -537,7 +533,7 @@ fn pixels_with_scale(d: &Path, name: &str, scale: [f32; 3]) -> usize {
         "0,0,0",
     ];
     assert_drawn(&run_bounded(&args, 256, 20));
-    let (px, _, _) = common::read_png(&out).unwrap();
+    let (px, _, _) = crate::common::read_png(&out).unwrap();
     px.iter().filter(|&&p| p != 0).count()
 }
 

@@ -1,14 +1,10 @@
 //! The `render` command end to end: output, statistics JSON, exit codes and one-line errors on bad input,
 //! including hostile glTF files.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::*;
+use crate::common::*;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_scanline-racer"))

@@ -2,10 +2,6 @@
 //! drawn almost as the z-buffer draws it (far closer than per-polygon painter's orders), half-way between
 //! stored directions the error grows but stays bounded, and the lists are deterministic.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use glam::{Mat4, Vec3};
 use scanline_racer::asset::load;
 use scanline_racer::measure::wrong_pixels;

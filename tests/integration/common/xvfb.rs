@@ -1,17 +1,27 @@
 //! An Xvfb server for the window tests, and xdotool to type into the window.
+//!
+//! One display is up at a time in this test binary (see [`Xvfb`]): each windowed game is a debug build
+//! drawing on its own Xvfb, and several at once on a loaded two-core CI machine made the games' time bounds
+//! measure the machine.
 
 use std::os::unix::net::UnixStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-/// An Xvfb server on a free display, killed when dropped.
+/// An Xvfb server on a free display, killed when dropped. It holds [`ONE_DISPLAY`] while it lives, so the
+/// windowed tests of every module run one at a time (the other tests still run beside them).
 pub struct Xvfb {
     child: Child,
     /// The display, as `:N`.
     pub display: String,
+    _one: MutexGuard<'static, ()>,
 }
+
+/// Held by each [`Xvfb`] (a test that failed while holding it does not stop the others).
+static ONE_DISPLAY: Mutex<()> = Mutex::new(());
 
 static NEXT: AtomicUsize = AtomicUsize::new(0);
 
@@ -21,8 +31,9 @@ pub const REQUIRE: &str = "SCANLINE_RACER_REQUIRE_XVFB";
 impl Xvfb {
     /// Starts Xvfb; `None` (after saying so plainly) when it is not installed and not required.
     pub fn start() -> Option<Xvfb> {
+        let one = ONE_DISPLAY.lock().unwrap_or_else(PoisonError::into_inner);
         for _ in 0..50 {
-            // Tests in this binary run in parallel: each takes its own display number.
+            // Other processes may run Xvfb too: each server takes its own display number.
             let num = 90 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
             if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
                 continue;
@@ -55,7 +66,7 @@ impl Xvfb {
                 if UnixStream::connect(&socket).is_ok() {
                     std::thread::sleep(Duration::from_millis(100));
                     if let Ok(None) = child.try_wait() {
-                        return Some(Xvfb { child, display: format!(":{num}") });
+                        return Some(Xvfb { child, display: format!(":{num}"), _one: one });
                     }
                     break;
                 }

@@ -1,14 +1,10 @@
 //! The shipped assets: generated deterministically, within the seed's polygon and texel budgets, with levels
 //! of detail chosen by projected size, with hysteresis, and measured against the all-close reference.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use common::files_under;
+use crate::common::files_under;
 use glam::Vec3;
 use scanline_racer::asset::{LoadedScene, load};
 use scanline_racer::render::{Camera, Level, LodMode, RenderOptions, Renderer};

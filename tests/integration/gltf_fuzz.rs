@@ -8,14 +8,12 @@
 //! and polygons after instancing, texels, node visits) and draws a small frame without panicking; every input
 //! takes bounded time.
 //!
-//! Run longer with `PROPTEST_CASES=100000 cargo test --test gltf_fuzz` (about 8 s in the dev profile). The
-//! first runs (512, then 100,000 cases per property) found one panic: `gltf-json`'s own validation indexes
-//! the accessor a primitive's `POSITION` names without checking that it exists (now checked before
-//! validation, `asset::validate::check_before_validation`). Reading the crates found two more that these
-//! mutations reach too: a GLB header declaring under 12 bytes (`Glb::from_slice` subtracts unchecked) and
-//! the cameras and images of `asset::validate::check`.
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+//! Run longer with `PROPTEST_CASES=100000 cargo test --test integration gltf_fuzz::` (about 8 s in the dev
+//! profile). The first runs (512, then 100,000 cases per property) found one panic: `gltf-json`'s own
+//! validation indexes the accessor a primitive's `POSITION` names without checking that it exists (now
+//! checked before validation, `asset::validate::check_before_validation`). Reading the crates found two more
+//! that these mutations reach too: a GLB header declaring under 12 bytes (`Glb::from_slice` subtracts
+//! unchecked) and the cameras and images of `asset::validate::check`.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

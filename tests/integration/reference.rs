@@ -8,11 +8,7 @@
 //! The renderer walks edges and spans instead, in `f32`. The two must agree except where rounding moves an
 //! edge or a texel boundary by a hair: those pixels are counted, and bounded.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{DMat4, DVec4};
 use scanline_racer::asset::{LoadedScene, load};
 use scanline_racer::render::core::texture::{unpack, wrap};

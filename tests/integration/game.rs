@@ -1,7 +1,5 @@
 //! The simulation on the real circuit: AI cars lap it, the race is bit-identical run to run.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
 use std::path::Path;
 use std::sync::Arc;
 

@@ -1,14 +1,10 @@
 //! Traces: a recorded race replays exactly; truncated, corrupted, foreign and hostile files are refused in one
 //! line or replay their valid prefix, never panic; headless replay frames are identical for any thread count.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::*;
+use crate::common::*;
 use scanline_racer::game::World;
 use scanline_racer::input::replay::TraceSource;
 

@@ -5,12 +5,9 @@
 //! order flips): the flicker rate, bounded too.
 //!
 //! The bounds are the errors measured when the suite was written, plus a margin of a quarter and 0.05
-//! percentage points (`cargo test --release --test failures -- --nocapture` prints the table). A scene a
-//! method draws exactly has a bound of 0.05%: a few pixels of tie-breaking, never a visible fault.
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
+//! percentage points (`cargo test --release --test integration failures:: -- --nocapture` prints the
+//! table). A scene a method draws exactly has a bound of 0.05%: a few pixels of tie-breaking, never a
+//! visible fault.
 
 use std::path::PathBuf;
 

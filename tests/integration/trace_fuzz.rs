@@ -4,18 +4,15 @@
 //! non-empty line; the reader never yields more records than the bytes can hold, and every control it
 //! yields is finite and in range; an untouched prefix of a real trace replays with its checksums verified.
 //!
-//! Run longer with `PROPTEST_CASES=100000 cargo test --release --test trace_fuzz`. The first runs (512 and
-//! 100,000 cases per property) found no panic, no multi-line error and no runaway read: the reader had been
-//! written against hostile input from the start (bounded header, records of fixed size, quantized controls).
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
+//! Run longer with `PROPTEST_CASES=100000 cargo test --release --test integration trace_fuzz::`. The first
+//! runs (512 and 100,000 cases per property) found no panic, no multi-line error and no runaway read: the
+//! reader had been written against hostile input from the start (bounded header, records of fixed size,
+//! quantized controls).
 
 use std::io::Cursor;
 use std::sync::OnceLock;
 
-use common::*;
+use crate::common::*;
 use proptest::prelude::*;
 use scanline_racer::game::World;
 use scanline_racer::input::replay::TraceSource;

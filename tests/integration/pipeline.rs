@@ -1,11 +1,7 @@
 //! Pipeline behaviour: hostile coordinates, near-plane crossings, non-monotone polygons, method agreement,
 //! thread-count determinism, masks and texture modes.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use scanline_racer::render::{
     AlphaMode, Camera, DrawList, Filter, Instance, Material, MeshBuilder, Method, RenderOptions, Renderer, Texture,

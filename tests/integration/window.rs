@@ -1,16 +1,12 @@
 //! The window under a real X server (Xvfb): it opens, draws what the headless renderer draws, and quits;
 //! with no display it fails with one line naming the headless command.
 
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
-
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::xvfb::{Xvfb, xdotool};
-use common::*;
+use crate::common::xvfb::{Xvfb, xdotool};
+use crate::common::*;
 
 #[test]
 fn window_shows_the_same_frame_as_the_headless_renderer() {

@@ -6,24 +6,20 @@
 //! - Perceptual goldens: a few frames per trace at 480x270 in the default method are compared with PNGs in
 //!   `tests/golden/replay-*.png` by FLIP (the `nv-flip` crate). Threshold: mean FLIP at most 0.005 and at
 //!   most 0.05% of pixels (65) with a FLIP error above 0.5. Measured on tick 1500 of the demo race
-//!   (`cargo test --test replays flip_threshold -- --nocapture`): the camera moved by 0.1 mm, a LOD bias of
-//!   0.5 and subdivided instead of exact perspective texturing score means of 0.0003-0.0034 and at most
-//!   0.012% bad pixels, and pass; the nearest rival missing scores 0.0028 but 0.27% bad pixels, a band of
-//!   the frame left unrendered 0.18 and 18%, and fail; so do bilinear filtering (0.026) and z-buffered
-//!   instead of painter's visibility (0.011, 0.77%), changes big enough to regenerate on purpose.
+//!   (`cargo test --test integration replays::flip_threshold -- --nocapture`): the camera moved by 0.1 mm,
+//!   a LOD bias of 0.5 and subdivided instead of exact perspective texturing score means of 0.0003-0.0034
+//!   and at most 0.012% bad pixels, and pass; the nearest rival missing scores 0.0028 but 0.27% bad pixels,
+//!   a band of the frame left unrendered 0.18 and 18%, and fail; so do bilinear filtering (0.026) and
+//!   z-buffered instead of painter's visibility (0.011, 0.77%), changes big enough to regenerate on purpose.
 //!
 //! On failure the tests write the actual frame and the FLIP error map (magma colours) under
 //! `target/golden-failures/` and print the command that regenerates the expectations on purpose:
-//! `UPDATE_GOLDENS=1 cargo test --test replays` (then look at the PNGs before committing them).
-
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod common;
+//! `UPDATE_GOLDENS=1 cargo test --test integration replays::` (then look at the PNGs before committing them).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use common::*;
+use crate::common::*;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::measure::flip;
 use scanline_racer::render::{DepthKey, Filter, Method, RenderOptions, Renderer, TextureMode};
@@ -110,7 +106,7 @@ fn updating() -> bool {
     update
 }
 
-const REGENERATE: &str = "If the change is intended, regenerate with: UPDATE_GOLDENS=1 cargo test --test replays (then look at tests/golden/replay-*.png)";
+const REGENERATE: &str = "If the change is intended, regenerate with: UPDATE_GOLDENS=1 cargo test --test integration replays:: (then look at tests/golden/replay-*.png)";
 
 #[test]
 fn demo_traces_exist_and_one_is_a_full_field_race_of_a_minute_or_more() {
