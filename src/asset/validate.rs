@@ -9,7 +9,7 @@
 //! ([`check_before_validation`]; found by the fuzz target). The other accessors the loader calls
 //! (samplers, texture sources, accessor views and sparse storage, materials, primitive modes, node
 //! children, cameras and meshes) unwrap only indices and enum values that validation does check; the
-//! fuzz target (`tests/gltf_fuzz.rs`) holds the loader to that.
+//! fuzz target (`tests/integration/gltf_fuzz.rs`) holds the loader to that.
 
 use gltf::json::Root;
 use gltf::json::camera::Type;

@@ -19,7 +19,9 @@
 
 mod common;
 
+mod architecture;
 mod assets;
+mod audio;
 mod cli;
 mod failures;
 mod game;

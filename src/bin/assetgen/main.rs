@@ -2,7 +2,7 @@
 //! `assets/replays`) from code.
 //!
 //! Deterministic: no clock, no OS randomness, no hash-map iteration; running it twice gives identical
-//! bytes, and `tests/assets.rs` checks that the committed assets equal what it makes.
+//! bytes, and `tests/integration/assets.rs` checks that the committed assets equal what it makes.
 //! Usage: `cargo run --release --bin assetgen [-- OUT_DIR]` (default `assets`).
 
 mod cars;

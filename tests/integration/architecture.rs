@@ -1311,7 +1311,7 @@ fn no_file_over_500_lines_and_no_unexplained_fn_over_80() {
 }
 
 /// Not a check: prints every arrow between files and between modules of the ```layers block, to write or
-/// review the block (`cargo test --test architecture -- --ignored --nocapture print_import_graph`).
+/// review the block (`cargo test --test integration architecture::print_import_graph -- --ignored --nocapture`).
 #[test]
 #[ignore = "prints the import graph; run it by name with --ignored --nocapture"]
 fn print_import_graph() {
