@@ -24,6 +24,10 @@ pub const RING_SECONDS: f32 = 0.05;
 /// Why there is no sound.
 #[derive(Debug, Error)]
 pub enum AudioError {
+    /// Neither a sound card (`/dev/snd`) nor a PulseAudio or PipeWire server's socket exists: nothing was
+    /// asked of the system (ALSA would print a dozen lines of its own looking for a card).
+    #[error("no sound card (/dev/snd) and no PulseAudio server")]
+    NothingHere,
     /// The system has no default output device (no sound card, no sound server).
     #[error("no audio output device")]
     NoDevice,
@@ -84,8 +88,34 @@ pub fn ring_capacity() -> usize {
     (RING_SECONDS * SAMPLE_RATE as f32) as usize * CHANNELS
 }
 
-/// Opens the default output device at 48 kHz stereo and starts it playing silence until samples are pushed.
+/// Whether this system has anything that could play sound: a sound card under `/dev/snd`, or a PulseAudio
+/// server (or PipeWire's, which serves the same socket): `$PULSE_SERVER`, `$XDG_RUNTIME_DIR/pulse/native`,
+/// `/run/user/*/pulse/native`, or the system-wide `/run/pulse/native`.
+///
+/// Why: with neither, ALSA (under cpal) still tries its cards and prints many `ALSA lib ...` lines to
+/// stderr; asking nothing keeps the game's "no audio" report to its one line.
+#[must_use]
+pub fn anything_to_open() -> bool {
+    use std::path::{Path, PathBuf};
+    if Path::new("/dev/snd").is_dir() || std::env::var_os("PULSE_SERVER").is_some_and(|s| !s.is_empty()) {
+        return true;
+    }
+    let mut sockets: Vec<PathBuf> = vec!["/run/pulse/native".into(), "/var/run/pulse/native".into()];
+    if let Some(dir) = std::env::var_os("XDG_RUNTIME_DIR").filter(|d| !d.is_empty()) {
+        sockets.push(PathBuf::from(dir).join("pulse/native"));
+    }
+    if let Ok(users) = std::fs::read_dir("/run/user") {
+        sockets.extend(users.filter_map(Result::ok).map(|u| u.path().join("pulse/native")));
+    }
+    sockets.iter().any(|p| p.exists())
+}
+
+/// Opens the default output device at 48 kHz stereo and starts it playing silence until samples are pushed;
+/// [`AudioError::NothingHere`] at once, without asking the system, when [`anything_to_open`] finds nothing.
 pub fn open() -> Result<Output, AudioError> {
+    if !anything_to_open() {
+        return Err(AudioError::NothingHere);
+    }
     let host = cpal::default_host();
     let device = host.default_output_device().ok_or(AudioError::NoDevice)?;
     let name = device.description().map_or_else(|_| "default".to_string(), |d| d.to_string());

@@ -134,6 +134,20 @@ impl Mixer {
         self.effects_ramp.set(self.effects);
     }
 
+    /// Holds the sound while the race stands still (a pause, a menu, a frozen replay): in place of
+    /// [`Mixer::advance`] before a [`Mixer::render`], every car's voice fades out over the next tick and stays
+    /// silent while one-shots (a menu click) play on; the next `advance` fades the voices back in.
+    ///
+    /// Why: the device plays on in real time while the world does not move, and a voice cut off mid-wave
+    /// clicks, while one held at its last note drones through the pause menu.
+    pub fn hold(&mut self) {
+        for v in &mut self.voices {
+            v.silence();
+        }
+        self.master.set(if self.muted { 0.0 } else { self.volume });
+        self.effects_ramp.set(self.effects);
+    }
+
     /// The countdown's beeps (one a second, then the start's tone) and the player's finish.
     fn race_events(&mut self, world: &World) {
         let phase = world.race.phase;
@@ -269,6 +283,33 @@ mod tests {
         assert!(out[at - 4 * FRAMES_PER_TICK..at - 2 * FRAMES_PER_TICK].iter().any(|&x| x != 0.0));
         let jump = out[at - 2000..at + 2000].windows(3).map(|w| (w[2] - w[0]).abs()).fold(0.0, f32::max);
         assert!(jump < 0.1, "mute jumps by {jump}");
+    }
+
+    #[test]
+    fn holding_fades_the_engines_within_a_tick_and_lets_a_click_play() {
+        let mut w = World::with_laps(Arc::new(straight()), 8, 1);
+        w.player_is_ai = true;
+        let mut m = Mixer::new();
+        let mut out = vec![];
+        for _ in 0..600 {
+            step(&mut w, &Controls::default());
+            m.advance(&w);
+            m.render(&mut out);
+        }
+        let tick = 2 * FRAMES_PER_TICK;
+        for _ in 0..3 {
+            m.hold();
+            m.render(&mut out);
+        }
+        assert!(out[600 * tick..601 * tick].iter().any(|&x| x != 0.0), "the first held tick fades");
+        assert!(out[601 * tick..].iter().all(|&x| x == 0.0), "then silence");
+        let jump = out[599 * tick..602 * tick].windows(3).map(|w| (w[2] - w[0]).abs()).fold(0.0, f32::max);
+        assert!(jump < 0.1, "holding jumps by {jump}");
+        m.click();
+        m.hold();
+        let at = out.len();
+        m.render(&mut out);
+        assert!(out[at..].iter().any(|&x| x != 0.0), "a click plays while held");
     }
 
     #[test]
