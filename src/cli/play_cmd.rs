@@ -132,7 +132,8 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             }
             let mut race = Race::new(scene, options, args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
-                .with_settings(settings, file, args.scale, note);
+                .with_settings(settings, file, args.scale, note)
+                .with_sound();
             if let Some(search) = ghost {
                 race = race.with_ghost_search(search);
             }

@@ -13,6 +13,7 @@ use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View};
+use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::window::{WindowConfig, run};
 
 /// Arguments of `replay`.
@@ -180,8 +181,18 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     let dir = super::error::assets_dir()?;
     let options =
         RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
-    let mut race =
-        Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?.stopping_at(args.stop_at, !args.no_hud);
+    // The settings file's sound levels, mute and keys apply to a replay too (the window keeps its scale).
+    let (file, settings, note) = match settings::default_path().as_deref().map(SettingsFile::load) {
+        Some((file, settings, note)) => (Some(file), settings, note),
+        None => (None, Settings::default(), None),
+    };
+    if let Some(n) = &note {
+        eprintln!("warning: {n}");
+    }
+    let mut race = Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?
+        .stopping_at(args.stop_at, !args.no_hud)
+        .with_settings(settings, file, Some(1), note)
+        .with_sound();
     let window = WindowConfig {
         size: (args.width as u32, args.height as u32),
         fullscreen: false,

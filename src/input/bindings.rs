@@ -25,12 +25,21 @@ pub enum Action {
     ChangeView,
     /// Pause or resume.
     Pause,
+    /// Mute or unmute the sound (saved in the settings like the volumes).
+    Mute,
 }
 
 impl Action {
     /// Every action, in the order the settings list them.
-    pub const ALL: [Action; 6] =
-        [Action::SteerLeft, Action::SteerRight, Action::Throttle, Action::Brake, Action::ChangeView, Action::Pause];
+    pub const ALL: [Action; 7] = [
+        Action::SteerLeft,
+        Action::SteerRight,
+        Action::Throttle,
+        Action::Brake,
+        Action::ChangeView,
+        Action::Pause,
+        Action::Mute,
+    ];
 
     /// A short label for menus.
     #[must_use]
@@ -42,6 +51,7 @@ impl Action {
             Action::Brake => "brake",
             Action::ChangeView => "change view",
             Action::Pause => "pause",
+            Action::Mute => "mute sound",
         }
     }
 }
@@ -70,6 +80,7 @@ impl Default for Bindings {
                 (Action::Brake, k(&["ArrowDown", "KeyS"])),
                 (Action::ChangeView, k(&["KeyC"])),
                 (Action::Pause, k(&["KeyP"])),
+                (Action::Mute, k(&["KeyM"])),
             ]),
         }
     }
@@ -178,10 +189,11 @@ impl Bindings {
     }
 }
 
-/// Keys given, in this order, to an action left with no key whose default keys are bound to other actions.
-pub const SPARE_KEYS: [&str; 16] = [
-    "KeyJ", "KeyL", "KeyI", "KeyK", "KeyU", "KeyO", "KeyH", "KeyG", "KeyB", "KeyN", "KeyM", "KeyV", "KeyF", "KeyE",
-    "KeyQ", "KeyZ",
+/// Keys given, in this order, to an action left with no key whose default keys are bound to other actions
+/// (none of them a default key: M, which mutes, is not among them).
+pub const SPARE_KEYS: [&str; 15] = [
+    "KeyJ", "KeyL", "KeyI", "KeyK", "KeyU", "KeyO", "KeyH", "KeyG", "KeyB", "KeyN", "KeyV", "KeyF", "KeyE", "KeyQ",
+    "KeyZ",
 ];
 
 /// Why a key could not be bound.
@@ -214,6 +226,10 @@ mod tests {
             }
         }
         assert_eq!(b.repaired(known), (b.clone(), vec![]));
+        assert_eq!(b.keys(Action::Mute), ["KeyM"]);
+        for k in SPARE_KEYS {
+            assert_eq!(b.action(k), None, "spare key {k} is no default key");
+        }
     }
 
     #[test]

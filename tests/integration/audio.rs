@@ -3,6 +3,8 @@
 //!
 //! The WAV's block of 400 frames number `t` is the sound after the world of tick `t` (tick 0 is the grid).
 //! Pitch is found by a Goertzel scan (0.4% steps, 30-700 Hz, Hann window) of 0.5 s windows.
+//!
+//! The last test plays the same race in the window on a private PulseAudio server and records it.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -330,4 +332,246 @@ fn every_sound_ends_cleanly() {
 fn the_soundtrack_is_bit_identical_across_runs_and_thread_counts() {
     assert!(*wav_bytes("demo-race", 1, 0) == *wav_bytes("demo-race", 3, 0), "--threads 1 and 3 differ");
     assert!(*wav_bytes("scuffle", 0, 0) == *wav_bytes("scuffle", 0, 1), "two runs differ");
+}
+
+/// Set (by `scripts/test`, hence CI) to make a missing PulseAudio a failure instead of a plainly reported skip.
+const REQUIRE_AUDIO: &str = "SCANLINE_RACER_REQUIRE_AUDIO";
+/// The same for Xvfb.
+const REQUIRE_XVFB: &str = "SCANLINE_RACER_REQUIRE_XVFB";
+/// Seconds of the window's sound recorded.
+const RECORD_SECONDS: f32 = 11.0;
+/// The stretch of the recording compared (seconds from its first sound): the start and the first gears.
+const STRETCH: (f32, f32) = (1.5, 9.0);
+/// Least RMS (full scale 1) of the loudest second of the recording: the engines at this level are plainly
+/// audible; a null sink that got nothing records digital zero.
+const RMS_FLOOR: f32 = 0.01;
+
+/// Child processes killed (and reaped) when dropped: on every path out of the test, a panic included.
+struct Children(Vec<(&'static str, std::process::Child)>);
+
+impl Children {
+    fn find(&mut self, name: &str) -> Option<&mut std::process::Child> {
+        self.0.iter_mut().find(|(n, _)| *n == name).map(|(_, c)| c)
+    }
+
+    /// Ends the child `name` (SIGKILL) and reaps it.
+    fn end(&mut self, name: &str) {
+        if let Some(c) = self.find(name) {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+impl Drop for Children {
+    fn drop(&mut self) {
+        for (_, c) in self.0.iter_mut().rev() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+/// Runs `program` with `args`; `None` when it cannot be started at all (not installed).
+fn spawn(program: &str, args: &[&str], env: &[(&str, &std::path::Path)]) -> Option<std::process::Child> {
+    let mut cmd = std::process::Command::new(program);
+    cmd.args(args).stdin(std::process::Stdio::null()).stdout(std::process::Stdio::null());
+    cmd.stderr(std::process::Stdio::null());
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.spawn().ok()
+}
+
+/// Waits up to 10 s for a Unix socket at `path` to accept a connection.
+fn wait_for_socket(path: &std::path::Path) -> bool {
+    let t = std::time::Instant::now();
+    while t.elapsed() < std::time::Duration::from_secs(10) {
+        if std::os::unix::net::UnixStream::connect(path).is_ok() {
+            return true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    false
+}
+
+/// Starts Xvfb on a free display into `children`; its display (`:N`), or `None` when it is not installed
+/// and not required.
+#[allow(clippy::panic)]
+fn start_xvfb(children: &mut Children) -> Option<String> {
+    for k in 0..40 {
+        let num = 300 + (std::process::id() as usize * 13 + k * 7) % 600;
+        if std::path::Path::new(&format!("/tmp/.X{num}-lock")).exists() {
+            continue;
+        }
+        let display = format!(":{num}");
+        let Some(child) = spawn("Xvfb", &[&display, "-screen", "0", "640x480x24", "-nolisten", "tcp"], &[]) else {
+            if std::env::var_os(REQUIRE_XVFB).is_some() {
+                panic!("cannot start Xvfb and {REQUIRE_XVFB} is set: install it (apt-get install xvfb)");
+            }
+            eprintln!("NOT RUN: the window's sound needs Xvfb, which is not installed; scripts/test installs it");
+            return None;
+        };
+        children.0.push(("Xvfb", child));
+        if wait_for_socket(std::path::Path::new(&format!("/tmp/.X11-unix/X{num}"))) {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            if let Some(Ok(None)) = children.find("Xvfb").map(std::process::Child::try_wait) {
+                return Some(display);
+            }
+        }
+        children.end("Xvfb");
+        children.0.retain(|(n, _)| *n != "Xvfb");
+    }
+    panic!("no Xvfb display came up");
+}
+
+/// The samples of a WAV file `parec` wrote, as mono in [-1, 1], and its rate: the data chunk's size is not
+/// trusted (a recorder that is killed never writes it).
+#[allow(clippy::expect_used)]
+fn recorded_mono(bytes: &[u8]) -> (Vec<f32>, u32) {
+    let u16_at = |i: usize| u16::from_le_bytes([bytes[i], bytes[i + 1]]);
+    assert_eq!(&bytes[0..4], b"RIFF", "a WAV file");
+    let channels = usize::from(u16_at(22));
+    let rate = u32::from_le_bytes([bytes[24], bytes[25], bytes[26], bytes[27]]);
+    assert_eq!((u16_at(20), u16_at(34)), (1, 16), "16-bit PCM");
+    let data = bytes.windows(4).position(|w| w == b"data").expect("a data chunk") + 8;
+    let s: Vec<f32> =
+        bytes[data..].chunks_exact(2).map(|c| f32::from(i16::from_le_bytes([c[0], c[1]])) / 32767.0).collect();
+    let mono = s.chunks_exact(channels).map(|f| f.iter().sum::<f32>() / channels as f32).collect();
+    (mono, rate)
+}
+
+/// `x` (at `rate`) resampled to 48 kHz by linear interpolation.
+fn to_48k(x: &[f32], rate: u32) -> Vec<f32> {
+    if rate == 48_000 {
+        return x.to_vec();
+    }
+    let step = rate as f64 / 48_000.0;
+    let n = ((x.len() - 1) as f64 / step) as usize;
+    (0..n)
+        .map(|i| {
+            let p = i as f64 * step;
+            let (k, f) = (p as usize, (p - p.floor()) as f32);
+            x[k] + (x[k + 1] - x[k]) * f
+        })
+        .collect()
+}
+
+fn rms(x: &[f32]) -> f32 {
+    libm::sqrtf(x.iter().map(|v| v * v).sum::<f32>() / x.len().max(1) as f32)
+}
+
+/// The real device path: a private PulseAudio server with a null sink, the game replaying the demo race in
+/// a window under Xvfb with its sound on the server's default device, and the sink's monitor recorded
+/// with `parec` for about 11 s. The recording must not be silent (its loudest second above
+/// [`RMS_FLOOR`]), and its engine pitch over the stretch [`STRETCH`] of the race (the grid's idle, the
+/// start, the first gears), in 0.5 s windows every 0.5 s, must match the headless WAV's pitch of the same
+/// stretch: with the recording aligned to the WAV by the lag (searched from -0.5 s to +6 s in 50 ms steps:
+/// the device may take a moment to start pulling samples, and the race's sound meanwhile is dropped, not
+/// queued) at which most windows agree, at least 80% of the windows within 5%.
+#[test]
+#[allow(clippy::expect_used, clippy::panic)]
+fn the_window_plays_the_race_on_a_real_audio_server() {
+    let required = std::env::var_os(REQUIRE_AUDIO).is_some();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("audio-server-{}", std::process::id()));
+    let (run, home) = (dir.join("run"), dir.join("home"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&run).expect("runtime folder");
+    std::fs::create_dir_all(&home).expect("home folder");
+    // The server's own runtime folder and home, so it meets no other server and no other test's.
+    let env: [(&str, &std::path::Path); 2] = [("XDG_RUNTIME_DIR", &run), ("HOME", &home)];
+    let mut children = Children(vec![]);
+    let sink = "module-null-sink sink_name=test rate=48000";
+    let args = ["--exit-idle-time=-1", "-n", "--load", sink, "--load", "module-native-protocol-unix"];
+    match spawn("pulseaudio", &args, &env) {
+        Some(c) => children.0.push(("pulseaudio", c)),
+        None if required => panic!("cannot start pulseaudio and {REQUIRE_AUDIO} is set: run scripts/test"),
+        None => {
+            eprintln!("NOT RUN: this test needs PulseAudio (pulseaudio, pulseaudio-utils); scripts/test installs it");
+            return;
+        }
+    }
+    assert!(wait_for_socket(&run.join("pulse/native")), "the PulseAudio server did not come up");
+    let status = std::process::Command::new("pactl")
+        .args(["set-default-sink", "test"])
+        .envs(env)
+        .status()
+        .expect("pactl runs (pulseaudio-utils)");
+    assert!(status.success(), "pactl set-default-sink");
+    let Some(display) = start_xvfb(&mut children) else { return };
+    let recording = dir.join("window.wav");
+    let rec_args = ["-d", "test.monitor", "--rate=48000", "--channels=2", "--format=s16le", "--file-format=wav"];
+    let parec = spawn("parec", &[&rec_args[..], &[&*recording.to_string_lossy()]].concat(), &env)
+        .expect("parec runs (pulseaudio-utils)");
+    children.0.push(("parec", parec));
+    // The game starts once the recorder is recording (the monitor's silence is flowing into the file).
+    let t = std::time::Instant::now();
+    while std::fs::metadata(&recording).map_or(0, |m| m.len()) < 48_000 && t.elapsed().as_secs() < 10 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let game = std::process::Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .current_dir(root())
+        .args(["replay", "assets/replays/demo-race.trace", "--width", "320", "--height", "180"])
+        .envs(env)
+        .env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("SCANLINE_RACER_SETTINGS", dir.join("no-settings.json"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the game starts");
+    children.0.push(("game", game));
+    std::thread::sleep(std::time::Duration::from_secs_f32(RECORD_SECONDS));
+    let early = children.find("game").and_then(|g| g.try_wait().ok().flatten());
+    children.end("game");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    children.end("parec");
+    let mut said = String::new();
+    if let Some(err) = children.find("game").and_then(|g| g.stderr.as_mut()) {
+        let _ = std::io::Read::read_to_string(err, &mut said);
+    }
+    assert!(early.is_none(), "the game exited early ({early:?}): {said}");
+    assert!(!said.contains("no audio"), "the game found no audio device: {said}");
+    let (rec, rate) = recorded_mono(&std::fs::read(&recording).expect("parec wrote the recording"));
+    let got = to_48k(&rec, rate);
+    let loudest = got.chunks(48_000).map(rms).fold(0.0f32, f32::max);
+    let start = got.iter().position(|x| x.abs() > 1e-3).unwrap_or(got.len());
+    eprintln!(
+        "recorded {:.1} s at {rate} Hz; sound from {:.2} s; loudest second RMS {loudest:.4}",
+        rec.len() as f32 / rate as f32,
+        start as f32 / 48_000.0
+    );
+    assert!(loudest > RMS_FLOOR, "the window's sound is silent: loudest second RMS {loudest} (floor {RMS_FLOOR})");
+    let want = mono(&samples(&wav_bytes("demo-race", 1, 0)));
+    let window = 24_000;
+    let at = |s: f32| (s * 48_000.0) as usize;
+    let mut ours = vec![];
+    let mut t = STRETCH.0;
+    while t + 0.5 <= STRETCH.1 {
+        let from = start + at(t);
+        assert!(from + window <= got.len(), "the recording ends before {t} s of the race");
+        ours.push((t, pitch(&got[from..from + window])));
+        t += 0.5;
+    }
+    // The WAV's pitch on a 50 ms grid over the stretch and the lags searched, then the lag at which most
+    // windows agree.
+    let step = 0.05f32;
+    let first = ((STRETCH.0 - 0.5) / step) as usize;
+    let grid: Vec<f32> = (first..=((STRETCH.1 + 6.5) / step) as usize)
+        .map(|i| pitch(&want[at(i as f32 * step)..at(i as f32 * step) + window]))
+        .collect();
+    let headless = |t: f32, lag: i32| grid[(((t / step).round() as i32 + lag) as usize) - first];
+    let (mut best, mut best_lag) = (0, 0);
+    for lag in -10..=120 {
+        let agree = ours.iter().filter(|(t, p)| (p / headless(*t, lag) - 1.0).abs() <= 0.05).count();
+        if agree > best {
+            (best, best_lag) = (agree, lag);
+        }
+    }
+    for (t, p) in &ours {
+        eprintln!("  {t:4.1} s: window {p:6.1} Hz, headless {:6.1} Hz", headless(*t, best_lag));
+    }
+    let best_lag = best_lag as f32 * step;
+    eprintln!("{best} of {} windows within 5% at a lag of {best_lag:+.2} s", ours.len());
+    assert!(best * 10 >= ours.len() * 8, "{best} of {} windows within 5% (best lag {best_lag} s)", ours.len());
 }

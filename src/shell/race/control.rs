@@ -88,6 +88,8 @@ pub(super) enum Command {
     Quit,
     /// Pause a race being raced, resume a paused one.
     TogglePause,
+    /// Mute the sound, or unmute it (M, on every screen).
+    ToggleMute,
     /// Leave the pause menu for the race (the pad's Back button).
     Resume,
     /// Leave the main menu for the race (Enter).
@@ -211,7 +213,7 @@ impl Control {
     }
 
     /// Key `code` went down or up on `screen`, bound to `action` if any: the driving keys are taken here;
-    /// for the others, what they ask: Esc and the bound keys pause and change the view, F3 shows the debug
+    /// for the others, what they ask: Esc and the bound keys pause, mute and change the view, F3 shows the debug
     /// overlay, R N `[` `]` steer a replay, 1-5 pick the visibility method, and Esc quits in the main menu
     /// or on a frozen replay.
     pub(super) fn key(&mut self, code: KeyCode, down: bool, action: Option<Action>, screen: Screen) -> Option<Command> {
@@ -228,6 +230,7 @@ impl Control {
             _ if !down => None,
             (_, Some(Action::ChangeView)) => Some(Command::NextView),
             (_, Some(Action::Pause)) => Some(Command::TogglePause),
+            (_, Some(Action::Mute)) => Some(Command::ToggleMute),
             (KeyCode::F3, _) => Some(Command::ToggleDebug),
             (KeyCode::KeyR | KeyCode::KeyN | KeyCode::BracketLeft | KeyCode::BracketRight, _) if self.replaying() => {
                 replay_key(code, screen)

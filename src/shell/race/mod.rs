@@ -10,7 +10,8 @@
 //! - `prefs`: the settings as the race holds them, the Settings window, and saving them to the file;
 //! - `hud`: what is drawn over the race, and the title bar's status line;
 //! - `record`: recording races to a trace, with the header and checksum interval every trace has;
-//! - `ghost`: the ghost car and the lap it drives.
+//! - `ghost`: the ghost car and the lap it drives;
+//! - `sound`: the race's sound, a mixer shown every world stepped to, played on the audio device.
 //!
 //! This file ties them together: the race's builders, the tick, and carrying out what the keys, the pad
 //! and the menus ask.
@@ -26,6 +27,7 @@ mod menus;
 mod prefs;
 mod record;
 mod screen;
+mod sound;
 
 pub use record::{CHECKSUM_EVERY, header_for};
 
@@ -35,6 +37,7 @@ use self::menus::{Choice, MenuState};
 use self::prefs::Prefs;
 use self::record::Recorder;
 use self::screen::{Drawing, Screen};
+use self::sound::Sound;
 use super::race_scene::{FIELD, RaceScene};
 use super::settings::{Settings, SettingsFile};
 use super::window::{Content, ShellError};
@@ -82,6 +85,8 @@ pub struct Race {
     recording: Recorder,
     /// The ghost car.
     ghost: Ghost,
+    /// The sound and the device it plays on.
+    sound: Sound,
 }
 
 impl Race {
@@ -102,6 +107,7 @@ impl Race {
             prefs: Prefs::default(),
             recording: Recorder::default(),
             ghost: Ghost::default(),
+            sound: Sound::default(),
         }
     }
 
@@ -119,6 +125,14 @@ impl Race {
     pub fn stopping_at(mut self, tick: Option<u64>, hud: bool) -> Self {
         self.clock.stop_at = tick;
         self.drawing.hud = hud;
+        self
+    }
+
+    /// Plays the race's sound on the default audio device, opened when the window first draws (with none,
+    /// one line says so and the race runs silent).
+    #[must_use]
+    pub fn with_sound(mut self) -> Self {
+        self.sound.enable();
         self
     }
 
@@ -203,6 +217,7 @@ impl Race {
         ) {
             self.recording.end(&format!("recording stopped: {e}"), &mut self.notice);
         }
+        self.sound.world(&self.world);
         self.ghost.take_pending(&self.world, &mut self.notice);
         self.ghost.observe(&self.world, &mut self.notice);
     }
@@ -241,6 +256,7 @@ impl Race {
         self.drawing.renderer.reset_lod();
         self.ghost.laps.restart();
         self.recording.end("recording ended at the restart", &mut self.notice);
+        self.sound.restart(self.prefs.sound);
     }
 
     /// Saves the settings if they changed since the last save (a failure is shown in the notice).
@@ -277,6 +293,11 @@ impl Race {
         match command {
             Command::Quit => return true,
             Command::TogglePause => self.toggle_pause(),
+            Command::ToggleMute => {
+                let muted = !self.prefs.sound.muted;
+                self.prefs.sound.muted = muted;
+                self.notice = Some(if muted { "sound muted" } else { "sound on" }.to_string());
+            }
             Command::Resume => self.screen = Screen::Race,
             Command::StartRace => self.start_race(),
             Command::NextView => self.drawing.view = self.drawing.view.next(),
@@ -303,8 +324,27 @@ impl Race {
         false
     }
 
+    /// Runs the ticks `dt` seconds of real time are worth at the replay's speed (a stall is caught up only
+    /// so far); a replay freezes at its stop tick.
+    fn run_ticks(&mut self, dt: f64) {
+        let clock = &mut self.clock;
+        clock.accumulator = (clock.accumulator + dt * clock.speed).min(MAX_CATCH_UP * clock.speed.max(1.0));
+        while self.clock.accumulator >= f64::from(DT) && self.screen == Screen::Race {
+            if self.clock.stop_at.is_some_and(|t| self.world.tick >= t) {
+                self.screen = Screen::Frozen;
+                eprintln!("replay stopped at tick {}", self.world.tick);
+                break;
+            }
+            self.clock.accumulator -= f64::from(DT);
+            self.tick();
+        }
+    }
+
     /// Carries out the menus' choices in the order they were made; true when one was Quit.
     fn choose(&mut self, choices: Vec<Choice>) -> bool {
+        if !choices.is_empty() {
+            self.sound.click();
+        }
         let mut quit = false;
         for choice in choices {
             match choice {
@@ -343,20 +383,13 @@ impl Content for Race {
             self.clock.steps -= 1;
             self.tick();
         }
-        if self.screen != Screen::Race {
-            return;
+        if self.screen == Screen::Race {
+            // The grid is heard once before the first tick, as the headless soundtrack starts.
+            self.sound.world(&self.world);
+            self.run_ticks(dt);
         }
-        let clock = &mut self.clock;
-        clock.accumulator = (clock.accumulator + dt * clock.speed).min(MAX_CATCH_UP * clock.speed.max(1.0));
-        while self.clock.accumulator >= f64::from(DT) && self.screen == Screen::Race {
-            if self.clock.stop_at.is_some_and(|t| self.world.tick >= t) {
-                self.screen = Screen::Frozen;
-                eprintln!("replay stopped at tick {}", self.world.tick);
-                break;
-            }
-            self.clock.accumulator -= f64::from(DT);
-            self.tick();
-        }
+        self.sound.levels(self.prefs.sound);
+        self.sound.frame(dt, self.screen == Screen::Race);
     }
 
     fn key(&mut self, code: KeyCode, down: bool) -> bool {

@@ -1,4 +1,5 @@
-//! The settings as the race holds them (key bindings, the pixel scale, the ghost car shown; the gamepad's
+//! The settings as the race holds them (key bindings, the pixel scale, the ghost car shown, the sound's
+//! volumes and mute; the gamepad's
 //! deadzone and curve live in the gamepads themselves), the Settings window that edits them, and saving
 //! them to the settings file when they change. What the Settings window edits beyond these (the drawing,
 //! the gamepads) and the race's notice, where a problem is said, are passed in.
@@ -11,8 +12,26 @@ use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
 use crate::render::{Method, TextureMode};
 use crate::shell::race_scene::View;
-use crate::shell::settings::{Settings, SettingsFile};
+use crate::shell::settings::{Settings, SettingsFile, VOLUME_RANGE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
+
+/// How loud the race's sound is: what the settings hold and the mixer is told each frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SoundLevels {
+    /// Master volume, 0 to 1.
+    pub(super) volume: f32,
+    /// Effects volume beside the engines, 0 to 1.
+    pub(super) effects: f32,
+    /// Whether the sound is muted.
+    pub(super) muted: bool,
+}
+
+impl Default for SoundLevels {
+    fn default() -> Self {
+        let d = Settings::default();
+        Self { volume: d.volume, effects: d.effects_volume, muted: d.muted }
+    }
+}
 
 /// The settings being edited and where they are saved.
 pub(super) struct Prefs {
@@ -24,6 +43,8 @@ pub(super) struct Prefs {
     pub(super) scale: (u32, Option<u32>),
     /// Whether the ghost car is drawn.
     pub(super) show_ghost: bool,
+    /// The sound: master volume, effects volume (0 to 1 each) and mute.
+    pub(super) sound: SoundLevels,
     /// Whether the Settings window is open.
     pub(super) open: bool,
     /// Where settings are saved (none: not saved), and what was saved or loaded last.
@@ -37,6 +58,7 @@ impl Default for Prefs {
             rebinding: None,
             scale: (1, None),
             show_ghost: true,
+            sound: SoundLevels::default(),
             open: false,
             file: None,
         }
@@ -55,6 +77,7 @@ impl Prefs {
     ) {
         self.bindings = settings.keys.clone();
         self.show_ghost = settings.ghost;
+        self.sound = SoundLevels { volume: settings.volume, effects: settings.effects_volume, muted: settings.muted };
         pads.deadzone = settings.deadzone;
         pads.curve = settings.curve;
         // A scale from the command line is for this run: it is saved only with a change made in Settings.
@@ -74,6 +97,9 @@ impl Prefs {
             curve: pads.curve,
             scale: self.scale.0,
             ghost: self.show_ghost,
+            volume: self.sound.volume,
+            effects_volume: self.sound.effects,
+            muted: self.sound.muted,
         }
     }
 
@@ -120,6 +146,8 @@ impl Prefs {
             };
             ui.checkbox(&mut self.show_ghost, ghost);
             ui.separator();
+            self.sound_settings(ui);
+            ui.separator();
             if pads.unavailable() || !pads.active() {
                 ui.label("No gamepad found: keyboard only (a pad plugged in later is picked up).");
             }
@@ -144,6 +172,15 @@ impl Prefs {
             }
         });
         self.open = open;
+    }
+
+    /// Settings' sound: master volume, effects volume, mute (and its key).
+    fn sound_settings(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.sound;
+        ui.add(egui::Slider::new(&mut s.volume, VOLUME_RANGE).text("master volume"));
+        ui.add(egui::Slider::new(&mut s.effects, VOLUME_RANGE).text("effects volume"));
+        let key = self.bindings.keys(Action::Mute).first().map_or_else(String::new, |k| format!(" ({k})"));
+        ui.checkbox(&mut s.muted, format!("mute{key}"));
     }
 
     /// Settings' key table: each action's keys, a click waits for a new key; and "Default keys".

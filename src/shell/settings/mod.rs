@@ -1,5 +1,5 @@
-//! The settings file: key bindings, gamepad deadzone and curve, pixel scale and the ghost car, kept between
-//! runs.
+//! The settings file: key bindings, gamepad deadzone and curve, pixel scale, the ghost car, and the sound's
+//! master and effects volumes and mute, kept between runs.
 //!
 //! JSON, at `--settings FILE`, else `$SCANLINE_RACER_SETTINGS`, else
 //! `$XDG_CONFIG_HOME/scanline-racer/settings.json` (or `~/.config/...`). A missing or empty file means
@@ -22,7 +22,7 @@ mod values;
 pub use file::{SettingsFile, default_path};
 pub use read::UnusableSettings;
 pub use save::SettingsError;
-pub use values::Settings;
+pub use values::{DEFAULT_VOLUME, Settings, VOLUME_RANGE};
 
 #[cfg(test)]
 mod tests {
@@ -87,6 +87,51 @@ mod tests {
         let note = note.unwrap();
         assert!(note.contains("deadzone 5") && note.contains("Escape"), "{note}");
         assert!(!note.contains("not be saved"), "a repaired file is still saved: {note}");
+    }
+
+    #[test]
+    fn the_sound_settings_load_back_and_bad_ones_are_refused_field_by_field() {
+        let p = tmp("sound.json");
+        let _ = std::fs::remove_file(&p);
+        let (mut file, s, _) = SettingsFile::load(&p);
+        assert_eq!((s.volume, s.effects_volume, s.muted), (DEFAULT_VOLUME, 1.0, false));
+        let s = Settings { volume: 0.35, effects_volume: 0.5, muted: true, ..s };
+        assert!(file.save(&s).unwrap());
+        assert_eq!(
+            std::fs::read_to_string(&p).unwrap(),
+            "{\n  \"effects_volume\": 0.5,\n  \"muted\": true,\n  \"volume\": 0.35\n}\n"
+        );
+        let (_, back, note) = SettingsFile::load(&p);
+        assert_eq!((back, note), (s, None));
+        // Each bad value costs only its own field, and is named; the good ones beside it are used.
+        for (text, want, said) in [
+            (
+                r#"{"volume": 1.5, "effects_volume": 0.25, "muted": true}"#,
+                (1.0, 0.25, true),
+                "volume 1.5 out of 0-1: 1 used",
+            ),
+            (r#"{"volume": -0.1, "muted": true}"#, (1.0, 1.0, true), "volume -0.1 out of 0-1: 1 used"),
+            (
+                r#"{"volume": "loud", "effects_volume": 0.25}"#,
+                (1.0, 0.25, false),
+                "volume \"loud\" is not a number: 1 used",
+            ),
+            (r#"{"volume": 0.5, "effects_volume": 2}"#, (0.5, 1.0, false), "effects_volume 2 out of 0-1: 1 used"),
+            (
+                r#"{"volume": 0.5, "effects_volume": null}"#,
+                (0.5, 1.0, false),
+                "effects_volume null is not a number: 1 used",
+            ),
+            (r#"{"volume": 0.5, "muted": "yes"}"#, (0.5, 1.0, false), "muted \"yes\" is not true or false: false used"),
+            (r#"{"volume": 0.5, "muted": 1}"#, (0.5, 1.0, false), "muted 1 is not true or false: false used"),
+        ] {
+            std::fs::write(&p, text).unwrap();
+            let (file, s, note) = SettingsFile::load(&p);
+            assert_eq!((s.volume, s.effects_volume, s.muted), want, "{text}");
+            let note = note.unwrap_or_default();
+            assert!(note.contains(said) && !note.contains('\n'), "{text}: {note}");
+            assert!(file.writable(), "{text}: a repaired file is still saved");
+        }
     }
 
     #[test]

@@ -122,6 +122,9 @@ impl Settings {
         let whole = format!("a whole number from {MIN_SCALE} to {MAX_SCALE}");
         field(doc, "scale", &mut s.scale, &whole, &mut notes);
         field(doc, "ghost", &mut s.ghost, "true or false", &mut notes);
+        field(doc, "volume", &mut s.volume, "a number", &mut notes);
+        field(doc, "effects_volume", &mut s.effects_volume, "a number", &mut notes);
+        field(doc, "muted", &mut s.muted, "true or false", &mut notes);
         (s, notes)
     }
 }

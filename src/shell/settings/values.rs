@@ -9,6 +9,12 @@ use crate::input::bindings::Bindings;
 use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
+/// The master volume a new settings file starts at: the mixer's full level, so that the window plays what
+/// `replay --headless --audio` writes (the mix is limited below full scale either way).
+pub const DEFAULT_VOLUME: f32 = 1.0;
+/// The range both volumes must be in (0 silent, 1 the mixer's full level).
+pub const VOLUME_RANGE: std::ops::RangeInclusive<f32> = 0.0..=1.0;
+
 /// Everything the settings file holds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -23,11 +29,26 @@ pub struct Settings {
     pub scale: u32,
     /// Whether the ghost car (the best lap) is drawn.
     pub ghost: bool,
+    /// Master volume of the race's sound, 0 (silent) to 1 (full).
+    pub volume: f32,
+    /// Volume of the effects (tyres, surfaces, impacts, beeps, clicks) beside the engines, 0 to 1.
+    pub effects_volume: f32,
+    /// Whether the sound is muted (the M key); the volumes are kept for when it is not.
+    pub muted: bool,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { keys: Bindings::default(), deadzone: DEFAULT_DEADZONE, curve: DEFAULT_CURVE, scale: 1, ghost: true }
+        Self {
+            keys: Bindings::default(),
+            deadzone: DEFAULT_DEADZONE,
+            curve: DEFAULT_CURVE,
+            scale: 1,
+            ghost: true,
+            volume: DEFAULT_VOLUME,
+            effects_volume: 1.0,
+            muted: false,
+        }
     }
 }
 
@@ -45,6 +66,14 @@ impl Settings {
         if !self.curve.is_finite() || !(1.0..=3.0).contains(&self.curve) {
             notes.push(format!("curve {} out of 1-3: {} used", self.curve, d.curve));
             self.curve = d.curve;
+        }
+        if !self.volume.is_finite() || !VOLUME_RANGE.contains(&self.volume) {
+            notes.push(format!("volume {} out of 0-1: {} used", self.volume, d.volume));
+            self.volume = d.volume;
+        }
+        if !self.effects_volume.is_finite() || !VOLUME_RANGE.contains(&self.effects_volume) {
+            notes.push(format!("effects_volume {} out of 0-1: {} used", self.effects_volume, d.effects_volume));
+            self.effects_volume = d.effects_volume;
         }
         if !(MIN_SCALE..=MAX_SCALE).contains(&self.scale) {
             notes.push(format!("scale {} out of {MIN_SCALE}-{MAX_SCALE}: {MIN_SCALE} used", self.scale));
