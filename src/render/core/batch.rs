@@ -127,7 +127,7 @@ pub(crate) struct Screens<'a> {
 
 impl<'a> Screens<'a> {
     /// The batch holding polygon `p`'s corners.
-    #[inline]
+    #[inline(always)]
     fn batch(&self, p: &DrawPolygon) -> Option<&'a Batch> {
         match p.batch {
             0 => Some(self.main),
@@ -137,7 +137,7 @@ impl<'a> Screens<'a> {
 
     /// The screen vertices of polygon `p` (`None` for a small triangle, or a polygon whose indices are out
     /// of range).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn of(&self, p: &DrawPolygon) -> Option<&'a [ScreenVertex]> {
         if p.small() {
             return None;
@@ -147,7 +147,7 @@ impl<'a> Screens<'a> {
 
     /// The set-up of small triangle `p` and its texture planes ([`TexPlanes::NONE`] when it has no
     /// texture); `None` if `p` is not one.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn small(&self, p: &DrawPolygon) -> Option<(&'a SmallTriangle, &'a TexPlanes)> {
         if !p.small() {
             return None;

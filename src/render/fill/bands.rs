@@ -232,7 +232,10 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
         let mut next = AlikeFlat { rest, ctx, first };
         let mut current = Some((tri, paint.flat()));
         while let Some(start) = current {
-            let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, rows, avx2);
+            // A fresh view of the band's buffers for the run: its fields stay in registers through the
+            // narrow fill's loop rather than being read back through `rows` after every store.
+            let mut px = rows.reborrow();
+            let ((written, rejected), wide) = fill_flat_run::<VIS>(start, &mut next, band, &mut px, avx2);
             total += SpanCounts { shaded: written, written, rejected };
             let Some((t, color)) = wide else { break };
             let paint = paint.with_flat(color);

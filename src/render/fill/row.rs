@@ -43,8 +43,21 @@ pub(crate) struct BandPixels<'a> {
 }
 
 impl BandPixels<'_> {
+    /// The same buffers, borrowed for a shorter time.
+    #[inline(always)]
+    pub(crate) fn reborrow(&mut self) -> BandPixels<'_> {
+        BandPixels {
+            y0: self.y0,
+            width: self.width,
+            color: &mut *self.color,
+            depth: &mut *self.depth,
+            coverage: &mut *self.coverage,
+            words: self.words,
+        }
+    }
+
     /// The buffers of frame row `y` (which must be in the band).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn row(&mut self, y: i32) -> Row<'_> {
         let (r, w, words) = (y as usize - self.y0, self.width, self.words);
         Row {

@@ -16,7 +16,7 @@ use super::row::{BandPixels, COVERAGE, DEPTH_TEST};
 use super::small::{self, NarrowRows, NextFlat, fill_row_pixels};
 use crate::render::core::small::{NARROW, SmallTriangle};
 use crate::render::simd::Avx2;
-use crate::render::simd::x86::{load, store};
+use crate::render::simd::x86::{load4, store4};
 
 /// [`super::small::fill_flat_run`] with the AVX2 narrow fill.
 pub(crate) fn fill_flat_run<'t, const VIS: u8>(
@@ -86,14 +86,14 @@ pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
             rejected += j;
             continue;
         };
-        let old_c: __m128i = load(c).unwrap_or(zero);
+        let old_c: __m128i = load4(c).unwrap_or(zero);
         let pass = match VIS {
             DEPTH_TEST => {
-                let old: __m128 = load(d).unwrap_or(_mm_set1_ps(0.0));
+                let old: __m128 = load4(d).unwrap_or(_mm_set1_ps(0.0));
                 // d0 + (k - first) * dd, lane by lane; lanes left of the run are not covered.
                 let z = _mm_add_ps(_mm_set1_ps(d0), _mm_mul_ps(_mm_sub_ps(lanes, _mm_set1_ps(first as f32)), dd));
                 let pass = _mm_and_ps(_mm_cmp_ps::<_CMP_GT_OQ>(z, old), _mm_castsi128_ps(inside));
-                store(&mut px.depth[at..], _mm_blendv_ps(old, z, pass));
+                store4(&mut px.depth[at..], _mm_blendv_ps(old, z, pass));
                 _mm_castps_si128(pass)
             }
             // The covered pixels not yet drawn, as lanes.
@@ -103,7 +103,7 @@ pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
             }
             _ => inside,
         };
-        store(&mut px.color[at..], _mm_blendv_epi8(old_c, fill, pass));
+        store4(&mut px.color[at..], _mm_blendv_epi8(old_c, fill, pass));
         let n = u64::from((_mm_movemask_ps(_mm_castsi128_ps(pass)) as u32).count_ones());
         written += n;
         rejected += u64::from(m.count_ones()) - n;

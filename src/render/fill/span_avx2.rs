@@ -17,7 +17,7 @@ use std::arch::x86_64::{
 use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
 use crate::render::core::texture::{Sampler, Texture, Wrap};
 use crate::render::simd::Avx2;
-use crate::render::simd::x86::{load, store};
+use crate::render::simd::x86::{load8, store8};
 
 // The helpers are macros rather than functions: a `#[target_feature]` function cannot be `inline(always)`,
 // and the compiler leaves them as calls, passing every vector through memory.
@@ -175,13 +175,13 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
             _mm256_cmpgt_epi32(lane, _mm256_set1_epi32(x as i32 - 1)),
             _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 as i32), lane),
         );
-        let Some(old_color) = row.color.get(c..).and_then(load::<u32, __m256i>) else { break };
+        let Some(old_color) = row.color.get(c..).and_then(load8::<u32, __m256i>) else { break };
         let k = _mm256_cvtepi32_ps(_mm256_sub_epi32(lane, _mm256_set1_epi32(x0 as i32)));
         let depth = _mm256_add_ps(_mm256_set1_ps(s.d0), _mm256_mul_ps(k, _mm256_set1_ps(s.dd)));
         let mut old_depth = depth;
         let visible = match VIS {
             DEPTH_TEST => {
-                let Some(old) = row.depth.get(c..).and_then(load::<f32, __m256>) else { break };
+                let Some(old) = row.depth.get(c..).and_then(load8::<f32, __m256>) else { break };
                 old_depth = old;
                 // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
                 _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GT_OQ>(depth, old))
@@ -221,12 +221,12 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
             _ => _mm256_and_si256(texels, _mm256_set1_epi32(0x00ff_ffff)),
         };
         if let Some(out) = row.color.get_mut(c..) {
-            store(out, _mm256_blendv_epi8(old_color, color, write));
+            store8(out, _mm256_blendv_epi8(old_color, color, write));
         }
         match VIS {
             DEPTH_TEST => {
                 if let Some(d) = row.depth.get_mut(c..) {
-                    store(d, _mm256_blendv_ps(old_depth, depth, bytemuck::cast(write)));
+                    store8(d, _mm256_blendv_ps(old_depth, depth, bytemuck::cast(write)));
                 }
             }
             COVERAGE => cover_bits(row.coverage, c, _mm256_movemask_ps(bytemuck::cast(write)) as u8),

@@ -47,6 +47,12 @@ fn rows(v: &[ScreenVertex]) -> (i32, i32) {
     if top > bottom { (0, 0) } else { (top.first_centre_at_or_after(), bottom.first_centre_at_or_after()) }
 }
 
+/// The corners' view depths of triangle `ids` folded by the object's key rule (before [`DepthKey::Avg`]'s
+/// division).
+fn key_sum(setup: &ObjectSetup<'_>, ids: &[usize; 3]) -> f32 {
+    ids.iter().fold(key_start(setup.key), |key, &i| key_add(setup.key, key, setup.vertices[i].view_depth))
+}
+
 /// The ordering key's starting value for a rule.
 fn key_start(key: DepthKey) -> f32 {
     match key {
@@ -253,13 +259,7 @@ impl ObjectSetup<'_> {
             debug_assert!(false, "a triangle that fits was not set up");
             return false;
         };
-        let key = self.polygon_key(3, || {
-            let mut key = key_start(self.key);
-            for &i in &ids {
-                key = key_add(self.key, key, self.vertices[i].view_depth);
-            }
-            key
-        });
+        let key = self.polygon_key(3, || key_sum(self, &ids));
         out.counts.drawn += 1;
         let paint = PolygonPaint {
             texture,
