@@ -4,7 +4,8 @@
 //! device's callback takes what is there and plays silence for what is not. Neither side ever waits: the
 //! push drops what does not fit, the callback never blocks on the game. The stream asks for a 10 ms
 //! device buffer (falling back to the device's default size where a fixed size is refused), and the ring
-//! holds at most [`RING_SECONDS`], so sound lags the picture by about 20 ms plus what the game queues.
+//! holds at most [`RING_SECONDS`] (20 ms), so sound lags the picture by at most about 30 ms plus what the
+//! game queues beyond the ring (two ticks).
 //! With no device (a server, a container, CI) [`open`] returns an [`AudioError`] for the caller to say once
 //! and run silent.
 
@@ -18,8 +19,10 @@ use super::ring::Ring;
 
 /// Device buffer asked for (frames): 10 ms at 48 kHz.
 pub const DEVICE_FRAMES: u32 = 480;
-/// Most sound the ring holds ahead of the device (seconds).
-pub const RING_SECONDS: f32 = 0.05;
+/// Most sound the ring holds ahead of the device (seconds): the game fills it once a frame (two ticks at
+/// 60 Hz, 16.7 ms), so 20 ms covers a frame with a little to spare while keeping the sound close to the
+/// picture.
+pub const RING_SECONDS: f32 = 0.02;
 
 /// Why there is no sound.
 #[derive(Debug, Error)]
@@ -154,6 +157,6 @@ mod tests {
             }
             Err(e) => assert!(!e.to_string().contains('\n'), "{e}"),
         }
-        assert_eq!(ring_capacity(), 4800);
+        assert_eq!(ring_capacity(), 1920);
     }
 }
