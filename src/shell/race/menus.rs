@@ -81,12 +81,14 @@ impl MenuState {
             }
             let keys = |a: Action| bindings.keys(a).join("/");
             ui.label(format!(
-                "Keys: {} and {} steer, {} accelerates, {} brakes, {} changes the view, Esc pauses (Settings rebinds).",
+                "Keys: {} and {} steer, {} accelerates, {} brakes, {} changes the view, {} mutes, Esc pauses \
+                 (Settings rebinds).",
                 keys(Action::SteerLeft),
                 keys(Action::SteerRight),
                 keys(Action::Throttle),
                 keys(Action::Brake),
-                keys(Action::ChangeView)
+                keys(Action::ChangeView),
+                keys(Action::Mute)
             ));
             ui.label("Gamepad: stick steers, triggers drive; D-pad and A in menus; Start pauses.");
         });
