@@ -33,14 +33,40 @@ pub struct Shading<'a> {
 }
 
 /// Texture coordinate and colour at one pixel: `[u, v, r, g, b, a]`.
-type Surface = [f32; 6];
+pub(crate) type Surface = [f32; 6];
 
+/// The surface values at pixel offset `k` of a span whose attributes start at `a0` and change by `da` a
+/// pixel, divided by `1/w` when `perspective`.
 #[inline]
-fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective: bool) -> Surface {
+pub(crate) fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective: bool) -> Surface {
     let at = |i: usize| a0[i] + k * da[i];
     let w = if perspective { 1.0 / at(slot::Q) } else { 1.0 };
     let r = slot::RGBA;
     [at(slot::S) * w, at(slot::T) * w, at(r) * w, at(r + 1) * w, at(r + 2) * w, at(r + 3) * w]
+}
+
+/// The colour of a pixel with surface values `s` (texture coordinate and colour, perspective already
+/// divided out), packed `0x00RRGGBB`; `None` where the alpha cutoff rejects it. Shared by the general span
+/// and the anti-aliased fill, which shade a pixel the same way.
+#[inline]
+pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface) -> Option<u32> {
+    let texel = match sh.texture {
+        None => [1.0; 4],
+        Some(t) => match sh.filter {
+            Filter::Nearest => t.sample_nearest(s[0], s[1], sh.sampler),
+            Filter::Bilinear => t.sample_bilinear(s[0], s[1], sh.sampler),
+        },
+    };
+    // A polygon of one colour uses it as is (interpolating it would only add rounding).
+    let col = sh.constant_color.unwrap_or([s[2], s[3], s[4], s[5]]);
+    let c = [texel[0] * col[0], texel[1] * col[1], texel[2] * col[2], texel[3] * col[3]];
+    if let Some(cutoff) = sh.alpha_cutoff {
+        // NaN alpha fails the test too: nothing is drawn from a broken colour.
+        if c[3].partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
+            return None;
+        }
+    }
+    Some(pack_rgb(c))
 }
 
 /// How a polygon's spans are drawn, chosen once per polygon from its [`Shading`].
@@ -155,23 +181,8 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
             }
         };
         counts.shaded += 1;
-        let texel = match sh.texture {
-            None => [1.0; 4],
-            Some(t) => match sh.filter {
-                Filter::Nearest => t.sample_nearest(s[0], s[1], sh.sampler),
-                Filter::Bilinear => t.sample_bilinear(s[0], s[1], sh.sampler),
-            },
-        };
-        // A polygon of one colour uses it as is (interpolating it would only add rounding).
-        let col = sh.constant_color.unwrap_or([s[2], s[3], s[4], s[5]]);
-        let c = [texel[0] * col[0], texel[1] * col[1], texel[2] * col[2], texel[3] * col[3]];
-        if let Some(cutoff) = sh.alpha_cutoff {
-            // NaN alpha fails the test too: nothing is drawn from a broken colour.
-            if c[3].partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
-                continue;
-            }
-        }
-        row.color[x] = pack_rgb(c);
+        let Some(c) = shade_surface(sh, &s) else { continue };
+        row.color[x] = c;
         counts.written += 1;
         match sh.visibility {
             Visibility::Overwrite => {}
