@@ -1,7 +1,8 @@
 //! Times a frame of the demo race as the game draws it (every object of the scene, most of them culled) as
 //! the best of several rounds, for quick A/B comparisons of two builds on a noisy machine:
 //! `cargo run --release --example race_frame -- [zbuffer|bucket-far|bucket-near] [threads] [rounds] [tick]
-//! [width] [height]` (defaults: zbuffer, 2 threads, 5 rounds, tick 3000, 1280x720).
+//! [width] [height] [aa]` (defaults: zbuffer, 2 threads, 5 rounds, tick 3000, 1280x720, the default
+//! anti-aliasing; `aa` is a `--aa` name: off, 4x, 8x, 16x, ssaa).
 //!
 //! Unlike `render` on an exported frame, this keeps the instances the frame culls, as the window does.
 
@@ -32,13 +33,17 @@ fn main() {
     let list = scene.draw_list(&instances);
     let mut frame = vec![0u32; w * h];
     let mut r = Renderer::new();
-    let o = RenderOptions { method, threads, ..RenderOptions::default() };
+    let mut o = RenderOptions { method, threads, ..RenderOptions::default() };
+    if let Some(aa) = args.get(6) {
+        o.antialias = aa.parse().unwrap();
+    }
     let timing::Timing { best, stages } =
         timing::best_of(rounds, || r.render(&mut frame, w, h, &camera, &list, &o).unwrap());
     let hash = timing::frame_hash(&frame);
     let [tr, cl, or, fi] = stages;
     println!(
-        "{} {threads}t tick {tick} {w}x{h}: {best:.3} ms (best stages: transform {tr:.3}, clip {cl:.3}, order {or:.3}, fill {fi:.3} ms), frame {hash:016x}",
-        method.name()
+        "{} aa {} {threads}t tick {tick} {w}x{h}: {best:.3} ms (best stages: transform {tr:.3}, clip {cl:.3}, order {or:.3}, fill {fi:.3} ms), frame {hash:016x}",
+        method.name(),
+        o.antialias
     );
 }

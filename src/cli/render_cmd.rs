@@ -10,7 +10,8 @@ use super::values;
 use crate::asset::{LoadedScene, load};
 use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
-    BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats, TextureMode,
+    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats,
+    TextureMode,
 };
 
 /// Texture interpolation names on the command line.
@@ -75,6 +76,9 @@ pub struct RenderArgs {
     /// Texture filtering.
     #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
     pub filter: FilterArg,
+    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
+    #[arg(long, default_value = "off")]
+    pub aa: Antialias,
     /// Level of detail for LOD sets: auto (by projected size), or close, mid or long for every set.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
@@ -131,6 +135,7 @@ impl RenderArgs {
             background: Some(self.background),
             lod: self.lod,
             lod_bias: self.lod_bias,
+            antialias: self.aa,
         }
     }
 }

@@ -9,7 +9,7 @@ use super::error::CliError;
 use super::values;
 use crate::audio::{CHANNELS, Mixer, wav};
 use crate::input::replay::Replay;
-use crate::render::{LodMode, Method, RenderOptions, Renderer};
+use crate::render::{Antialias, LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View};
@@ -49,6 +49,9 @@ pub struct ReplayArgs {
     /// Level of detail: auto, or close, mid or long for every car and tree.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
+    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
+    #[arg(long, default_value = "off")]
+    pub aa: Antialias,
     /// In the window: stop (freeze the frame) when the replay reaches this tick.
     #[arg(long)]
     pub stop_at: Option<u64>,
@@ -82,8 +85,13 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     let scene = RaceScene::load(&dir)?;
     let mut sound = args.audio.as_ref().map(|_| Soundtrack::new());
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
-    let options =
-        RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
+    let options = RenderOptions {
+        method: args.method,
+        threads: args.threads,
+        lod: args.lod,
+        antialias: args.aa,
+        ..RenderOptions::default()
+    };
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
@@ -179,8 +187,13 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         return Ok(());
     }
     let dir = super::error::assets_dir()?;
-    let options =
-        RenderOptions { method: args.method, threads: args.threads, lod: args.lod, ..RenderOptions::default() };
+    let options = RenderOptions {
+        method: args.method,
+        threads: args.threads,
+        lod: args.lod,
+        antialias: args.aa,
+        ..RenderOptions::default()
+    };
     // The settings file's sound levels, mute and keys apply to a replay too (the window keeps its scale).
     let (file, settings, note) = match settings::default_path().as_deref().map(SettingsFile::load) {
         Some((file, settings, note)) => (Some(file), settings, note),

@@ -2,7 +2,7 @@
 //! use and which use nothing above them.
 //!
 //! The renderer's inputs ([`options`], [`draw_list`], [`camera`], [`mesh`], [`texture`]), its outputs
-//! ([`stats`], [`error`]), the fixed-point grid ([`fixed`]), and the records the stages hand down: the
+//! ([`stats`], [`error`]), the fixed-point grid ([`fixed`]) and the coverage samples on it ([`samples`]), and the records the stages hand down: the
 //! screen vertex ([`vertex`]), the polygon and its paint (`polygon`), the small triangle (`small`), the
 //! set-up batches (`batch`) and the bands of the frame (`band`).
 
@@ -15,6 +15,7 @@ pub mod fixed;
 pub mod mesh;
 pub mod options;
 pub(crate) mod polygon;
+pub mod samples;
 pub(crate) mod small;
 pub mod stats;
 #[cfg(test)]

@@ -3,7 +3,9 @@
 //! own rows. Because edge positions are exact integers and attributes are evaluated per row from the
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
+use super::antialias::{self, Target};
 use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
+use super::samples::SampleStore;
 use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small::{self, NextFlat};
 use super::span::{Shading, draw_prepared};
@@ -13,6 +15,7 @@ use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
 use crate::render::core::options::RenderOptions;
 use crate::render::core::polygon::DrawPolygon;
+use crate::render::core::samples::SamplePattern;
 use crate::render::core::small::{SmallTriangle, TexPlanes};
 use crate::render::simd::{self, Avx2};
 
@@ -21,6 +24,7 @@ use crate::render::simd::{self, Avx2};
 struct Scratch {
     depth: Vec<f32>,
     coverage: Vec<u64>,
+    samples: SampleStore,
 }
 
 thread_local! {
@@ -86,9 +90,26 @@ pub(crate) struct FillContext<'a> {
     pub(crate) visibility: Visibility,
     pub(crate) width: usize,
     pub(crate) words: usize,
+    /// The coverage samples when anti-aliased.
+    pub(crate) pattern: Option<SamplePattern>,
 }
 
 impl FillContext<'_> {
+    /// How polygon `p` is shaded in this frame.
+    #[inline(always)]
+    fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
+        Shading {
+            texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
+            sampler: p.sampler,
+            filter: self.options.filter,
+            mode: self.options.texture_mode,
+            alpha_cutoff: p.alpha_cutoff(),
+            constant_color: p.constant_color(),
+            visibility: self.visibility,
+            screen_door: p.screen_door(),
+        }
+    }
+
     /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
     pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
         SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
@@ -96,21 +117,22 @@ impl FillContext<'_> {
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color } = band;
+        let Scratch { depth, coverage, samples } = scratch;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
             color.fill(bg);
         }
         let depth: &mut [f32] = if self.visibility == Visibility::DepthTest {
-            scratch.depth.clear();
-            scratch.depth.resize(height * w, f32::NEG_INFINITY);
-            &mut scratch.depth
+            depth.clear();
+            depth.resize(height * w, f32::NEG_INFINITY);
+            depth
         } else {
             &mut []
         };
         let coverage: &mut [u64] = if self.visibility == Visibility::Coverage {
-            scratch.coverage.clear();
-            scratch.coverage.resize(height * words, 0);
-            &mut scratch.coverage
+            coverage.clear();
+            coverage.resize(height * words, 0);
+            coverage
         } else {
             &mut []
         };
@@ -119,6 +141,18 @@ impl FillContext<'_> {
         let mut add = |c: SpanCounts| total += c;
         let band_rows = (y0 as i32, (y0 + height) as i32);
         let bin = || BinIter { runs: self.runs, band: index, polys: &[], indices: [].iter() };
+        if let Some(pattern) = &self.pattern {
+            samples.begin(height * w, height, pattern);
+            let mut target = Target { pixels: &mut rows, store: samples, pattern, band: band_rows };
+            for p in bin() {
+                // Set-up makes no small triangles when the frame is anti-aliased: every polygon has corners.
+                let Some(verts) = self.screens.of(p) else { continue };
+                let shading = self.shading(p);
+                add(antialias::fill_polygon(verts, &shading, &shading.prepare(), &mut target));
+            }
+            antialias::resolve(&mut target, self.visibility);
+            return total;
+        }
         if self.visibility != Visibility::DepthTest {
             // Painter's orders visit the polygons in depth order, at random places in memory: reading one
             // corner of each first, with nothing waiting on the loads, lets their cache misses overlap,
@@ -135,16 +169,7 @@ impl FillContext<'_> {
         }
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
-            let shading = Shading {
-                texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
-                sampler: p.sampler,
-                filter: self.options.filter,
-                mode: self.options.texture_mode,
-                alpha_cutoff: p.alpha_cutoff(),
-                constant_color: p.constant_color(),
-                visibility: self.visibility,
-                screen_door: p.screen_door(),
-            };
+            let shading = self.shading(p);
             let prepared = shading.prepare();
             if let Some(tri) = self.screens.small(p) {
                 // Set up only for polygons with a fast path (`FastPathRule`, which a test holds to `prepare`).

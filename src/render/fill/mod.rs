@@ -4,12 +4,17 @@
 //! each band then clears its own rows and draws its bin (`bands`). A polygon is drawn by the scanline
 //! walk of seeds 001 and 002 ([`scanline`]) into spans, shaded by the general span ([`span`]) or a fast
 //! path's pixel loop (`span_lanes`, with its AVX2 child), or, for a small triangle set up in advance, by
-//! `small` (with its AVX2 child). Edge positions are exact integers and attributes are evaluated per row
+//! `small` (with its AVX2 child). An anti-aliased frame draws each polygon's coverage samples (`coverage`)
+//! into the band's samples (`samples`) by `antialias`, resolving them at the end of the band. Edge positions are exact integers and attributes are evaluated per row
 //! from the polygon's vertices, so a row's pixels do not depend on which band drew it: frames are
 //! bit-identical for every thread count.
 
+pub(crate) mod antialias;
 pub(crate) mod bands;
+pub(crate) mod coverage;
+pub(crate) mod plane;
 pub(crate) mod row;
+pub(crate) mod samples;
 pub mod scanline;
 pub(crate) mod small;
 #[cfg(target_arch = "x86_64")]
@@ -29,6 +34,7 @@ use crate::render::core::band::{FrameLayout, bin, split_bands};
 use crate::render::core::batch::{Batch, Screens, Stretch};
 use crate::render::core::draw_list::DrawList;
 use crate::render::core::options::{Method, RenderOptions};
+use crate::render::core::samples::SamplePattern;
 
 /// Orders of at least this many polygons are binned in pieces on several threads.
 const PARALLEL_BINNING: usize = 1024;
@@ -81,6 +87,7 @@ impl Fill {
             },
             width: layout.width,
             words: layout.width.div_ceil(64),
+            pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
         };
         let jobs = split_bands(frame, layout.width, layout.rows_per_band).into_iter().enumerate();
         if layout.threads == 1 {

@@ -97,6 +97,9 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) see_through: bool,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
     pub(crate) fast_path: FastPathRule,
+    /// Whether small triangles are set up for the fast fill at all: not when the frame is anti-aliased,
+    /// whose fill draws every polygon from its corners.
+    pub(crate) small_triangles: bool,
     /// The frame's width in pixels.
     pub(crate) width: i32,
 }
@@ -206,7 +209,7 @@ impl ObjectSetup<'_> {
         };
         // A depth bias moves the corners' depths, which the direct path does not do.
         let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
-        MaterialSetup { index, texture, alpha_cutoff, small: fast && material.depth_bias == 0 }
+        MaterialSetup { index, texture, alpha_cutoff, small: fast && self.small_triangles && material.depth_bias == 0 }
     }
 
     /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
@@ -384,7 +387,7 @@ impl ObjectSetup<'_> {
         );
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
-        let small = |corners: &[ScreenVertex], area: i64| match (fast, texture) {
+        let small = |corners: &[ScreenVertex], area: i64| match (fast && self.small_triangles, texture) {
             (false, _) => None,
             (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
             (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
