@@ -308,4 +308,53 @@ mod tests {
         assert_eq!(counts[4 * 4], 0, "sample 0 of pixel (1, 1) on the far corner is out");
         assert_eq!(counts.iter().sum::<u32>(), 4, "exactly one pixel's worth of samples");
     }
+
+    /// Whether the sample at raw `(x, y)` is inside triangle `t` by edge functions and the top-left rule,
+    /// written apart from the walk above.
+    fn reference(t: &[ScreenVertex], (x, y): (i64, i64)) -> bool {
+        let p = |v: &ScreenVertex| (i64::from(v.x.0), i64::from(v.y.0));
+        let (a, mut b, mut c) = (p(&t[0]), p(&t[1]), p(&t[2]));
+        let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        if area == 0 {
+            return false;
+        }
+        if area < 0 {
+            std::mem::swap(&mut b, &mut c);
+        }
+        [(a, b), (b, c), (c, a)].iter().all(|&(s, e)| {
+            let (dx, dy) = (e.0 - s.0, e.1 - s.1);
+            let f = dx * (y - s.1) - dy * (x - s.0);
+            f > 0 || (f == 0 && (dy < 0 || (dy == 0 && dx > 0)))
+        })
+    }
+
+    #[test]
+    fn masks_match_edge_functions_on_random_triangles() {
+        let mut rng = Lcg(11);
+        let (w, h) = (20, 16);
+        for n in [4, 8, 16] {
+            let p = SamplePattern::standard(n).unwrap();
+            for case in 0..3000 {
+                let size = [24, 80, 400][case % 3];
+                let mut pt = || sv(rng.range(-size, w * 16 + size), rng.range(-size, h * 16 + size));
+                let t = [pt(), pt(), pt()];
+                let mut got = vec![0u16; (w * h) as usize];
+                for_each_row(&t, &p, (0, h), w, |c| {
+                    for x in c.lo..c.hi {
+                        got[(c.y * w + x) as usize] = c.mask(x);
+                    }
+                });
+                for py in 0..h {
+                    for px in 0..w {
+                        let mut want = 0u16;
+                        for (j, &(sx, sy)) in p.positions[..n].iter().enumerate() {
+                            let at = (i64::from(px * 16 + sx), i64::from(py * 16 + sy));
+                            want |= u16::from(reference(&t, at)) << j;
+                        }
+                        assert_eq!(got[(py * w + px) as usize], want, "{n} samples, case {case}: pixel ({px}, {py})");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -214,7 +214,7 @@ impl Geometry {
             textures: list.textures.len(),
             see_through: inst.see_through,
             fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode },
-            small_triangles: options.antialias.coverage_samples().is_none(),
+            antialiased: options.antialias.coverage_samples().is_some(),
             width: view.layout.width as i32,
         };
         if view.layout.threads > 1 && count >= PARALLEL_POLYGONS {

@@ -37,14 +37,21 @@ fn screen_vertex(
     ScreenVertex { x, y, attrs }
 }
 
-/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule.
-fn rows(v: &[ScreenVertex]) -> (i32, i32) {
+/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule; or, when
+/// `antialiased`, every row its extent touches (a sample may lie anywhere in a row).
+fn rows(v: &[ScreenVertex], antialiased: bool) -> (i32, i32) {
     let (mut top, mut bottom) = (Fx28_4(i32::MAX), Fx28_4(i32::MIN));
     for p in v {
         top = top.min(p.y);
         bottom = bottom.max(p.y);
     }
-    if top > bottom { (0, 0) } else { (top.first_centre_at_or_after(), bottom.first_centre_at_or_after()) }
+    if top > bottom {
+        (0, 0)
+    } else if antialiased {
+        (top.0 >> 4, ((i64::from(bottom.0) + 15) >> 4) as i32)
+    } else {
+        (top.first_centre_at_or_after(), bottom.first_centre_at_or_after())
+    }
 }
 
 /// The corners' view depths of triangle `ids` folded by the object's key rule (before [`DepthKey::Avg`]'s
@@ -97,9 +104,9 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) see_through: bool,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
     pub(crate) fast_path: FastPathRule,
-    /// Whether small triangles are set up for the fast fill at all: not when the frame is anti-aliased,
-    /// whose fill draws every polygon from its corners.
-    pub(crate) small_triangles: bool,
+    /// Whether the fill draws coverage samples: then no small triangles are set up (that fill draws every
+    /// polygon from its corners), and a polygon's rows are every row its samples may fall in.
+    pub(crate) antialiased: bool,
     /// The frame's width in pixels.
     pub(crate) width: i32,
 }
@@ -209,7 +216,7 @@ impl ObjectSetup<'_> {
         };
         // A depth bias moves the corners' depths, which the direct path does not do.
         let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
-        MaterialSetup { index, texture, alpha_cutoff, small: fast && self.small_triangles && material.depth_bias == 0 }
+        MaterialSetup { index, texture, alpha_cutoff, small: fast && !self.antialiased && material.depth_bias == 0 }
     }
 
     /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
@@ -387,7 +394,7 @@ impl ObjectSetup<'_> {
         );
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
-        let small = |corners: &[ScreenVertex], area: i64| match (fast && self.small_triangles, texture) {
+        let small = |corners: &[ScreenVertex], area: i64| match (fast && !self.antialiased, texture) {
             (false, _) => None,
             (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
             (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
@@ -398,7 +405,7 @@ impl ObjectSetup<'_> {
             let f = out.push_small(t, texture.is_some());
             push(out, f, n as u32, rows, true);
         } else if is_y_monotone(&out.screen[first..]) {
-            let rows = rows(&out.screen[first..]);
+            let rows = rows(&out.screen[first..], self.antialiased);
             push(out, first as u32, n as u32, rows, false);
         } else {
             out.counts.split += 1;
@@ -417,7 +424,7 @@ impl ObjectSetup<'_> {
                 }
                 let f = out.screen.len() as u32;
                 out.screen.extend_from_slice(&corners);
-                push(out, f, 3, rows(&corners), false);
+                push(out, f, 3, rows(&corners, self.antialiased), false);
             }
         }
     }

@@ -32,6 +32,11 @@ impl Rng {
 /// the top-left rule (a pixel centre on an edge belongs to the triangle when the edge is a top or left edge).
 /// Points are `(x, y)` in 1/16 pixel, y down. Returns whether pixel `(px, py)`'s centre is covered.
 pub fn ref_covers(tri: [(i64, i64); 3], px: i64, py: i64) -> bool {
+    ref_covers_point(tri, (px * 16 + 8, py * 16 + 8))
+}
+
+/// [`ref_covers`] for any point `p` of the 1/16 grid (a coverage sample), by the same rule.
+pub fn ref_covers_point(tri: [(i64, i64); 3], p: (i64, i64)) -> bool {
     let [a, b, c] = tri;
     let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
     if area == 0 {
@@ -39,7 +44,6 @@ pub fn ref_covers(tri: [(i64, i64); 3], px: i64, py: i64) -> bool {
     }
     // Orient clockwise on screen (positive area with y down).
     let (b, c) = if area > 0 { (b, c) } else { (c, b) };
-    let p = (px * 16 + 8, py * 16 + 8);
     [(a, b), (b, c), (c, a)].iter().all(|&(s, e)| {
         let (dx, dy) = (e.0 - s.0, e.1 - s.1);
         let f = dx * (p.1 - s.1) - dy * (p.0 - s.0);

@@ -34,7 +34,7 @@ fn set_up_in_pixels(mesh: &crate::render::Mesh) -> Batch {
         textures: 0,
         see_through: false,
         fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
-        small_triangles: true,
+        antialiased: false,
         width: 320,
     };
     let mut out = Batch::default();
@@ -146,7 +146,7 @@ fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() 
             textures,
             see_through: false,
             fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
-            small_triangles: true,
+            antialiased: false,
             width: 320,
         };
         let (mut fast, mut slow) = (Batch::default(), Batch::default());
