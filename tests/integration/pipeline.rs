@@ -4,8 +4,8 @@
 use crate::common::*;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use scanline_racer::render::{
-    AlphaMode, Camera, DrawList, Filter, Instance, Material, MeshBuilder, Method, RenderOptions, Renderer, Texture,
-    TextureMode, Vertex, Wrap,
+    AlphaMode, Antialias, Camera, DrawList, Filter, Instance, Material, MeshBuilder, Method, RenderOptions, Renderer,
+    Texture, TextureMode, Vertex, Wrap,
 };
 
 const RED: Vec4 = Vec4::new(1.0, 0.0, 0.0, 1.0);
@@ -301,6 +301,33 @@ fn frames_are_bit_identical_for_every_thread_count() {
                     None => first = Some(frame),
                     Some(f) => assert!(*f == frame, "{method} {mode:?}: {threads} threads differ from 1"),
                 }
+            }
+        }
+    }
+}
+
+#[test]
+fn anti_aliased_frames_are_bit_identical_for_every_thread_count() {
+    let path = samples().join("Duck/Duck.gltf");
+    let scene = scanline_racer::asset::load(&path).expect("Duck loads");
+    let (w, h) = (203usize, 157usize);
+    let camera = scene.framing_camera(w as f32 / h as f32);
+    let draw = |method, antialias, threads| {
+        let o = RenderOptions { method, threads, antialias, ..RenderOptions::default() };
+        let mut frame = vec![0u32; w * h];
+        Renderer::new().render(&mut frame, w, h, &camera, &scene.draw_list(), &o).unwrap();
+        frame
+    };
+    for method in Method::ALL {
+        let plain = draw(method, Antialias::Off, 1);
+        for aa in [Antialias::Samples4, Antialias::Samples8, Antialias::Samples16, Antialias::Supersample2x2] {
+            let first = draw(method, aa, 1);
+            // Anti-aliasing changes the edges (some thousands of pixels of the duck's outline and its
+            // polygons' seams) and keeps the inside: most pixels stay as they were.
+            let changed = first.iter().zip(&plain).filter(|(a, b)| a != b).count();
+            assert!(changed > 200 && changed < w * h / 3, "{method} {aa}: {changed} pixels changed");
+            for threads in [2usize, 3, 7, 157] {
+                assert!(draw(method, aa, threads) == first, "{method} {aa}: {threads} threads differ from 1");
             }
         }
     }
