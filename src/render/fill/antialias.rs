@@ -14,7 +14,7 @@ use super::row::{BandPixels, SpanCounts, Visibility};
 use super::samples::{Pixel, SampleStore};
 use super::scanline::Span;
 use super::span::{Prepared, Shading, exact_at, shade_surface};
-use super::span_lanes;
+use super::span_lanes::{self, Source, colour_at};
 use crate::render::core::options::TextureMode;
 use crate::render::core::samples::{MAX_SAMPLES, SamplePattern};
 use crate::render::core::vertex::{ScreenVertex, slot};
@@ -48,10 +48,11 @@ pub(crate) fn fill_polygon(
     let fast = prepared.fast().filter(|_| !sh.screen_door);
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
+    let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
     for_each_row(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() { cov.inner } else { (0, 0) };
         for x in (cov.lo..cov.hi).filter(|x| !(inner.0..inner.1).contains(x)) {
-            total += pixel(t, cov, x, cov.mask(x), (sh, &planes, &dz));
+            total += pixel(t, cov, x, cov.mask(x), &paint);
         }
         let Some((source, alpha)) = fast.filter(|_| inner.0 < inner.1) else { return };
         let span = Span { y: cov.y, x0: inner.0, x1: inner.1, a0: planes.at(inner.0, cov.y), da: planes.dx };
@@ -61,7 +62,7 @@ pub(crate) fn fill_polygon(
             let full = t.pattern.full();
             for x in inner.0..inner.1 {
                 if t.store.is_expanded(r * t.pixels.width + x as usize) {
-                    total += pixel(t, cov, x, full, (sh, &planes, &dz));
+                    total += pixel(t, cov, x, full, &paint);
                 }
             }
         }
@@ -69,15 +70,20 @@ pub(crate) fn fill_polygon(
     total
 }
 
+/// How one polygon's pixels are shaded and where its samples' depths lie.
+struct Paint<'a> {
+    shading: &'a Shading<'a>,
+    /// The fast path's source and alpha mask, if the polygon has one.
+    fast: Option<(Source<'a>, Option<(f32, f32)>)>,
+    planes: &'a Planes,
+    /// Each sample's depth less the pixel centre's.
+    dz: &'a [f32; MAX_SAMPLES],
+}
+
 /// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre.
 #[inline]
-fn pixel(
-    t: &mut Target<'_, '_>,
-    cov: &RowCoverage,
-    x: i32,
-    mask: u16,
-    (sh, planes, dz): (&Shading<'_>, &Planes, &[f32; MAX_SAMPLES]),
-) -> SpanCounts {
+fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &Paint<'_>) -> SpanCounts {
+    let Paint { shading: sh, fast, planes, dz } = *paint;
     if mask == 0 || sh.screen_door && (x + cov.y) & 1 != 0 {
         return SpanCounts::default();
     }
@@ -104,8 +110,9 @@ fn pixel(
         },
     };
     let perspective = sh.mode != TextureMode::Affine;
-    t.store.draw(pixel, mask, sh.visibility, (centre, &depth), || {
-        shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective))
+    t.store.draw(pixel, mask, sh.visibility, (centre, &depth), || match fast {
+        Some((source, alpha)) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
+        None => shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective)),
     })
 }
 

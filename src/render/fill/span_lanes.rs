@@ -132,6 +132,29 @@ fn shade<const SRC: u8>(t: u32, (flat, [cr, cg, cb]): (u32, [u32; 3])) -> u32 {
     }
 }
 
+/// The colour the pixel loops below give a pixel whose depth, `1/w`, `s/w` and `t/w` are `a`, or `None`
+/// where the alpha mask drops it: the anti-aliased fill shades the pixels an edge crosses with it, so they
+/// match the inner runs these loops draw, bit for bit.
+#[inline]
+pub(crate) fn colour_at(source: Source<'_>, alpha: Option<(f32, f32)>, a: [f32; 4]) -> Option<u32> {
+    let (t, s, tint, tinted) = match source {
+        Source::Flat(c) => return Some(c),
+        Source::Texel(t, s) => (t, s, [0; 3], false),
+        Source::Tinted(t, s, tint) => (t, s, tint, true),
+    };
+    let (w, h) = (t.width() as f32, t.height() as f32);
+    let setup = Setup { d0: a[0], dd: 0.0, q0: a[1], dq: 0.0, s0: a[2], ds: 0.0, t0: a[3], dt: 0.0, w, h };
+    let (tx, ty) = setup.texel_xy(0.0);
+    let texel = t.texel(tx, ty, s);
+    if let Some((a, cutoff)) = alpha {
+        let ta = (texel >> 24) as f32 * (1.0 / 255.0) * a;
+        if ta.partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
+            return None;
+        }
+    }
+    Some(if tinted { shade::<TINTED>(texel, (0, tint)) } else { shade::<TEXEL>(texel, (0, tint)) })
+}
+
 /// Draws a run: the AVX2 chunk loop where the CPU has it, then (or else) one pixel at a time. The
 /// per-pixel loop is the reference the chunk loop must match bit for bit.
 #[inline(always)]
