@@ -89,10 +89,6 @@ fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &P
     }
     let a = planes.at(x, cov.y);
     let centre = a[slot::DEPTH];
-    let mut depth = [centre; MAX_SAMPLES];
-    for (d, o) in depth.iter_mut().zip(dz) {
-        *d += o;
-    }
     let px = &mut *t.pixels;
     let r = (cov.y as usize).wrapping_sub(px.y0);
     let index = r * px.width + x as usize;
@@ -110,7 +106,7 @@ fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &P
         },
     };
     let perspective = sh.mode != TextureMode::Affine;
-    t.store.draw(pixel, mask, sh.visibility, (centre, &depth), || match fast {
+    t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match fast {
         Some((source, alpha)) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
         None => shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective)),
     })

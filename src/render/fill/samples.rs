@@ -20,25 +20,22 @@
 use super::row::{SpanCounts, Visibility};
 use crate::render::core::samples::{MAX_SAMPLES, SamplePattern};
 
-/// An expanded pixel's samples.
-#[derive(Clone, Copy, Debug)]
-struct Expanded {
-    /// Colour per sample (depth test, overwrite).
-    color: [u32; MAX_SAMPLES],
-    /// Depth per sample (depth test).
-    depth: [f32; MAX_SAMPLES],
-    /// The samples drawn (coverage).
-    drawn: u16,
-    /// Sum of the drawn samples' channels, red, green, blue (coverage).
-    sum: [u32; 3],
-}
-
 /// A band's expanded pixels, kept per thread and reused band after band.
+///
+/// An expanded pixel `k` owns samples `k * count..(k + 1) * count` of `colors` and `depths`, and entry `k`
+/// of `drawn` and `sums`: only as many samples as the pattern has are stored and cleared.
 #[derive(Debug, Default)]
 pub(crate) struct SampleStore {
-    /// Per band pixel: 0 when simple, else 1 + its index in `pool`.
+    /// Per band pixel: 0 when simple, else 1 + its index among the expanded pixels.
     slot: Vec<u32>,
-    pool: Vec<Expanded>,
+    /// Colour per sample (depth test, overwrite).
+    colors: Vec<u32>,
+    /// Depth per sample (depth test).
+    depths: Vec<f32>,
+    /// The samples drawn (coverage).
+    drawn: Vec<u16>,
+    /// Sum of the drawn samples' channels, red, green, blue (coverage).
+    sums: Vec<[u32; 3]>,
     /// Per band row: how many of its pixels were ever expanded (0: nothing to fix up or resolve).
     row_expanded: Vec<u32>,
     count: usize,
@@ -62,7 +59,10 @@ impl SampleStore {
     pub(crate) fn begin(&mut self, pixels: usize, rows: usize, pattern: &SamplePattern) {
         self.slot.clear();
         self.slot.resize(pixels, 0);
-        self.pool.clear();
+        self.colors.clear();
+        self.depths.clear();
+        self.drawn.clear();
+        self.sums.clear();
         self.row_expanded.clear();
         self.row_expanded.resize(rows, 0);
         self.count = pattern.count.min(MAX_SAMPLES);
@@ -81,16 +81,16 @@ impl SampleStore {
         self.slot.get(index).is_some_and(|&s| s != 0)
     }
 
-    /// Draws one polygon's samples `mask` of a pixel under `vis`: `depth(j)` is the polygon's depth at
-    /// sample `j`, `centre` at the pixel's centre, and `shade()` its colour there (`None` where its alpha
-    /// cutoff drops it), called at most once.
+    /// Draws one polygon's samples `mask` of a pixel under `vis`: the polygon's depth is `centre` at the
+    /// pixel's centre and `centre + dz[j]` at sample `j`, and `shade()` gives its colour there (`None` where
+    /// its alpha cutoff drops it), called at most once.
     // long: the three visibility methods' cases of one pixel, simple or expanded, side by side
     pub(crate) fn draw(
         &mut self,
         px: Pixel<'_>,
         mask: u16,
         vis: Visibility,
-        (centre, depth): (f32, &[f32; MAX_SAMPLES]),
+        (centre, dz): (f32, &[f32; MAX_SAMPLES]),
         shade: impl FnOnce() -> Option<u32>,
     ) -> SpanCounts {
         let (n, full) = (self.count, self.full);
@@ -98,13 +98,20 @@ impl SampleStore {
         let drawn = SpanCounts { shaded: 1, written: 1, rejected: 0 };
         let dropped = SpanCounts { shaded: 1, ..SpanCounts::default() };
         let slot = self.slot.get(px.index).copied().unwrap_or(0);
-        let samples = |m: u16| (0..n).filter(move |j| m >> j & 1 == 1);
+        // The samples of `mask` whose depth is nearer than `old(j)`.
+        let nearer = |mask: u16, old: &dyn Fn(usize) -> f32| {
+            let mut pass = 0u16;
+            for (j, d) in dz.iter().enumerate().take(n) {
+                pass |= u16::from(mask >> j & 1 == 1 && centre + d > old(j)) << j;
+            }
+            pass
+        };
         if slot == 0 {
             // A simple pixel.
             let (pass, old_depth) = match (vis, &px.depth, &px.covered) {
                 (Visibility::DepthTest, Some(d), _) => {
                     let old = **d;
-                    (samples(mask).filter(|&j| depth[j] > old).fold(0u16, |m, j| m | 1 << j), old)
+                    (nearer(mask, &|_| old), old)
                 }
                 (Visibility::Coverage, _, Some((w, bit))) if **w & bit != 0 => (0, 0.0),
                 _ => (mask, 0.0),
@@ -123,21 +130,25 @@ impl SampleStore {
                 }
                 return drawn;
             }
-            let mut e =
-                Expanded { color: [*px.color; MAX_SAMPLES], depth: [old_depth; MAX_SAMPLES], drawn: 0, sum: [0; 3] };
-            for j in samples(pass) {
-                e.color[j] = c;
-                e.depth[j] = depth[j];
+            // Expand: every sample starts as the pixel was.
+            let k = self.drawn.len();
+            match vis {
+                Visibility::Coverage => {}
+                Visibility::DepthTest => {
+                    self.colors.extend(std::iter::repeat_n(*px.color, n));
+                    self.depths.extend(std::iter::repeat_n(old_depth, n));
+                }
+                Visibility::Overwrite => self.colors.extend(std::iter::repeat_n(*px.color, n)),
             }
-            e.drawn = pass;
-            add_to_sum(&mut e.sum, c, pass.count_ones());
-            self.pool.push(e);
+            self.drawn.push(0);
+            self.sums.push([0; 3]);
             if let Some(s) = self.slot.get_mut(px.index) {
-                *s = self.pool.len() as u32;
+                *s = k as u32 + 1;
             }
             if let Some(r) = self.row_expanded.get_mut(px.row) {
                 *r += 1;
             }
+            self.write(k, pass, c, (centre, dz), vis);
             // The marks the fast loops stop at.
             if let Some(d) = px.depth {
                 *d = f32::INFINITY;
@@ -147,29 +158,30 @@ impl SampleStore {
             }
             return drawn;
         }
-        let Some(e) = self.pool.get_mut(slot as usize - 1) else { return rejected };
+        let k = slot as usize - 1;
         let pass = match vis {
-            Visibility::DepthTest => samples(mask).filter(|&j| depth[j] > e.depth[j]).fold(0u16, |m, j| m | 1 << j),
-            Visibility::Coverage => mask & !e.drawn,
+            Visibility::DepthTest => {
+                let depths = self.depths.get(k * n..(k + 1) * n).unwrap_or_default();
+                nearer(mask, &|j| depths.get(j).copied().unwrap_or(f32::INFINITY))
+            }
+            Visibility::Coverage => mask & !self.drawn.get(k).copied().unwrap_or(full),
             Visibility::Overwrite => mask,
         };
         if pass == 0 {
             return rejected;
         }
         let Some(c) = shade() else { return dropped };
-        for j in samples(pass) {
-            e.color[j] = c;
-            e.depth[j] = depth[j];
-        }
-        e.drawn |= pass;
-        add_to_sum(&mut e.sum, c, pass.count_ones());
+        self.write(k, pass, c, (centre, dz), vis);
         let fold = match vis {
-            Visibility::Coverage => e.drawn == full,
+            Visibility::Coverage => self.drawn.get(k) == Some(&full),
             Visibility::DepthTest | Visibility::Overwrite => pass == full,
         };
         if fold {
             // One colour again (or, for coverage, every sample drawn): simple from now on.
-            *px.color = if vis == Visibility::Coverage { mean(e.sum, 0, n) } else { c };
+            *px.color = match (vis, self.sums.get(k)) {
+                (Visibility::Coverage, Some(&sum)) => mean(sum, n),
+                _ => c,
+            };
             if let Some(d) = px.depth {
                 *d = centre;
             }
@@ -178,6 +190,36 @@ impl SampleStore {
             }
         }
         drawn
+    }
+
+    /// Gives samples `pass` of expanded pixel `k` colour `c` (and their depths, or marks them drawn).
+    #[inline]
+    fn write(&mut self, k: usize, pass: u16, c: u32, (centre, dz): (f32, &[f32; MAX_SAMPLES]), vis: Visibility) {
+        let n = self.count;
+        match vis {
+            Visibility::Coverage => {
+                if let (Some(d), Some(sum)) = (self.drawn.get_mut(k), self.sums.get_mut(k)) {
+                    *d |= pass;
+                    add_to_sum(sum, c, pass.count_ones());
+                }
+            }
+            Visibility::DepthTest | Visibility::Overwrite => {
+                let colors = self.colors.get_mut(k * n..(k + 1) * n).unwrap_or_default();
+                for (j, s) in colors.iter_mut().enumerate() {
+                    if pass >> j & 1 == 1 {
+                        *s = c;
+                    }
+                }
+                if vis == Visibility::DepthTest {
+                    let depths = self.depths.get_mut(k * n..(k + 1) * n).unwrap_or_default();
+                    for (j, (s, d)) in depths.iter_mut().zip(dz).enumerate() {
+                        if pass >> j & 1 == 1 {
+                            *s = centre + d;
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Resolves every pixel still expanded in band row `row` (pixels `row * width..`) into `color`: the
@@ -196,19 +238,18 @@ impl SampleStore {
             if s == 0 {
                 continue;
             }
-            let Some(e) = self.pool.get(s as usize - 1) else { continue };
-            *c = if vis == Visibility::Coverage {
-                let rest = n as u32 - e.drawn.count_ones();
-                let mut sum = e.sum;
-                add_to_sum(&mut sum, *c, rest);
-                mean(sum, 0, n)
+            let k = s as usize - 1;
+            let mut sum = [0u32; 3];
+            if vis == Visibility::Coverage {
+                let (Some(&drawn), Some(&drawn_sum)) = (self.drawn.get(k), self.sums.get(k)) else { continue };
+                sum = drawn_sum;
+                add_to_sum(&mut sum, *c, n as u32 - drawn.count_ones());
             } else {
-                let mut sum = [0u32; 3];
-                for &s in &e.color[..n] {
+                for &s in self.colors.get(k * n..(k + 1) * n).unwrap_or_default() {
                     add_to_sum(&mut sum, s, 1);
                 }
-                mean(sum, 0, n)
-            };
+            }
+            *c = mean(sum, n);
         }
     }
 }
@@ -221,10 +262,10 @@ fn add_to_sum(sum: &mut [u32; 3], c: u32, weight: u32) {
     sum[2] += (c & 0xff) * weight;
 }
 
-/// The packed colour of channel sums over `n` samples (plus `extra` in each), rounded to nearest.
+/// The packed colour of channel sums over `n` samples, rounded to nearest.
 #[inline]
-fn mean(sum: [u32; 3], extra: u32, n: usize) -> u32 {
+fn mean(sum: [u32; 3], n: usize) -> u32 {
     let n = n.max(1) as u32;
-    let ch = |s: u32| ((s + extra + n / 2) / n).min(255);
+    let ch = |s: u32| ((s + n / 2) / n).min(255);
     (ch(sum[0]) << 16) | (ch(sum[1]) << 8) | ch(sum[2])
 }
