@@ -11,7 +11,8 @@ use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
 use crate::render::core::band::Band;
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
-use crate::render::core::options::RenderOptions;
+use crate::render::core::mip::TexGradients;
+use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
 use crate::render::core::small::{SmallTriangle, TexPlanes};
 use crate::render::simd::{self, Avx2};
@@ -94,6 +95,31 @@ impl FillContext<'_> {
         SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
     }
 
+    /// How polygon `p`'s pixels are shaded.
+    fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
+        let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
+        let measured = matches!(self.options.mip, MipMode::Span | MipMode::Pixel);
+        // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
+        // band that draws it).
+        let gradients = match self.screens.of(p) {
+            Some(v) if measured && texture.is_some() => TexGradients::of(v),
+            _ => TexGradients::default(),
+        };
+        Shading {
+            texture,
+            sampler: p.sampler,
+            filter: self.options.filter,
+            mip: self.options.mip,
+            lod: p.lod(),
+            gradients,
+            mode: self.options.texture_mode,
+            alpha_cutoff: p.alpha_cutoff(),
+            constant_color: p.constant_color(),
+            visibility: self.visibility,
+            screen_door: p.screen_door(),
+        }
+    }
+
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color } = band;
         let (w, words) = (self.width, self.words);
@@ -135,16 +161,7 @@ impl FillContext<'_> {
         }
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
-            let shading = Shading {
-                texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
-                sampler: p.sampler,
-                filter: self.options.filter,
-                mode: self.options.texture_mode,
-                alpha_cutoff: p.alpha_cutoff(),
-                constant_color: p.constant_color(),
-                visibility: self.visibility,
-                screen_door: p.screen_door(),
-            };
+            let shading = self.shading(p);
             let prepared = shading.prepare();
             if let Some(tri) = self.screens.small(p) {
                 // Set up only for polygons with a fast path (`FastPathRule`, which a test holds to `prepare`).
