@@ -175,3 +175,60 @@ fn mip_maps_take_the_high_frequencies_out_of_the_distance_and_keep_the_foregroun
         assert!(n > 0.5 * near_off, "{mip} {filter:?}: the foreground keeps its checks ({n:.1} against {near_off:.1})");
     }
 }
+
+#[test]
+fn render_and_replay_take_the_filter_and_the_mip_choice() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("mipmaps");
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let run = |args: &[&str]| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
+        c.args(args).current_dir(root).env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY");
+        let o = run_bounded(&mut c, 60, &args.join(" "));
+        assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        o
+    };
+    let scene = "tests/scenes/courtyard.gltf";
+    let mut frames = vec![];
+    for (filter, mip) in [("nearest", "off"), ("trilinear", "pixel"), ("nearest", "polygon")] {
+        let out = dir.join(format!("courtyard-{filter}-{mip}.png"));
+        let o = run(&[
+            "render",
+            scene,
+            "--filter",
+            filter,
+            "--mip",
+            mip,
+            "--stats",
+            "json",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!((v["filter"].as_str(), v["mip"].as_str()), (Some(filter), Some(mip)));
+        frames.push(read_png(&out).unwrap().0);
+    }
+    assert!(frames[0] != frames[1], "trilinear per pixel draws another frame");
+    // A headless replay's frames: with mip-maps the distance differs.
+    let mut replays = vec![];
+    for mip in ["off", "pixel"] {
+        let d = dir.join(format!("replay-{mip}"));
+        let trace = "assets/replays/demo-race.trace";
+        let d_str = d.to_str().unwrap();
+        run(&[
+            "replay",
+            trace,
+            "--headless",
+            "--frames",
+            d_str,
+            "--every",
+            "3000",
+            "--filter",
+            "trilinear",
+            "--mip",
+            mip,
+        ]);
+        replays.push(read_png(&d.join("frame_003000.png")).unwrap().0);
+    }
+    assert!(replays[0] != replays[1], "the replay's frames take --mip");
+}
