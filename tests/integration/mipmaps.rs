@@ -127,6 +127,38 @@ fn frames_with_mip_maps_are_bit_identical_for_every_thread_count() {
     }
 }
 
+#[test]
+fn a_textured_model_with_small_triangles_is_drawn_alike_by_every_thread_count_under_every_mip_choice() {
+    let scene = scanline_racer::asset::load(&samples().join("Duck/Duck.gltf")).unwrap();
+    let (w, h) = (203usize, 157usize);
+    // Far enough for the duck's triangles to be small and its texture minified.
+    let camera = scene.framing_camera(w as f32 / h as f32);
+    let mut nearest = vec![];
+    for mip in MipMode::ALL {
+        for filter in [Filter::Nearest, Filter::Trilinear] {
+            let mut first: Option<Vec<u32>> = None;
+            for threads in [1usize, 2, 3] {
+                let o = RenderOptions { filter, mip, threads, ..RenderOptions::default() };
+                let mut frame = vec![0u32; w * h];
+                scanline_racer::render::Renderer::new()
+                    .render(&mut frame, w, h, &camera, &scene.draw_list(), &o)
+                    .unwrap();
+                match &first {
+                    None => first = Some(frame),
+                    Some(f) => assert!(*f == frame, "{mip} {filter:?}: {threads} threads differ from 1"),
+                }
+            }
+            if filter == Filter::Nearest {
+                nearest.extend(first);
+            }
+        }
+    }
+    // The duck's texture is minified: every choice takes other levels than off does.
+    for (k, frame) in nearest.iter().enumerate().skip(1) {
+        assert!(*frame != nearest[0], "{} draws as off", MipMode::ALL[k]);
+    }
+}
+
 /// The mean absolute difference of each pixel's grey level from its right and lower neighbours over rows
 /// `rows`: the frame's high-frequency energy there.
 fn energy(frame: &[u32], rows: std::ops::Range<usize>) -> f64 {

@@ -95,8 +95,10 @@ impl FillContext<'_> {
         SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
     }
 
-    /// How polygon `p`'s pixels are shaded.
-    fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
+    /// How polygon `p`'s pixels are shaded: its paint, the frame's filter, mip choice and visibility, the
+    /// polygon's level of detail or planes for the mip choice (every fill that shades a pixel by
+    /// [`shade_surface`](super::span::shade_surface) takes its [`Shading`] from here).
+    pub(crate) fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
         let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
         let measured = matches!(self.options.mip, MipMode::Span | MipMode::Pixel);
         // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
