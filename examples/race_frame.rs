@@ -1,8 +1,10 @@
 //! Times a frame of the demo race as the game draws it (every object of the scene, most of them culled) as
 //! the best of several rounds, for quick A/B comparisons of two builds on a noisy machine:
 //! `cargo run --release --example race_frame -- [zbuffer|bucket-far|bucket-near] [threads] [rounds] [tick]
-//! [width] [height] [aa]` (defaults: zbuffer, 2 threads, 5 rounds, tick 3000, 1280x720, the default
-//! anti-aliasing; `aa` is a `--aa` name: off, 4x, 8x, 16x, ssaa).
+//! [width] [height] [filter] [mip] [aa]` (defaults: zbuffer, 2 threads, 5 rounds, tick 3000, 1280x720,
+//! nearest, off, off; `aa` is a `--aa` name: off, 4x, 8x, 16x, ssaa). With `mips` for the filter it times
+//! every filter and mip choice of the chart, a round of each in turn (so a busy machine slows them alike),
+//! and prints each one's ratio to the default (nearest, off).
 //!
 //! Unlike `render` on an exported frame, this keeps the instances the frame culls, as the window does.
 
@@ -11,7 +13,7 @@
 mod timing;
 
 use scanline_racer::input::replay::Replay;
-use scanline_racer::render::{Method, RenderOptions, Renderer};
+use scanline_racer::render::{Antialias, Filter, Method, MipMode, RenderOptions, Renderer};
 use scanline_racer::shell::race_scene::{FIELD, RaceScene, View, camera_for};
 
 fn main() {
@@ -33,17 +35,53 @@ fn main() {
     let list = scene.draw_list(&instances);
     let mut frame = vec![0u32; w * h];
     let mut r = Renderer::new();
-    let mut o = RenderOptions { method, threads, ..RenderOptions::default() };
-    if let Some(aa) = args.get(6) {
-        o.antialias = aa.parse().unwrap();
+    if args.get(6).map(String::as_str) == Some("mips") {
+        sweep(
+            &mut r,
+            (&mut frame, w, h),
+            &camera,
+            &list,
+            RenderOptions { method, threads, ..Default::default() },
+            rounds,
+        );
+        return;
     }
+    let filter: Filter = args.get(6).map_or(Ok(Filter::Nearest), |a| a.parse()).unwrap();
+    let mip: MipMode = args.get(7).map_or(Ok(MipMode::Off), |a| a.parse()).unwrap();
+    let antialias: Antialias = args.get(8).map_or(Ok(Antialias::Off), |a| a.parse()).unwrap();
+    let o = RenderOptions { method, threads, filter, mip, antialias, ..RenderOptions::default() };
     let timing::Timing { best, stages } =
         timing::best_of(rounds, || r.render(&mut frame, w, h, &camera, &list, &o).unwrap());
     let hash = timing::frame_hash(&frame);
     let [tr, cl, or, fi] = stages;
     println!(
-        "{} aa {} {threads}t tick {tick} {w}x{h}: {best:.3} ms (best stages: transform {tr:.3}, clip {cl:.3}, order {or:.3}, fill {fi:.3} ms), frame {hash:016x}",
+        "{} {threads}t tick {tick} {w}x{h} {} mip {mip} aa {}: {best:.3} ms (best stages: transform {tr:.3}, clip {cl:.3}, order {or:.3}, fill {fi:.3} ms), frame {hash:016x}",
         method.name(),
+        filter.name(),
         o.antialias
     );
+}
+
+/// Times every filter and mip choice, a round of 40 frames of each in turn, and prints each one's best
+/// against the default's.
+fn sweep(
+    r: &mut Renderer,
+    (frame, w, h): (&mut [u32], usize, usize),
+    camera: &scanline_racer::render::Camera,
+    list: &scanline_racer::render::DrawList<'_>,
+    base: RenderOptions,
+    rounds: usize,
+) {
+    let configs: Vec<(Filter, MipMode)> =
+        Filter::ALL.into_iter().flat_map(|f| MipMode::ALL.into_iter().map(move |m| (f, m))).collect();
+    let mut best = vec![f64::INFINITY; configs.len()];
+    for _ in 0..rounds {
+        for (b, &(filter, mip)) in best.iter_mut().zip(&configs) {
+            let o = RenderOptions { filter, mip, ..base };
+            *b = b.min(timing::best_of(1, || r.render(frame, w, h, camera, list, &o).unwrap()).best);
+        }
+    }
+    for (b, (filter, mip)) in best.iter().zip(&configs) {
+        println!("{:9} mip {:7}: {b:8.3} ms, {:.2}x nearest/off", filter.name(), mip.name(), b / best[0]);
+    }
 }

@@ -157,6 +157,7 @@ fn filter_name(f: Filter) -> &'static str {
     match f {
         Filter::Nearest => "nearest",
         Filter::Bilinear => "bilinear",
+        Filter::Trilinear => "trilinear",
     }
 }
 

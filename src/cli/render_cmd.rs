@@ -10,8 +10,8 @@ use super::values;
 use crate::asset::{LoadedScene, load};
 use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
-    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, RenderOptions, Renderer, Stats,
-    TextureMode,
+    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, MipMode, RenderOptions, Renderer,
+    Stats, TextureMode,
 };
 
 /// Texture interpolation names on the command line.
@@ -23,15 +23,6 @@ pub enum TextureArg {
     Subdivided,
     /// Linear in screen space.
     Affine,
-}
-
-/// Filter names on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FilterArg {
-    /// Nearest texel.
-    Nearest,
-    /// Bilinear.
-    Bilinear,
 }
 
 /// Bucket mapping names on the command line.
@@ -73,9 +64,14 @@ pub struct RenderArgs {
     /// Texture-coordinate interpolation.
     #[arg(long, value_enum, default_value_t = TextureArg::Perspective)]
     pub texture: TextureArg,
-    /// Texture filtering.
-    #[arg(long, value_enum, default_value_t = FilterArg::Nearest)]
-    pub filter: FilterArg,
+    /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
+    /// detail, blended; bilinear with --mip off).
+    #[arg(long, default_value = "nearest")]
+    pub filter: Filter,
+    /// Where mip levels are chosen: off (level 0 only), polygon (once per polygon), span (at each span's
+    /// middle pixel) or pixel (at every pixel).
+    #[arg(long, default_value = "off")]
+    pub mip: MipMode,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
     #[arg(long, default_value = "off")]
     pub aa: Antialias,
@@ -127,10 +123,8 @@ impl RenderArgs {
                 TextureArg::Subdivided => TextureMode::Subdivided,
                 TextureArg::Affine => TextureMode::Affine,
             },
-            filter: match self.filter {
-                FilterArg::Nearest => Filter::Nearest,
-                FilterArg::Bilinear => Filter::Bilinear,
-            },
+            filter: self.filter,
+            mip: self.mip,
             threads: self.threads,
             background: Some(self.background),
             lod: self.lod,
@@ -259,7 +253,8 @@ fn stats_json(
         "buckets": options.buckets,
         "key": format!("{:?}", options.key).to_lowercase(),
         "texture": format!("{:?}", options.texture_mode).to_lowercase(),
-        "filter": format!("{:?}", options.filter).to_lowercase(),
+        "filter": options.filter.name(),
+        "mip": options.mip.name(),
         "threads": threads,
         "lod": match options.lod {
             LodMode::Auto => "auto",

@@ -9,7 +9,7 @@ use super::error::CliError;
 use super::values;
 use crate::audio::{CHANNELS, Mixer, wav};
 use crate::input::replay::Replay;
-use crate::render::{Antialias, LodMode, Method, RenderOptions, Renderer};
+use crate::render::{Antialias, Filter, LodMode, Method, MipMode, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View};
@@ -49,6 +49,13 @@ pub struct ReplayArgs {
     /// Level of detail: auto, or close, mid or long for every car and tree.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
+    /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
+    /// detail, blended; bilinear with --mip off).
+    #[arg(long, default_value = "nearest")]
+    pub filter: Filter,
+    /// Where mip levels are chosen: off (level 0 only), polygon, span or pixel.
+    #[arg(long, default_value = "off")]
+    pub mip: MipMode,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
     #[arg(long, default_value = "off")]
     pub aa: Antialias,
@@ -58,6 +65,22 @@ pub struct ReplayArgs {
     /// In the window: draw no menus or HUD over the race.
     #[arg(long)]
     pub no_hud: bool,
+}
+
+impl ReplayArgs {
+    /// The renderer options these arguments ask for.
+    #[must_use]
+    pub fn options(&self) -> RenderOptions {
+        RenderOptions {
+            method: self.method,
+            threads: self.threads,
+            lod: self.lod,
+            filter: self.filter,
+            mip: self.mip,
+            antialias: self.aa,
+            ..RenderOptions::default()
+        }
+    }
 }
 
 /// What a headless replay did.
@@ -85,13 +108,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     let scene = RaceScene::load(&dir)?;
     let mut sound = args.audio.as_ref().map(|_| Soundtrack::new());
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
-    let options = RenderOptions {
-        method: args.method,
-        threads: args.threads,
-        lod: args.lod,
-        antialias: args.aa,
-        ..RenderOptions::default()
-    };
+    let options = args.options();
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
     let mut frames = 0;
@@ -187,13 +204,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         return Ok(());
     }
     let dir = super::error::assets_dir()?;
-    let options = RenderOptions {
-        method: args.method,
-        threads: args.threads,
-        lod: args.lod,
-        antialias: args.aa,
-        ..RenderOptions::default()
-    };
+    let options = args.options();
     // The settings file's sound levels, mute and keys apply to a replay too (the window keeps its scale).
     let (file, settings, note) = match settings::default_path().as_deref().map(SettingsFile::load) {
         Some((file, settings, note)) => (Some(file), settings, note),

@@ -29,6 +29,7 @@ mod gltf_fuzz;
 mod golden;
 mod hostile_files;
 mod hostile_gltf;
+mod mipmaps;
 mod pipeline;
 mod portable_maths;
 mod reference;

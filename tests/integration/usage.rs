@@ -36,6 +36,10 @@ fn out_of_range_values_are_usage_errors_in_every_command() {
         (&["render", scene, "--background", "256,0,0"], "--background"),
         (&["render", scene, "--background", "1,2"], "--background"),
         (&["render", scene, "--lod-bias", "NaN"], "--lod-bias"),
+        (&["render", scene, "--filter", "anisotropic"], "--filter"),
+        (&["render", scene, "--mip", "vertex"], "--mip"),
+        (&["replay", trace, "--headless", "--filter", "linear"], "--filter"),
+        (&["replay", trace, "--headless", "--mip", "on"], "--mip"),
         (&["play", "--width", "0"], "--width"),
         (&["play", "--height", "20000"], "--height"),
         (&["play", "--laps", "0"], "--laps"),
@@ -62,6 +66,10 @@ fn out_of_range_values_are_usage_errors_in_every_command() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
     assert!(!Path::new(env!("CARGO_MANIFEST_DIR")).join("x.glb").exists(), "nothing was written");
+    // A name that is not a value is named with the values it may be (the renderer's `UnknownName`).
+    let o = run(&["render", scene, "--mip", "vertex"], 20);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("unknown mip level choice 'vertex' (expected off, polygon, span or pixel)"), "{err}");
 }
 
 #[test]

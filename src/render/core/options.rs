@@ -53,7 +53,7 @@ impl fmt::Display for Method {
 #[derive(Clone, Debug, Error, PartialEq, Eq)]
 #[error("unknown {setting} '{given}' (expected {expected})")]
 pub struct UnknownName {
-    /// Which setting: "method", "key", "level of detail".
+    /// Which setting: "method", "key", "level of detail", "filter", "mip level choice".
     pub setting: &'static str,
     /// The name given.
     pub given: String,
@@ -74,6 +74,65 @@ impl FromStr for Method {
             .into_iter()
             .find(|m| m.name() == s)
             .ok_or_else(|| UnknownName::new("method", s, "zbuffer, sort, bucket-far, bucket-near or view-lists"))
+    }
+}
+
+impl FromStr for Filter {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Filter::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| UnknownName::new("filter", s, "nearest, bilinear or trilinear"))
+    }
+}
+
+/// Where a textured pixel's mip level ([`mip`](super::mip)) is chosen: each a point of the speed against
+/// accuracy chart, from no mip-maps (the default: today's frames, and the fast paths) to OpenGL's level of
+/// detail at every pixel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MipMode {
+    /// Level 0 everywhere (far surfaces alias).
+    #[default]
+    Off,
+    /// Once per polygon at set-up, from its area in texels over its area in pixels (as Quake chose a
+    /// surface's level); the nearest filter keeps the fast paths, handed that level's texture.
+    Polygon,
+    /// Once per span, from the texel footprint at its middle pixel.
+    Span,
+    /// At every pixel, from its texel footprint (`λ` of OpenGL).
+    Pixel,
+}
+
+impl MipMode {
+    /// Every mode, in the order the command line lists them.
+    pub const ALL: [MipMode; 4] = [MipMode::Off, MipMode::Polygon, MipMode::Span, MipMode::Pixel];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            MipMode::Off => "off",
+            MipMode::Polygon => "polygon",
+            MipMode::Span => "span",
+            MipMode::Pixel => "pixel",
+        }
+    }
+}
+
+impl fmt::Display for MipMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for MipMode {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        MipMode::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownName::new("mip level choice", s, "off, polygon, span or pixel"))
     }
 }
 
@@ -121,6 +180,8 @@ pub struct RenderOptions {
     pub texture_mode: TextureMode,
     /// Texture filtering.
     pub filter: Filter,
+    /// Where mip levels are chosen (off: level 0 only).
+    pub mip: MipMode,
     /// Worker threads for the fill (0 = the cores available). Frames are identical for every count.
     pub threads: usize,
     /// Colour the frame is cleared to first, `0x00RRGGBB`; `None` draws over what is there.
@@ -142,6 +203,7 @@ impl Default for RenderOptions {
             mapping: BucketMapping::default(),
             texture_mode: TextureMode::default(),
             filter: Filter::default(),
+            mip: MipMode::default(),
             threads: 0,
             background: Some(SKY_BLUE),
             lod: LodMode::Auto,

@@ -3,7 +3,8 @@
 
 use glam::Vec4;
 
-use super::options::TextureMode;
+use super::options::{MipMode, TextureMode};
+use crate::render::core::mip::LOD_STEPS;
 use crate::render::core::texture::{Filter, Sampler};
 
 /// A polygon (or a piece of one) ready for the fill stage.
@@ -34,6 +35,9 @@ pub(crate) struct DrawPolygon {
     pub(crate) sampler: Sampler,
     /// [`HAS_TEXTURE`], [`HAS_CUTOFF`], [`HAS_COLOR`], [`SCREEN_DOOR`], [`SMALL`].
     flags: u8,
+    /// Its texture's level of detail `λ` in steps of 1/[`LOD_STEPS`] when mip levels are chosen per polygon
+    /// (0 otherwise): the record's last free byte, so a polygon still takes 48.
+    lod: u8,
 }
 
 const _: () = assert!(size_of::<DrawPolygon>() == 48);
@@ -58,6 +62,8 @@ pub(crate) struct PolygonPaint {
     pub(crate) alpha_cutoff: Option<f32>,
     pub(crate) constant_color: Option<[f32; 4]>,
     pub(crate) screen_door: bool,
+    /// The polygon's `λ` in steps of 1/[`LOD_STEPS`] (mip levels chosen per polygon; else 0).
+    pub(crate) lod: u8,
 }
 
 impl DrawPolygon {
@@ -81,6 +87,7 @@ impl DrawPolygon {
             color: paint.constant_color.unwrap_or([0.0; 4]),
             sampler: paint.sampler,
             flags,
+            lod: paint.lod,
         }
     }
 
@@ -108,6 +115,12 @@ impl DrawPolygon {
         if self.flags & (HAS_TEXTURE | HAS_COLOR) == HAS_COLOR { self.texture } else { 0 }
     }
 
+    /// Its level of detail `λ` as chosen at set-up (mip levels per polygon; else 0).
+    #[inline(always)]
+    pub(crate) fn lod(&self) -> f32 {
+        f32::from(self.lod) / LOD_STEPS
+    }
+
     /// Whether it is drawn with the screen door.
     #[inline(always)]
     pub(crate) fn screen_door(&self) -> bool {
@@ -120,11 +133,12 @@ impl DrawPolygon {
         self.flags & SMALL != 0
     }
 
-    /// Whether `other` is painted the same (texture, sampler, cutoff and colour; not the screen door).
+    /// Whether `other` is painted the same (texture and its level of detail, sampler, cutoff and colour; not
+    /// the screen door).
     #[inline(always)]
     pub(crate) fn paints_like(&self, other: &Self) -> bool {
-        (self.texture(), self.sampler, self.alpha_cutoff(), self.constant_color())
-            == (other.texture(), other.sampler, other.alpha_cutoff(), other.constant_color())
+        (self.texture(), self.lod, self.sampler, self.alpha_cutoff(), self.constant_color())
+            == (other.texture(), other.lod, other.sampler, other.alpha_cutoff(), other.constant_color())
     }
 }
 
@@ -154,6 +168,8 @@ pub(crate) struct FastPathRule {
     pub(crate) filter: Filter,
     /// The texture mode of the frame.
     pub(crate) mode: TextureMode,
+    /// Where mip levels are chosen: the fast paths take one texture per polygon, so only off or per polygon.
+    pub(crate) mip: MipMode,
 }
 
 impl FastPathRule {
@@ -162,7 +178,8 @@ impl FastPathRule {
     /// preparation picks its path by it, and set-up by it sets small triangles up for the fast fill.
     #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective;
+        let one_level = matches!(self.mip, MipMode::Off | MipMode::Polygon);
+        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && one_level;
         !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
     }
 }

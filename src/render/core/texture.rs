@@ -1,10 +1,13 @@
-//! Textures and their sampling: wrap modes, nearest and bilinear filtering, any size.
+//! Textures and their sampling: wrap modes, nearest, bilinear and trilinear filtering, any size, each
+//! texture with its chain of mip levels (made as [`mip`](super::mip) says).
 //!
 //! Texels are stored as packed `0xAARRGGBB` and used exactly as stored (no colour-space conversion), as the
 //! `render` command promises. Texture coordinates follow glTF: `(0, 0)` is the top-left corner of the image,
 //! `u` grows to the right and `v` downwards, and texel `i` spans `[i, i + 1) / size`.
 
 use thiserror::Error;
+
+use super::mip;
 
 /// How texture coordinates outside `[0, 1)` are folded back in (glTF sampler `wrapS` / `wrapT`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -26,6 +29,24 @@ pub enum Filter {
     Nearest,
     /// Weighted mean of the four nearest texel centres.
     Bilinear,
+    /// Bilinear in the two mip levels around the level of detail, blended by its fraction (bilinear in
+    /// level 0 when mip-maps are off).
+    Trilinear,
+}
+
+impl Filter {
+    /// Every filter, in the order the command line lists them.
+    pub const ALL: [Filter; 3] = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+            Filter::Trilinear => "trilinear",
+        }
+    }
 }
 
 /// The wrap modes of one texture reference.
@@ -62,12 +83,17 @@ pub enum TextureError {
     },
 }
 
-/// An image the renderer samples from.
+/// An image the renderer samples from, with its mip chain.
+///
+/// The chain is made when the texture is (a third as many texels again, one pass per level), so that no
+/// frame waits for it and every frame reads the same levels; [`Texture::patch`] keeps it up to date.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Texture {
     width: u32,
     height: u32,
     texels: Vec<u32>,
+    /// Levels 1, 2, ... down to 1x1, each with no chain of its own (empty for a 1x1 texture).
+    levels: Vec<Texture>,
 }
 
 impl Texture {
@@ -80,7 +106,32 @@ impl Texture {
         if texels.len() != expected {
             return Err(TextureError::WrongLength { width, height, expected, actual: texels.len() });
         }
-        Ok(Self { width, height, texels })
+        let mut levels = Vec::new();
+        let (mut w, mut h) = (width, height);
+        while w > 1 || h > 1 {
+            let src = levels.last().map_or(&texels, |l: &Texture| &l.texels);
+            let (nw, nh, next) = mip::reduce(src, (w, h));
+            levels.push(Self { width: nw, height: nh, texels: next, levels: Vec::new() });
+            (w, h) = (nw, nh);
+        }
+        Ok(Self { width, height, texels, levels })
+    }
+
+    /// Mip level `k` (0 is the texture itself; past the last, the last, 1x1).
+    #[inline]
+    #[must_use]
+    pub fn level(&self, k: usize) -> &Texture {
+        match k.checked_sub(1) {
+            None => self,
+            Some(i) => self.levels.get(i).or(self.levels.last()).unwrap_or(self),
+        }
+    }
+
+    /// The index of the last (1x1) mip level.
+    #[inline]
+    #[must_use]
+    pub fn last_level(&self) -> usize {
+        self.levels.len()
     }
 
     /// Makes a texture from 8-bit RGBA bytes in rows from the top.
@@ -107,7 +158,8 @@ impl Texture {
         &self.texels
     }
 
-    /// Overwrites a `w` x `h` block of texels at `(x, y)` (a partial update); `false` if it does not fit.
+    /// Overwrites a `w` x `h` block of texels at `(x, y)` (a partial update) and remakes the texels of the
+    /// mip levels it reaches; `false` if it does not fit.
     pub fn patch(&mut self, x: u32, y: u32, w: u32, h: u32, texels: &[u32]) -> bool {
         let fits = x.checked_add(w).is_some_and(|r| r <= self.width)
             && y.checked_add(h).is_some_and(|b| b <= self.height)
@@ -118,6 +170,15 @@ impl Texture {
         for row in 0..h as usize {
             let dst = (y as usize + row) * self.width as usize + x as usize;
             self.texels[dst..dst + w as usize].copy_from_slice(&texels[row * w as usize..(row + 1) * w as usize]);
+        }
+        // Each level's changed rectangle gives the next level's: the blocks meeting it.
+        let mut rect = (x, y, x + w, y + h);
+        for k in 0..self.levels.len() {
+            let (done, rest) = self.levels.split_at_mut(k);
+            let above = done.last().map_or((&self.texels, self.width, self.height), |l| (&l.texels, l.width, l.height));
+            if let Some(level) = rest.first_mut() {
+                rect = mip::refresh(above.0, (above.1, above.2), &mut level.texels, rect);
+            }
         }
         true
     }
@@ -162,6 +223,35 @@ impl Texture {
             out[c] = top + (bottom - top) * ay;
         }
         out
+    }
+
+    /// A sample at `(u, v)` by `filter` at level of detail `lod` (`λ`, see [`mip`]) as RGBA in `0..=1`:
+    /// nearest or bilinear in the level nearest `λ`, trilinear between the two around it. At `λ <= 0`
+    /// (magnification, or mip-maps off) every filter samples level 0 exactly as without mip-maps.
+    #[inline]
+    #[must_use]
+    pub fn sample(&self, filter: Filter, lod: f32, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
+        let last = self.last_level();
+        match filter {
+            Filter::Nearest => self.level(mip::nearest_level(lod, last)).sample_nearest(u, v, sampler),
+            Filter::Bilinear => self.level(mip::nearest_level(lod, last)).sample_bilinear(u, v, sampler),
+            Filter::Trilinear => {
+                // `as usize` saturates and sends NaN and negatives to level 0.
+                let k = lod as usize;
+                let f = lod - k as f32;
+                let fine = self.level(k).sample_bilinear(u, v, sampler);
+                // At a whole level (or beyond the last, or magnified) the finer level alone, bit for bit.
+                if k >= last || f.is_nan() || f <= 0.0 {
+                    return fine;
+                }
+                let coarse = self.level(k + 1).sample_bilinear(u, v, sampler);
+                let mut out = [0.0; 4];
+                for c in 0..4 {
+                    out[c] = fine[c] + (coarse[c] - fine[c]) * f;
+                }
+                out
+            }
+        }
     }
 }
 
@@ -262,5 +352,55 @@ mod tests {
         assert_eq!(b, unpack(0xff00_0000));
         assert!(Texture::new(0, 4, vec![]).is_err());
         assert!(Texture::new(2, 2, vec![0; 3]).is_err());
+    }
+
+    fn noise_texture(w: u32, h: u32, mut seed: u32) -> Texture {
+        let texels = (0..w * h)
+            .map(|_| {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                seed
+            })
+            .collect();
+        Texture::new(w, h, texels).unwrap()
+    }
+
+    #[test]
+    fn every_texture_has_its_chain_down_to_one_texel_and_patches_keep_it() {
+        let mut t = noise_texture(12, 5, 7);
+        let sizes: Vec<_> = (0..=t.last_level()).map(|k| (t.level(k).width(), t.level(k).height())).collect();
+        assert_eq!(sizes, [(12, 5), (6, 2), (3, 1), (1, 1)]);
+        for k in 0..t.last_level() {
+            let (a, b) = (t.level(k), t.level(k + 1));
+            assert_eq!(mip::reduce(a.texels(), (a.width(), a.height())).2, b.texels(), "level {}", k + 1);
+        }
+        assert_eq!(t.level(99), t.level(3));
+        assert!(t.patch(10, 3, 2, 2, &[0xffff_ffff; 4]));
+        let fresh = Texture::new(12, 5, t.texels().to_vec()).unwrap();
+        assert_eq!(t, fresh, "a patched chain equals the chain made afresh");
+        assert_eq!(Texture::new(1, 1, vec![5]).unwrap().last_level(), 0);
+    }
+
+    #[test]
+    fn trilinear_at_a_whole_level_is_bilinear_there_and_halfway_blends_half() {
+        let t = noise_texture(16, 16, 3);
+        let s = Sampler::default();
+        for (u, v) in [(0.3, 0.7), (0.01, 0.99), (0.5, 0.5), (0.123, 0.456)] {
+            for k in 0..=t.last_level() {
+                let b = t.level(k).sample_bilinear(u, v, s);
+                assert_eq!(t.sample(Filter::Trilinear, k as f32, u, v, s), b, "level {k}");
+                assert_eq!(t.sample(Filter::Bilinear, k as f32, u, v, s), b, "level {k}");
+            }
+            // Magnified or mip-maps off (λ = 0): exactly bilinear and nearest in level 0.
+            assert_eq!(t.sample(Filter::Trilinear, -3.0, u, v, s), t.sample_bilinear(u, v, s));
+            assert_eq!(t.sample(Filter::Nearest, 0.0, u, v, s), t.sample_nearest(u, v, s));
+            let (a, b) = (t.level(1).sample_bilinear(u, v, s), t.level(2).sample_bilinear(u, v, s));
+            let half = t.sample(Filter::Trilinear, 1.5, u, v, s);
+            for c in 0..4 {
+                assert!((half[c] - (a[c] + b[c]) / 2.0).abs() < 1e-6, "channel {c}: {half:?} {a:?} {b:?}");
+            }
+            // Nearest and bilinear take the level nearest λ.
+            assert_eq!(t.sample(Filter::Nearest, 1.6, u, v, s), t.level(2).sample_nearest(u, v, s));
+            assert_eq!(t.sample(Filter::Bilinear, 1.4, u, v, s), t.level(1).sample_bilinear(u, v, s));
+        }
     }
 }

@@ -108,7 +108,10 @@ fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &P
     let perspective = sh.mode != TextureMode::Affine;
     t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match fast {
         Some((source, alpha)) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
-        None => shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective)),
+        None => {
+            let lod = sh.lod_at([a[slot::Q], a[slot::S], a[slot::T]]);
+            shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), lod)
+        }
     })
 }
 

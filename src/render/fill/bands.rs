@@ -13,7 +13,8 @@ use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
 use crate::render::core::band::Band;
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
-use crate::render::core::options::RenderOptions;
+use crate::render::core::mip::TexGradients;
+use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
 use crate::render::core::samples::SamplePattern;
 use crate::render::core::small::{SmallTriangle, TexPlanes};
@@ -95,24 +96,36 @@ pub(crate) struct FillContext<'a> {
 }
 
 impl FillContext<'_> {
-    /// How polygon `p` is shaded in this frame.
-    #[inline(always)]
-    fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
+    /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
+    pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
+        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
+    }
+
+    /// How polygon `p`'s pixels are shaded: its paint, the frame's filter, mip choice and visibility, the
+    /// polygon's level of detail or planes for the mip choice (every fill that shades a pixel by
+    /// [`shade_surface`](super::span::shade_surface) takes its [`Shading`] from here).
+    pub(crate) fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
+        let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
+        let measured = matches!(self.options.mip, MipMode::Span | MipMode::Pixel);
+        // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
+        // band that draws it).
+        let gradients = match self.screens.of(p) {
+            Some(v) if measured && texture.is_some() => TexGradients::of(v),
+            _ => TexGradients::default(),
+        };
         Shading {
-            texture: p.texture().and_then(|t| self.list.textures.get(t as usize)),
+            texture,
             sampler: p.sampler,
             filter: self.options.filter,
+            mip: self.options.mip,
+            lod: p.lod(),
+            gradients,
             mode: self.options.texture_mode,
             alpha_cutoff: p.alpha_cutoff(),
             constant_color: p.constant_color(),
             visibility: self.visibility,
             screen_door: p.screen_door(),
         }
-    }
-
-    /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
-    pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
-        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
     }
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {

@@ -6,7 +6,8 @@
 use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
 use super::span_lanes::{self, Source};
-use crate::render::core::options::{SUBDIVISION, TextureMode};
+use crate::render::core::mip::{TexGradients, nearest_level};
+use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};
 use crate::render::core::texture::{Filter, Sampler, Texture};
 use crate::render::core::vertex::{ATTRS, slot};
@@ -18,8 +19,14 @@ pub struct Shading<'a> {
     pub texture: Option<&'a Texture>,
     /// Its wrap modes.
     pub sampler: Sampler,
-    /// Nearest or bilinear.
+    /// Nearest, bilinear or trilinear.
     pub filter: Filter,
+    /// Where the mip level is chosen.
+    pub mip: MipMode,
+    /// The polygon's level of detail `λ`, chosen at set-up ([`MipMode::Polygon`]; 0 otherwise).
+    pub lod: f32,
+    /// The polygon's `1/w`, `s/w`, `t/w` planes ([`MipMode::Span`] and [`MipMode::Pixel`] measure `λ` by them).
+    pub gradients: TexGradients,
     /// Interpolation of texture coordinates and colours.
     pub mode: TextureMode,
     /// Alpha cutoff for `alphaMode` MASK.
@@ -45,17 +52,36 @@ pub(crate) fn exact_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32, perspective
     [at(slot::S) * w, at(slot::T) * w, at(r) * w, at(r + 1) * w, at(r + 2) * w, at(r + 3) * w]
 }
 
-/// The colour of a pixel with surface values `s` (texture coordinate and colour, perspective already
-/// divided out), packed `0x00RRGGBB`; `None` where the alpha cutoff rejects it. Shared by the general span
-/// and the anti-aliased fill, which shade a pixel the same way.
+/// `1/w`, `s/w`, `t/w` at pixel offset `k` of a span whose attributes start at `a0` and change by `da`.
 #[inline]
-pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface) -> Option<u32> {
+pub(crate) fn qst_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32) -> [f32; 3] {
+    [a0[slot::Q] + k * da[slot::Q], a0[slot::S] + k * da[slot::S], a0[slot::T] + k * da[slot::T]]
+}
+
+impl Shading<'_> {
+    /// The level of detail `λ` for a pixel whose `1/w`, `s/w`, `t/w` are `qst`: 0 with mip-maps off, the
+    /// polygon's with [`MipMode::Polygon`], else the texel footprint there (a span's caller asks once, at
+    /// its middle pixel, for [`MipMode::Span`]). The `lod` [`shade_surface`] takes.
+    #[inline]
+    #[must_use]
+    pub fn lod_at(&self, qst: [f32; 3]) -> f32 {
+        match (self.mip, self.texture) {
+            (MipMode::Off, _) | (_, None) => 0.0,
+            (MipMode::Polygon, _) => self.lod,
+            (MipMode::Span | MipMode::Pixel, Some(t)) => self.gradients.lod_at(qst, (t.width(), t.height())),
+        }
+    }
+}
+
+/// The colour of a pixel with surface values `s` (texture coordinate and colour, perspective already
+/// divided out) at level of detail `lod` ([`Shading::lod_at`]), packed `0x00RRGGBB`; `None` where the
+/// alpha cutoff rejects it. Shared by the general span and the anti-aliased fill, which shade a pixel the
+/// same way.
+#[inline]
+pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface, lod: f32) -> Option<u32> {
     let texel = match sh.texture {
         None => [1.0; 4],
-        Some(t) => match sh.filter {
-            Filter::Nearest => t.sample_nearest(s[0], s[1], sh.sampler),
-            Filter::Bilinear => t.sample_bilinear(s[0], s[1], sh.sampler),
-        },
+        Some(t) => t.sample(sh.filter, lod, s[0], s[1], sh.sampler),
     };
     // A polygon of one colour uses it as is (interpolating it would only add rounding).
     let col = sh.constant_color.unwrap_or([s[2], s[3], s[4], s[5]]);
@@ -88,15 +114,18 @@ impl<'a> Shading<'a> {
     /// Chooses the fast path (if any) for spans with this shading.
     #[must_use]
     pub fn prepare(&self) -> Prepared<'a> {
-        let rule = FastPathRule { filter: self.filter, mode: self.mode };
+        let rule = FastPathRule { filter: self.filter, mode: self.mode, mip: self.mip };
         let fast = rule.applies(
             self.texture.is_some(),
             self.constant_color.is_some(),
             self.alpha_cutoff.is_some(),
             self.screen_door,
         );
+        // The rule gives a textured polygon a fast path only with one level for it: its level's texture
+        // (texture coordinates are normalised, so the same ones address every level).
+        let one_level = |t: &'a Texture| t.level(nearest_level(self.lod_at([1.0, 0.0, 0.0]), t.last_level()));
         // Which fast path, for a polygon the rule gives one.
-        let source = match (self.texture, self.constant_color) {
+        let source = match (self.texture.map(one_level), self.constant_color) {
             _ if !fast => None,
             (None, Some(c)) => Some(Source::Flat(pack_rgb(c))),
             (Some(t), Some([1.0, 1.0, 1.0, _])) => Some(Source::Texel(t, self.sampler)),
@@ -135,6 +164,9 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
     let mut seg_start = i32::MIN;
     let mut seg_base: Surface = [0.0; 6];
     let mut seg_step: Surface = [0.0; 6];
+    // λ for the whole span, unless it is measured at every pixel.
+    let span_lod = sh.lod_at(qst_at(a0, da, (n / 2) as f32));
+    let per_pixel = sh.mip == MipMode::Pixel && sh.texture.is_some();
     for k in 0..n {
         let x = (span.x0 + k) as usize;
         if sh.screen_door && (span.x0 + k + span.y) & 1 != 0 {
@@ -181,7 +213,8 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
             }
         };
         counts.shaded += 1;
-        let Some(c) = shade_surface(sh, &s) else { continue };
+        let lod = if per_pixel { sh.lod_at(qst_at(a0, da, kf)) } else { span_lod };
+        let Some(c) = shade_surface(sh, &s, lod) else { continue };
         row.color[x] = c;
         counts.written += 1;
         match sh.visibility {
@@ -200,17 +233,31 @@ mod tests {
     #[test]
     fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_nearest_perspective_textures() {
         let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
+        for mip in MipMode::ALL {
+            // A textured polygon takes a fast path only with one level for the whole polygon.
+            let one_level = matches!(mip, MipMode::Off | MipMode::Polygon);
+            assert_eq!(fast_paths(&texture, mip), 8 + if one_level { 4 } else { 0 }, "{mip}");
+        }
+    }
+
+    /// How many of the 128 combinations of filter, mode, texture, cutoff, colour and screen door take a fast
+    /// path under `mip`, checking that the rule and `prepare` agree on each.
+    fn fast_paths(texture: &Texture, mip: MipMode) -> usize {
         let mut fast = 0;
         for bits in 0..128u32 {
             let bit = |k: u32| bits >> k & 1 == 1;
             let rule = FastPathRule {
                 filter: if bit(0) { Filter::Bilinear } else { Filter::Nearest },
                 mode: if bit(1) { TextureMode::Subdivided } else { TextureMode::Perspective },
+                mip,
             };
             let sh = Shading {
-                texture: bit(2).then_some(&texture),
+                texture: bit(2).then_some(texture),
                 sampler: Sampler::default(),
                 filter: rule.filter,
+                mip: rule.mip,
+                lod: 0.0,
+                gradients: TexGradients::default(),
                 mode: rule.mode,
                 alpha_cutoff: bit(3).then_some(0.5),
                 visibility: Visibility::DepthTest,
@@ -223,7 +270,7 @@ mod tests {
         }
         // Flat without a cutoff under any filter and mode, white or not (8); textured with nearest
         // perspective sampling, with or without a cutoff, white or tinted (4).
-        assert_eq!(fast, 8 + 4);
+        fast
     }
 
     #[test]

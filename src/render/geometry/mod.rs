@@ -38,7 +38,7 @@ use crate::render::core::batch::{Batch, Stretch};
 use crate::render::core::camera::Camera;
 use crate::render::core::draw_list::{DrawList, Instance};
 use crate::render::core::mesh::Mesh;
-use crate::render::core::options::{Method, RenderOptions, TextureMode};
+use crate::render::core::options::{Method, MipMode, RenderOptions, TextureMode};
 use crate::render::core::polygon::FastPathRule;
 use crate::render::core::stats::{Stats, ms_since};
 use crate::render::order::view_lists::stored_order;
@@ -212,8 +212,9 @@ impl Geometry {
             perspective_attrs: options.texture_mode != TextureMode::Affine,
             object_key: stored.map(|(_, key)| key),
             textures: list.textures.len(),
+            mip_textures: if options.mip == MipMode::Polygon { list.textures } else { &[] },
             see_through: inst.see_through,
-            fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode },
+            fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode, mip: options.mip },
             antialiased: options.antialias.coverage_samples().is_some(),
             width: view.layout.width as i32,
         };

@@ -10,9 +10,11 @@ use super::vertex::{SetupVertex, VertexTransform, project};
 use crate::render::core::batch::{Batch, Counts};
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
+use crate::render::core::mip::{polygon_lod, polygon_lod_of};
 use crate::render::core::options::DepthKey;
 use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint};
 use crate::render::core::small::{Corner, SmallTriangle};
+use crate::render::core::texture::Texture;
 use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2, slot, triangle_area2};
 use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
 use crate::render::geometry::monotone::{is_y_monotone, triangulate};
@@ -100,6 +102,8 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) object_key: Option<f32>,
     /// How many textures the draw list has.
     pub(crate) textures: usize,
+    /// The draw list's textures when mip levels are chosen per polygon (set-up reads their sizes), else none.
+    pub(crate) mip_textures: &'a [Texture],
     /// Draw with the screen door (the ghost car).
     pub(crate) see_through: bool,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
@@ -132,6 +136,8 @@ struct MaterialSetup {
     alpha_cutoff: Option<f32>,
     /// Whether its polygons of one colour take the direct small-triangle path ([`ObjectSetup::set_up_small`]).
     small: bool,
+    /// Its texture's size, when mip levels are chosen per polygon (for each polygon's `λ`).
+    mip_size: Option<(u32, u32)>,
 }
 
 /// What gathering a polygon's corners gave: its ordering key and whether all corners share one colour.
@@ -216,7 +222,14 @@ impl ObjectSetup<'_> {
         };
         // A depth bias moves the corners' depths, which the direct path does not do.
         let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
-        MaterialSetup { index, texture, alpha_cutoff, small: fast && !self.antialiased && material.depth_bias == 0 }
+        let mip_size = texture.and_then(|t| self.mip_textures.get(t as usize)).map(|t| (t.width(), t.height()));
+        MaterialSetup {
+            index,
+            texture,
+            alpha_cutoff,
+            small: fast && !self.antialiased && material.depth_bias == 0,
+            mip_size,
+        }
     }
 
     /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
@@ -261,6 +274,10 @@ impl ObjectSetup<'_> {
             Corner { x, y, attrs: [depth, m, verts[k].uv.x * m, verts[k].uv.y * m] }
         };
         let corners = [corner(0), corner(1), corner(2)];
+        let lod = m.mip_size.map_or(0, |size| {
+            let c = |k: &Corner| [k.x.to_f32(), k.y.to_f32(), k.attrs[1], k.attrs[2], k.attrs[3]];
+            polygon_lod(corners.iter().map(c), size)
+        });
         let t = match texture {
             None => SmallTriangle::from_corners::<1>(&corners, area, self.width),
             Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.width),
@@ -277,6 +294,7 @@ impl ObjectSetup<'_> {
             alpha_cutoff,
             constant_color: Some(color0),
             screen_door: self.see_through,
+            lod,
         };
         let first = out.push_small((t, planes), texture.is_some());
         out.polys.push(DrawPolygon::new(first, 3, out.tag, t.rows(), true, &paint));
@@ -376,6 +394,8 @@ impl ObjectSetup<'_> {
             alpha_cutoff,
             constant_color: g.constant_color,
             screen_door: self.see_through,
+            // Once for the whole polygon, before any split: its pieces share it.
+            lod: m.mip_size.map_or(0, |size| polygon_lod_of(&out.screen[first..], size)),
         };
         let tag = out.tag;
         // Each polygon (or piece) drawn, with its key when the frame is ordered by keys.

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::*;
 use crate::render::core::test_rng::Lcg;
 use crate::render::geometry::clip::ClipVolume;
-use crate::render::{Camera, Filter, MeshBuilder, TextureMode, Vertex};
+use crate::render::{Camera, Filter, MeshBuilder, MipMode, TextureMode, Vertex};
 
 /// Sets up every polygon of `mesh`, seen by an orthographic camera that maps `x, y` to pixels of a
 /// 320x240 frame, with flat shading on the fast path.
@@ -33,7 +33,8 @@ fn set_up_in_pixels(mesh: &crate::render::Mesh) -> Batch {
         object_key: None,
         textures: 0,
         see_through: false,
-        fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
+        mip_textures: &[],
+        fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: MipMode::Off },
         antialiased: false,
         width: 320,
     };
@@ -145,7 +146,8 @@ fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() 
             object_key,
             textures,
             see_through: false,
-            fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective },
+            mip_textures: &[],
+            fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: MipMode::Off },
             antialiased: false,
             width: 320,
         };
