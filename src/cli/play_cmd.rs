@@ -9,7 +9,7 @@ use super::values;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::GhostSearch;
 use crate::input::recording::Kept;
-use crate::render::{Method, RenderOptions};
+use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions};
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings, SettingsFile};
@@ -39,10 +39,18 @@ pub struct PlayArgs {
     /// $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
     #[arg(long)]
     pub settings: Option<PathBuf>,
-    /// Visibility method (keys 1-4 switch: zbuffer, sort, bucket-far, bucket-near). The z-buffer until the
-    /// speed-accuracy chart picks the default: the demo scene's large ground polygons defeat painter's order.
-    #[arg(long, default_value = "zbuffer")]
+    /// Visibility method (keys 1-5 switch: zbuffer, sort, bucket-far, bucket-near, view-lists).
+    #[arg(long, default_value_t = RenderOptions::default().method)]
     pub method: Method,
+    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
+    #[arg(long, default_value_t = RenderOptions::default().antialias)]
+    pub aa: Antialias,
+    /// Texture filtering: nearest, bilinear or trilinear.
+    #[arg(long, default_value_t = RenderOptions::default().filter)]
+    pub filter: Filter,
+    /// Where mip levels are chosen: off, polygon, span or pixel.
+    #[arg(long, default_value_t = RenderOptions::default().mip)]
+    pub mip: MipMode,
     /// Renderer worker threads (default: the cores available).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -84,7 +92,10 @@ impl Default for PlayArgs {
             fullscreen: false,
             scale: None,
             settings: None,
-            method: Method::ZBuffer,
+            method: RenderOptions::default().method,
+            aa: RenderOptions::default().antialias,
+            filter: RenderOptions::default().filter,
+            mip: RenderOptions::default().mip,
             threads: 0,
             scene: None,
             demo: false,
@@ -101,7 +112,14 @@ impl Default for PlayArgs {
 
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
-    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
+    let options = RenderOptions {
+        method: args.method,
+        threads: args.threads,
+        antialias: args.aa,
+        filter: args.filter,
+        mip: args.mip,
+        ..RenderOptions::default()
+    };
     let window = WindowConfig {
         size: (args.width, args.height),
         fullscreen: args.fullscreen,

@@ -66,14 +66,14 @@ pub struct RenderArgs {
     pub texture: TextureArg,
     /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
     /// detail, blended; bilinear with --mip off).
-    #[arg(long, default_value = "nearest")]
+    #[arg(long, default_value_t = RenderOptions::default().filter)]
     pub filter: Filter,
     /// Where mip levels are chosen: off (level 0 only), polygon (once per polygon), span (at each span's
     /// middle pixel) or pixel (at every pixel).
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value_t = RenderOptions::default().mip)]
     pub mip: MipMode,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value_t = RenderOptions::default().antialias)]
     pub aa: Antialias,
     /// Level of detail for LOD sets: auto (by projected size), or close, mid or long for every set.
     #[arg(long, default_value = "auto")]

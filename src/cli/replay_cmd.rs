@@ -51,13 +51,13 @@ pub struct ReplayArgs {
     pub lod: LodMode,
     /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
     /// detail, blended; bilinear with --mip off).
-    #[arg(long, default_value = "nearest")]
+    #[arg(long, default_value_t = RenderOptions::default().filter)]
     pub filter: Filter,
     /// Where mip levels are chosen: off (level 0 only), polygon, span or pixel.
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value_t = RenderOptions::default().mip)]
     pub mip: MipMode,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value_t = RenderOptions::default().antialias)]
     pub aa: Antialias,
     /// In the window: stop (freeze the frame) when the replay reaches this tick.
     #[arg(long)]

@@ -10,7 +10,7 @@ use super::screen::Drawing;
 use crate::game::rules::format_ticks;
 use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
-use crate::render::{Method, TextureMode};
+use crate::render::{Antialias, Filter, Method, MipMode, TextureMode};
 use crate::shell::race_scene::View;
 use crate::shell::settings::{Settings, SettingsFile, VOLUME_RANGE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
@@ -206,13 +206,28 @@ impl Prefs {
     }
 }
 
-/// Settings' renderer choices in `drawing` (not saved): visibility method, buckets, LOD bias, texture
-/// mapping, view.
+/// Settings' renderer choices in `drawing` (not saved): visibility method, anti-aliasing, texture filter and
+/// mip levels, buckets, LOD bias, texture mapping, view.
 fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
     let options = &mut drawing.options;
     egui::ComboBox::from_label("visibility method").selected_text(options.method.name()).show_ui(ui, |ui| {
         for m in Method::ALL {
             ui.selectable_value(&mut options.method, m, m.name());
+        }
+    });
+    egui::ComboBox::from_label("anti-aliasing").selected_text(options.antialias.name()).show_ui(ui, |ui| {
+        for a in Antialias::ALL {
+            ui.selectable_value(&mut options.antialias, a, a.name());
+        }
+    });
+    egui::ComboBox::from_label("texture filter").selected_text(options.filter.name()).show_ui(ui, |ui| {
+        for f in Filter::ALL {
+            ui.selectable_value(&mut options.filter, f, f.name());
+        }
+    });
+    egui::ComboBox::from_label("mip levels").selected_text(options.mip.name()).show_ui(ui, |ui| {
+        for m in MipMode::ALL {
+            ui.selectable_value(&mut options.mip, m, m.name());
         }
     });
     ui.add(egui::Slider::new(&mut options.buckets, 8..=65536).logarithmic(true).text("buckets"));
