@@ -4,6 +4,13 @@ the same size and thread count, and prints both times, their ratio and the share
 
     scripts/llvmpipe_compare.py FRAME.glb [--width 1280] [--height 720] [--threads 2] [--repeat 30]
                                  [--method zbuffer] [--binary target/release/scanline-racer]
+                                 [--msaa N] [--gl-filter nearest|nearest-mip|trilinear]
+                                 [--aa A] [--filter F] [--mip M]
+
+--msaa N draws llvmpipe into N-sample colour and depth buffers and resolves them (glBlitFramebuffer) into
+the image that is read back, inside the timed frame. --gl-filter picks llvmpipe's texture filter: nearest
+(no mip-maps), nearest-mip (GL_NEAREST_MIPMAP_NEAREST) or trilinear (GL_LINEAR_MIPMAP_LINEAR), with
+mip-maps built by glGenerateMipmap at load. --aa, --filter and --mip are passed to our `render`.
 
 llvmpipe runs headless on an EGL surfaceless context through moderngl (installed with pip on first use,
 with numpy and Pillow). It draws what the renderer draws: unlit base colour x texture (nearest) x vertex
@@ -80,7 +87,7 @@ void main() {
 }"""
 
 
-def llvmpipe(glb, width, height, threads):
+def llvmpipe(glb, width, height, threads, msaa=0, gl_filter="nearest"):
     """Sets up the scene on an llvmpipe context; returns (time(repeat) -> (median, best), image(), renderer)."""
     os.environ["LIBGL_ALWAYS_SOFTWARE"] = "1"
     os.environ["GALLIUM_DRIVER"] = "llvmpipe"
@@ -104,7 +111,12 @@ def llvmpipe(glb, width, height, threads):
         v = doc["bufferViews"][img["bufferView"]]
         im = Image.open(io.BytesIO(bin_[v.get("byteOffset", 0): v.get("byteOffset", 0) + v["byteLength"]])).convert("RGBA")
         tex = ctx.texture(im.size, 4, im.tobytes())
-        tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        if gl_filter == "nearest":
+            tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        else:
+            tex.build_mipmaps()
+            tex.filter = ((moderngl.NEAREST_MIPMAP_NEAREST, moderngl.NEAREST) if gl_filter == "nearest-mip"
+                          else (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR))
         s = doc["samplers"][t["sampler"]]
         tex.repeat_x = s.get("wrapS", 10497) != 33071
         tex.repeat_y = s.get("wrapT", 10497) != 33071
@@ -123,13 +135,18 @@ def llvmpipe(glb, width, height, threads):
         draws.append((vao, textures.get(tex), tuple(pbr.get("baseColorFactor", [1, 1, 1, 1])), cutoff,
                       m.get("doubleSided", False)))
     fbo = ctx.framebuffer(ctx.renderbuffer((width, height)), ctx.depth_renderbuffer((width, height)))
-    fbo.use()
+    draw_fbo = fbo
+    if msaa > 1:
+        draw_fbo = ctx.framebuffer(ctx.renderbuffer((width, height), samples=msaa),
+                                   ctx.depth_renderbuffer((width, height), samples=msaa))
+    draw_fbo.use()
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.depth_func = "<"
     ctx.front_face = "ccw"
 
     def frame():
-        fbo.clear(135 / 255, 206 / 255, 235 / 255, 1.0, depth=1.0)
+        draw_fbo.use()
+        draw_fbo.clear(135 / 255, 206 / 255, 235 / 255, 1.0, depth=1.0)
         for vao, tex, base, cutoff, double in draws:
             if double:
                 ctx.disable(moderngl.CULL_FACE)
@@ -142,6 +159,8 @@ def llvmpipe(glb, width, height, threads):
             prog["base"] = base
             prog["cutoff"] = cutoff
             vao.render(moderngl.TRIANGLES)
+        if draw_fbo is not fbo:
+            ctx.copy_framebuffer(fbo, draw_fbo)
         ctx.finish()
 
     def timed(repeat):
@@ -173,6 +192,12 @@ def main():
                     help="alternate the two renderers this many times and keep each one's best median "
                          "(two-thread timings on small machines vary from run to run)")
     ap.add_argument("--method", default="zbuffer")
+    ap.add_argument("--msaa", type=int, default=0, help="llvmpipe's samples per pixel (0: no MSAA)")
+    ap.add_argument("--gl-filter", default="nearest", choices=["nearest", "nearest-mip", "trilinear"],
+                    help="llvmpipe's texture filter")
+    ap.add_argument("--aa", help="our --aa (default: our default)")
+    ap.add_argument("--filter", help="our --filter (default: our default)")
+    ap.add_argument("--mip", help="our --mip (default: our default)")
     ap.add_argument("--binary", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "target", "release", "scanline-racer"))
     ap.add_argument("--json", action="store_true", help="print one JSON object instead of a line")
     ap.add_argument("--save", metavar="PREFIX", help="also write PREFIX-llvmpipe.png and PREFIX-ours.png")
@@ -180,14 +205,18 @@ def main():
     ensure([("numpy", "numpy"), ("moderngl", "moderngl"), ("PIL", "pillow")])
     import numpy as np
     from PIL import Image
-    timed, image, renderer = llvmpipe(a.glb, a.width, a.height, a.threads)
+    timed, image, renderer = llvmpipe(a.glb, a.width, a.height, a.threads, a.msaa, a.gl_filter)
+    extra = []
+    for flag in ("aa", "filter", "mip"):
+        if getattr(a, flag):
+            extra += ["--" + flag, getattr(a, flag)]
     ours_runs, theirs_runs = [], []
     with tempfile.TemporaryDirectory() as tmp:
         ours_png = os.path.join(tmp, "ours.png")
         for _ in range(max(1, a.rounds)):
             out = subprocess.run([a.binary, "render", a.glb, "--camera", "frame camera", "--width", str(a.width),
                                   "--height", str(a.height), "--threads", str(a.threads), "--repeat", str(a.repeat),
-                                  "--method", a.method, "--stats", "json", "--out", ours_png],
+                                  "--method", a.method, "--stats", "json", "--out", ours_png] + extra,
                                  capture_output=True, text=True)
             if out.returncode != 0:
                 sys.exit("scanline-racer failed: " + out.stderr.strip())
@@ -205,6 +234,7 @@ def main():
     per_round = [t[0] / o[0] for o, t in zip(ours_runs, theirs_runs)]
     match = float((np.abs(img.astype(np.int16) - ours).max(axis=2) <= 8).mean())
     r = {"width": a.width, "height": a.height, "threads": a.threads, "method": a.method, "rounds": len(ours_runs),
+         "msaa": a.msaa, "gl_filter": a.gl_filter, "ours_flags": " ".join(extra),
          "llvmpipe_ms": round(ms, 3), "llvmpipe_ms_min": round(ms_min, 3),
          "ours_ms": round(ours_ms, 3), "ours_ms_min": round(ours_min, 3),
          "speedup": round(ms / ours_ms, 2), "speedup_per_round": [round(x, 2) for x in per_round],
@@ -212,9 +242,10 @@ def main():
     if a.json:
         print(json.dumps(r))
     else:
-        print("%dx%d, %d thread(s): llvmpipe %.2f ms (best %.2f), scanline-racer %s %.2f ms (best %.2f): %.2fx "
-              "(rounds: %s); %.2f%% of pixels match"
-              % (a.width, a.height, a.threads, ms, ms_min, a.method, ours_ms, ours_min, r["speedup"],
+        print("%dx%d, %d thread(s): llvmpipe (msaa %d, %s) %.2f ms (best %.2f), scanline-racer %s %s %.2f ms "
+              "(best %.2f): %.2fx (rounds: %s); %.2f%% of pixels match"
+              % (a.width, a.height, a.threads, a.msaa, a.gl_filter, ms, ms_min, a.method, " ".join(extra), ours_ms,
+                 ours_min, r["speedup"],
                  " ".join("%.2fx" % x for x in per_round), match * 100))
 
 
