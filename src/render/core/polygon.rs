@@ -4,8 +4,10 @@
 use glam::Vec4;
 
 use super::options::{MipMode, TextureMode};
+use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mip::LOD_STEPS;
 use crate::render::core::texture::{Filter, Sampler};
+use crate::render::core::vertex::ScreenVertex;
 
 /// A polygon (or a piece of one) ready for the fill stage.
 ///
@@ -181,5 +183,20 @@ impl FastPathRule {
         let one_level = matches!(self.mip, MipMode::Off | MipMode::Polygon);
         let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && one_level;
         !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
+    }
+}
+
+/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule; or, when
+/// `antialiased`, every row its extent touches (a sample may lie anywhere in a row).
+pub(crate) fn rows_of(v: &[ScreenVertex], antialiased: bool) -> (i32, i32) {
+    let (mut top, mut bottom) = (Fx28_4(i32::MAX), Fx28_4(i32::MIN));
+    for p in v {
+        top = top.min(p.y);
+        bottom = bottom.max(p.y);
+    }
+    match (top > bottom, antialiased) {
+        (true, _) => (0, 0),
+        (false, true) => (top.0 >> 4, ((i64::from(bottom.0) + 15) >> 4) as i32),
+        (false, false) => (top.first_centre_at_or_after(), bottom.first_centre_at_or_after()),
     }
 }

@@ -112,6 +112,41 @@ struct SampleWalk {
     edges: Option<(SampleEdge, SampleEdge)>,
 }
 
+/// A y-monotone polygon's corners, its top corner and which way round each chain goes from it.
+struct Chains<'v> {
+    v: &'v [ScreenVertex],
+    top: usize,
+    ldir: usize,
+    rdir: usize,
+}
+
+impl SampleWalk {
+    /// The pixels `l..r` (clipped to `0..width`) whose `sample` row `row` covers; `Some((0, 0))` off the
+    /// walk's rows, `None` when the polygon turns out not y-monotone.
+    #[inline]
+    fn row(&mut self, c: &Chains<'_>, row: i32, sample: (i32, i32), width: i32) -> Option<(i32, i32)> {
+        if !(self.rows.0..self.rows.1).contains(&row) {
+            return Some((0, 0));
+        }
+        if self.edges.is_none() {
+            self.edges = edge_for(c.v, c.top, c.ldir, row, sample).zip(edge_for(c.v, c.top, c.rdir, row, sample));
+        }
+        let (left, right) = self.edges.as_mut()?;
+        let y = row * Fx28_4::ONE + sample.1;
+        if y >= left.bottom {
+            *left = edge_for(c.v, left.end, c.ldir, row, sample)?;
+        }
+        if y >= right.bottom {
+            *right = edge_for(c.v, right.end, c.rdir, row, sample)?;
+        }
+        let xs = left.pixel().clamp(0, i64::from(width));
+        let xe = right.pixel().clamp(0, i64::from(width));
+        left.step();
+        right.step();
+        Some(if xs < xe { (xs as i32, xe as i32) } else { (0, 0) })
+    }
+}
+
 /// Calls `emit` for every pixel row in `rows` (clipped to `0..width` across) where the y-monotone polygon
 /// `v` covers at least one sample of `pattern`. Zero-area polygons cover nothing; either winding works.
 pub(crate) fn for_each_row(
@@ -136,6 +171,7 @@ pub(crate) fn for_each_row(
         ymax = ymax.max(p.y.0);
     }
     let (ldir, rdir) = if area > 0 { (n - 1, 1) } else { (1, n - 1) };
+    let chains = Chains { v, top, ldir, rdir };
     let count = pattern.count.min(MAX_SAMPLES);
     // Sample row `16y + sy` is covered for y in ceil((ymin - sy) / 16) .. ceil((ymax - sy) / 16).
     let ceil16 = |a: i32| a.div_euclid(Fx28_4::ONE) + i32::from(a.rem_euclid(Fx28_4::ONE) != 0);
@@ -150,42 +186,10 @@ pub(crate) fn for_each_row(
     }
     let mut cov = RowCoverage { y: 0, l: [0; MAX_SAMPLES], r: [0; MAX_SAMPLES], n: count, lo: 0, hi: 0, inner: (0, 0) };
     for row in first..last.max(first) {
-        let ys = row * Fx28_4::ONE;
         let (mut lo, mut hi, mut in_lo, mut in_hi) = (i32::MAX, i32::MIN, i32::MIN, i32::MAX);
         for (j, w) in walks.iter_mut().enumerate().take(count) {
-            let sample = pattern.positions[j];
-            let (mut l, mut r) = (0, 0);
-            if (w.rows.0..w.rows.1).contains(&row) {
-                if w.edges.is_none() {
-                    w.edges = edge_for(v, top, ldir, row, sample).zip(edge_for(v, top, rdir, row, sample));
-                }
-                if let Some((left, right)) = &mut w.edges {
-                    let y = ys + sample.1;
-                    if y >= left.bottom {
-                        match edge_for(v, left.end, ldir, row, sample) {
-                            Some(e) => *left = e,
-                            None => return,
-                        }
-                    }
-                    if y >= right.bottom {
-                        match edge_for(v, right.end, rdir, row, sample) {
-                            Some(e) => *right = e,
-                            None => return,
-                        }
-                    }
-                    let xs = left.pixel().clamp(0, i64::from(width));
-                    let xe = right.pixel().clamp(0, i64::from(width));
-                    if xs < xe {
-                        (l, r) = (xs as i32, xe as i32);
-                    }
-                    left.step();
-                    right.step();
-                } else {
-                    return;
-                }
-            }
-            cov.l[j] = l;
-            cov.r[j] = r;
+            let Some((l, r)) = w.row(&chains, row, pattern.positions[j], width) else { return };
+            (cov.l[j], cov.r[j]) = (l, r);
             if l < r {
                 lo = lo.min(l);
                 hi = hi.max(r);
@@ -194,10 +198,7 @@ pub(crate) fn for_each_row(
             in_hi = in_hi.min(r);
         }
         if lo < hi {
-            cov.y = row;
-            cov.lo = lo;
-            cov.hi = hi;
-            cov.inner = (in_lo, in_hi);
+            (cov.y, cov.lo, cov.hi, cov.inner) = (row, lo, hi, (in_lo, in_hi));
             emit(&cov);
         }
     }
@@ -234,7 +235,7 @@ mod tests {
             // a big triangle with one edge through the centre.
             for k in 0..64 {
                 let a = k as f64 * std::f64::consts::TAU / 64.0;
-                let (dx, dy) = (libm::cos(a), libm::sin(a));
+                let (dx, dy) = (a.cos(), a.sin());
                 let far = 4000.0;
                 let pt = |s: f64, t: f64| sv((72.0 + dx * s - dy * t) as i32, (72.0 + dy * s + dx * t) as i32);
                 let tri = [pt(-far, 0.0), pt(far, 0.0), pt(0.0, far)];

@@ -12,7 +12,7 @@ use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
 use crate::render::core::mip::{polygon_lod, polygon_lod_of};
 use crate::render::core::options::DepthKey;
-use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint};
+use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint, rows_of};
 use crate::render::core::small::{Corner, SmallTriangle};
 use crate::render::core::texture::Texture;
 use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2, slot, triangle_area2};
@@ -37,23 +37,6 @@ fn screen_vertex(
         *a = c * m;
     }
     ScreenVertex { x, y, attrs }
-}
-
-/// The rows whose centres a polygon covers: those in `[top, bottom)`, the scanline walk's rule; or, when
-/// `antialiased`, every row its extent touches (a sample may lie anywhere in a row).
-fn rows(v: &[ScreenVertex], antialiased: bool) -> (i32, i32) {
-    let (mut top, mut bottom) = (Fx28_4(i32::MAX), Fx28_4(i32::MIN));
-    for p in v {
-        top = top.min(p.y);
-        bottom = bottom.max(p.y);
-    }
-    if top > bottom {
-        (0, 0)
-    } else if antialiased {
-        (top.0 >> 4, ((i64::from(bottom.0) + 15) >> 4) as i32)
-    } else {
-        (top.first_centre_at_or_after(), bottom.first_centre_at_or_after())
-    }
 }
 
 /// The corners' view depths of triangle `ids` folded by the object's key rule (before [`DepthKey::Avg`]'s
@@ -425,7 +408,7 @@ impl ObjectSetup<'_> {
             let f = out.push_small(t, texture.is_some());
             push(out, f, n as u32, rows, true);
         } else if is_y_monotone(&out.screen[first..]) {
-            let rows = rows(&out.screen[first..], self.antialiased);
+            let rows = rows_of(&out.screen[first..], self.antialiased);
             push(out, first as u32, n as u32, rows, false);
         } else {
             out.counts.split += 1;
@@ -444,7 +427,7 @@ impl ObjectSetup<'_> {
                 }
                 let f = out.screen.len() as u32;
                 out.screen.extend_from_slice(&corners);
-                push(out, f, 3, rows(&corners, self.antialiased), false);
+                push(out, f, 3, rows_of(&corners, self.antialiased), false);
             }
         }
     }
