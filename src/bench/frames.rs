@@ -93,10 +93,11 @@ pub fn collect_sequence(scene: &RaceScene, path: &Path, count: usize) -> Result<
 }
 
 /// LOD pops per minute of race time for each of `settings` (options and frame size): the whole trace at
-/// `path` replayed at 60 frames per second (every [`SEQUENCE_STEP`]th tick) from the chase camera, one
-/// renderer per setting keeping its LOD history as the game does, counting the frames in which an instance
-/// seen in this frame and the one before is drawn with another model than before. Forced levels never pop:
-/// 0 without replaying. Only the LOD choice and the view culling run (no drawing).
+/// `path` replayed at 60 frames per second (every [`SEQUENCE_STEP`]th tick, the countdown included) from the
+/// chase camera, one renderer per distinct LOD bias and frame size keeping its LOD history as the game does,
+/// counting the frames in which an instance seen in this frame and the one before is drawn with another
+/// model than before ([`pops`]). Forced levels never pop: 0 without replaying. Only the LOD choice and the
+/// view culling run (no drawing).
 pub fn lod_pops_per_min(
     scene: &RaceScene,
     path: &Path,
@@ -125,12 +126,57 @@ pub fn lod_pops_per_min(
             let options =
                 RenderOptions { lod: LodMode::Auto, lod_bias: f32::from_bits(bias), ..RenderOptions::default() };
             let now = renderers[k].frame_meshes(width, height, &camera, &list, &options);
-            let changed = now.iter().zip(&previous[k]).filter(|(a, b)| a.zip(**b).is_some_and(|(a, b)| a != b));
-            pops[k] += changed.count() as u64;
+            pops[k] += self::pops(&previous[k], &now);
             previous[k] = now;
         }
     }
     let minutes = frames as f64 / (60.0 * 60.0);
     let per_min = |k: usize| if minutes > 0.0 { pops[k] as f64 / minutes } else { 0.0 };
     Ok(settings.iter().map(|s| key(s).and_then(|k| keys.binary_search(&k).ok()).map_or(0.0, per_min)).collect())
+}
+
+/// How many instances are drawn with another mesh in `now` than in `before` (from
+/// [`Renderer::frame_meshes`]), among those seen in both: one coming into view or leaving it is no pop.
+#[must_use]
+pub fn pops(before: &[Option<usize>], now: &[Option<usize>]) -> u64 {
+    now.iter().zip(before).filter(|(a, b)| a.zip(**b).is_some_and(|(a, b)| a != b)).count() as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::Level;
+
+    fn demo() -> (RaceScene, std::path::PathBuf) {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+        (RaceScene::load(&dir).unwrap(), dir.join("replays/demo-race.trace"))
+    }
+
+    #[test]
+    fn a_pop_is_another_mesh_for_an_instance_seen_in_both_frames() {
+        assert_eq!(pops(&[Some(1), Some(2), None, Some(4), Some(5)], &[Some(1), Some(3), Some(7), None, Some(6)]), 2);
+        assert_eq!(pops(&[], &[Some(1)]), 0);
+    }
+
+    #[test]
+    fn the_sequence_is_consecutive_chase_frames_from_tick_3000() {
+        let (scene, trace) = demo();
+        let seq = collect_sequence(&scene, &trace, 20).unwrap();
+        let names: Vec<&str> = seq.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names.len(), 20);
+        assert_eq!((names[0], names[19]), ("tick 3000 ChaseNear", "tick 3038 ChaseNear"));
+        assert_eq!(collect_sequence(&scene, &trace, 1).unwrap()[0].name, "tick 3000 ChaseNear");
+    }
+
+    #[test]
+    fn only_the_automatic_choice_pops_and_one_setting_counts_the_same_every_time() {
+        let (scene, trace) = demo();
+        let auto = RenderOptions::default();
+        let long = RenderOptions { lod: LodMode::Force(Level::Long), ..auto };
+        let size = (160, 120);
+        let p = lod_pops_per_min(&scene, &trace, &[(auto, size), (long, size), (auto, size)]).unwrap();
+        assert!(p[0] > 0.0 && p[0].is_finite(), "{p:?}");
+        assert_eq!((p[1], p[2]), (0.0, p[0]));
+        assert_eq!(lod_pops_per_min(&scene, &trace, &[(long, size)]).unwrap(), [0.0]);
+    }
 }
