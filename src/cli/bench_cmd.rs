@@ -117,7 +117,9 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         r.lod_pops_per_min = pops;
     }
     let trace_name = trace.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    write_outputs(args, &rows, &format!("{} frames of {trace_name}, {} thread(s)", frames.len(), args.threads))?;
+    let title =
+        format!("{} frames and a run of {} of {trace_name}, {} thread(s)", frames.len(), sequence.len(), args.threads);
+    write_outputs(args, &rows, &title)?;
     print_summary(&rows);
     eprintln!(
         "wrote {}/bench.csv, bench.svg, bench.png, visibility.svg, visibility.png, stability.svg and stability.png",
