@@ -4,6 +4,8 @@
 //!   box-filtered.
 //! - Wrong pixels: the share of pixels whose colour differs by more than 8/255 in any channel.
 //! - PSNR over the three colour channels.
+//! - Shimmer (temporal stability) over consecutive frames: how much more (or less) each frame changes from
+//!   the one before than the reference does, as an RMS and as the share of shimmering pixels.
 //! - FLIP (NVIDIA's perceptual difference, LDR), mean and 99th percentile of its per-pixel error map, at
 //!   the viewing condition `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (a 0.7 m wide monitor of 3840 px at 0.7 m).
 
@@ -134,6 +136,64 @@ pub fn flip(reference: &[u32], test: &[u32], width: usize, height: usize) -> Opt
     Some(Flip { mean: pool.mean(), p99: pool.get_percentile(0.99, false), map: map.to_vec() })
 }
 
+/// A channel difference (0-255) above which a pixel counts as shimmering in [`Shimmer`].
+pub const SHIMMER_THRESHOLD: i32 = 24;
+
+/// Temporal stability of a sequence of frames against the reference sequence, fed one frame pair at a time.
+///
+/// For every pair of consecutive frames, every pixel and every colour channel (0-255), the difference is
+/// `(test[k] - test[k-1]) - (reference[k] - reference[k-1])`: the frame-to-frame change the reference does
+/// not have (a LOD pop, crawling edges, texels swimming). [`Shimmer::rms`] is its root mean square over all
+/// of them; [`Shimmer::shimmering_pct`] the share of pixels, over all frame pairs, where it exceeds
+/// [`SHIMMER_THRESHOLD`] in any channel. Frames must all have one size; a frame of another size restarts the
+/// sequence.
+#[derive(Clone, Debug, Default)]
+pub struct Shimmer {
+    previous: Option<(Vec<u32>, Vec<u32>)>,
+    sum_sq: f64,
+    values: u64,
+    shimmering: u64,
+    pixels: u64,
+}
+
+impl Shimmer {
+    /// Adds the next frame of the sequence (`reference` and `test`, `0x00RRGGBB`, the same length).
+    pub fn push(&mut self, reference: &[u32], test: &[u32]) {
+        if reference.len() != test.len() {
+            self.previous = None;
+            return;
+        }
+        if let Some((r0, t0)) = self.previous.as_ref().filter(|(r0, _)| r0.len() == reference.len()) {
+            for (((&r0, &t0), &r1), &t1) in r0.iter().zip(t0).zip(reference).zip(test) {
+                let mut shimmers = false;
+                for s in [0, 8, 16] {
+                    let ch = |p: u32| ((p >> s) & 0xff) as i32;
+                    let d = (ch(t1) - ch(t0)) - (ch(r1) - ch(r0));
+                    self.sum_sq += f64::from(d * d);
+                    shimmers |= d.abs() > SHIMMER_THRESHOLD;
+                }
+                self.shimmering += u64::from(shimmers);
+            }
+            self.values += 3 * reference.len() as u64;
+            self.pixels += reference.len() as u64;
+        }
+        self.previous = Some((reference.to_vec(), test.to_vec()));
+    }
+
+    /// Root mean square of the unexplained change (0-255 scale), 0 before two frames.
+    #[must_use]
+    pub fn rms(&self) -> f64 {
+        if self.values == 0 { 0.0 } else { libm::sqrt(self.sum_sq / self.values as f64) }
+    }
+
+    /// Share of pixels over all frame pairs whose unexplained change exceeds the threshold in a channel, in
+    /// percent; 0 before two frames.
+    #[must_use]
+    pub fn shimmering_pct(&self) -> f64 {
+        if self.pixels == 0 { 0.0 } else { self.shimmering as f64 * 100.0 / self.pixels as f64 }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -169,5 +229,46 @@ mod tests {
         assert_eq!(big.magma(w, h).len(), w * h);
         assert!(flip(&a, &b, w, h + 1).is_none());
         assert!(flip(&[], &[], 0, 0).is_none());
+    }
+
+    fn shimmer_of(reference: &[Vec<u32>], test: &[Vec<u32>]) -> Shimmer {
+        let mut s = Shimmer::default();
+        for (r, t) in reference.iter().zip(test) {
+            s.push(r, t);
+        }
+        s
+    }
+
+    #[test]
+    fn shimmer_is_zero_for_the_reference_itself_and_for_the_same_change() {
+        let seq: Vec<Vec<u32>> =
+            (0..5u32).map(|k| (0..12u32).map(|i| (i * 37 + k * 91) % 0xffffff).collect()).collect();
+        let same = shimmer_of(&seq, &seq);
+        assert_eq!((same.rms(), same.shimmering_pct()), (0.0, 0.0));
+        // A constant offset (a darker image that moves exactly as the reference does) does not shimmer.
+        let darker: Vec<Vec<u32>> = seq.iter().map(|f| f.iter().map(|p| p & 0x7f7f7f).collect()).collect();
+        let offset: Vec<Vec<u32>> = darker.iter().map(|f| f.iter().map(|p| p + 0x101010).collect()).collect();
+        let moved = shimmer_of(&darker, &offset);
+        assert_eq!((moved.rms(), moved.shimmering_pct()), (0.0, 0.0));
+        // One frame, or none, has no pair.
+        assert_eq!(shimmer_of(&seq[..1], &seq[..1]).rms(), 0.0);
+        assert_eq!(Shimmer::default().shimmering_pct(), 0.0);
+    }
+
+    #[test]
+    fn one_toggling_pixel_gives_the_rms_worked_out_by_hand() {
+        // Two pixels, three frames; the reference stands still, the test's first pixel's blue goes 0, 255, 0.
+        let reference = vec![vec![0x102030u32, 0x405060]; 3];
+        let test = vec![vec![0x000000u32, 0x405060], vec![0x0000ff, 0x405060], vec![0x000000, 0x405060]];
+        let s = shimmer_of(&reference, &test);
+        // Differences: +255 then -255 in one channel of one pixel; 2 pairs x 2 pixels x 3 channels values.
+        assert!((s.rms() - libm::sqrt(2.0 * 255.0 * 255.0 / 12.0f64)).abs() < 1e-9, "{}", s.rms());
+        // That pixel shimmers in both pairs: 2 of 4 pixel pairs.
+        assert_eq!(s.shimmering_pct(), 50.0);
+        // A change of 24 is not shimmering, 25 is.
+        let small = shimmer_of(&reference[..2], &[vec![0, 0x405060], vec![24, 0x405060]]);
+        assert_eq!(small.shimmering_pct(), 0.0);
+        let over = shimmer_of(&reference[..2], &[vec![0, 0x405060], vec![25 << 8, 0x405060]]);
+        assert_eq!(over.shimmering_pct(), 50.0);
     }
 }

@@ -1,7 +1,8 @@
 //! The bench charts: time per frame (x, log scale) against an error (y), one point per configuration,
 //! coloured by sweep, with the Pareto front drawn as a line and labelled. Written as SVG and as PNG.
 //! [`Panel::Accuracy`] plots every configuration's FLIP against the reference; [`Panel::Visibility`] plots
-//! the visibility configurations' own error (pixels differing from the z-buffer at the same settings).
+//! the visibility configurations' own error (pixels differing from the z-buffer at the same settings);
+//! [`Panel::Stability`] plots every configuration's shimmer RMS over the stability sequence.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -25,6 +26,8 @@ pub enum Panel {
     Accuracy,
     /// The visibility sweep: share of pixels that differ from the z-buffer at the same settings.
     Visibility,
+    /// Every configuration: shimmer RMS over consecutive frames against the reference's own change.
+    Stability,
 }
 
 impl Panel {
@@ -32,6 +35,7 @@ impl Panel {
         match self {
             Panel::Accuracy => r.flip_mean,
             Panel::Visibility => r.vis_wrong_pct,
+            Panel::Stability => r.shimmer_rms,
         }
     }
 
@@ -39,17 +43,19 @@ impl Panel {
         match self {
             Panel::Accuracy => r.pareto,
             Panel::Visibility => r.vis_pareto,
+            Panel::Stability => r.stability_pareto,
         }
     }
 
     fn shows(self, r: &Row) -> bool {
-        self == Panel::Accuracy || r.config.group == "visibility"
+        self != Panel::Visibility || r.config.group == "visibility"
     }
 
     fn y_desc(self) -> &'static str {
         match self {
             Panel::Accuracy => "FLIP mean against the reference",
             Panel::Visibility => "% of pixels differing from the z-buffer",
+            Panel::Stability => "shimmer RMS (0-255) over consecutive frames",
         }
     }
 }

@@ -1,10 +1,11 @@
 //! The frames the bench draws: ticks of a demo replay seen from the chase camera, and fixed views of the
-//! same moments from the other cameras (far chase, bumper, trackside), as camera and instance lists.
+//! same moments from the other cameras (far chase, bumper, trackside), as camera and instance lists; a run
+//! of consecutive frames for the temporal-stability measure; and the LOD pops of a whole replay.
 
 use std::path::Path;
 
 use crate::input::replay::{Replay, ReplayError};
-use crate::render::{Camera, Instance};
+use crate::render::{Camera, Instance, LodMode, RenderOptions, Renderer};
 use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for};
 
 /// One frame to draw: where from, and what.
@@ -52,4 +53,130 @@ pub fn collect_frames(scene: &RaceScene, path: &Path, count: usize) -> Result<Ve
         }
     }
     Ok(frames)
+}
+
+/// The tick the stability sequence starts at on the demo race (the chase camera on a fast stretch).
+pub const SEQUENCE_START: u64 = 3000;
+
+/// Ticks between the stability sequence's frames: 60 frames per second of race time.
+pub const SEQUENCE_STEP: u64 = 2;
+
+/// `count` consecutive chase-camera frames for the temporal-stability measure: ticks [`SEQUENCE_START`] on,
+/// every [`SEQUENCE_STEP`]th tick, moved back to fit in the racing part of the trace when it is shorter (and
+/// cut to the racing part when that is shorter than the sequence).
+pub fn collect_sequence(scene: &RaceScene, path: &Path, count: usize) -> Result<Vec<BenchFrame>, ReplayError> {
+    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let (mut first, mut last) = (None, 0);
+    while replay.advance()? {
+        if !replay.world.race.holding() {
+            first = first.or(Some(replay.world.tick));
+            last = replay.world.tick;
+        }
+    }
+    let Some(first) = first else { return Ok(vec![]) };
+    let span = SEQUENCE_STEP * count.saturating_sub(1) as u64;
+    let start = SEQUENCE_START.min(last.saturating_sub(span)).max(first);
+    let ticks = |t: u64| t >= start && t <= last && (t - start).is_multiple_of(SEQUENCE_STEP) && t - start <= span;
+    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut frames = vec![];
+    while replay.advance()? {
+        let w = &replay.world;
+        if ticks(w.tick) {
+            frames.push(BenchFrame {
+                name: format!("tick {} {:?}", w.tick, View::ChaseNear),
+                camera: camera_for(w, View::ChaseNear),
+                instances: scene.instances(w, None),
+            });
+        }
+    }
+    Ok(frames)
+}
+
+/// LOD pops per minute of race time for each of `settings` (options and frame size): the whole trace at
+/// `path` replayed at 60 frames per second (every [`SEQUENCE_STEP`]th tick, the countdown included) from the
+/// chase camera, one renderer per distinct LOD bias and frame size keeping its LOD history as the game does,
+/// counting the frames in which an instance seen in this frame and the one before is drawn with another
+/// model than before ([`pops`]). Forced levels never pop: 0 without replaying. Only the LOD choice and the
+/// view culling run (no drawing).
+pub fn lod_pops_per_min(
+    scene: &RaceScene,
+    path: &Path,
+    settings: &[(RenderOptions, (usize, usize))],
+) -> Result<Vec<f64>, ReplayError> {
+    // One renderer per distinct LOD choice: only the bias and the frame size matter to it.
+    let key =
+        |(o, size): &(RenderOptions, (usize, usize))| (o.lod == LodMode::Auto).then_some((o.lod_bias.to_bits(), *size));
+    let mut keys: Vec<(u32, (usize, usize))> = settings.iter().filter_map(key).collect();
+    keys.sort_unstable();
+    keys.dedup();
+    let mut pops = vec![0u64; keys.len()];
+    let mut renderers: Vec<Renderer> = keys.iter().map(|_| Renderer::new()).collect();
+    let mut previous: Vec<Vec<Option<usize>>> = vec![vec![]; keys.len()];
+    let mut frames = 0u64;
+    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    while !keys.is_empty() && replay.advance()? {
+        let w = &replay.world;
+        if !w.tick.is_multiple_of(SEQUENCE_STEP) {
+            continue;
+        }
+        frames += 1;
+        let (camera, instances) = (camera_for(w, View::ChaseNear), scene.instances(w, None));
+        let list = scene.draw_list(&instances);
+        for (k, &(bias, (width, height))) in keys.iter().enumerate() {
+            let options =
+                RenderOptions { lod: LodMode::Auto, lod_bias: f32::from_bits(bias), ..RenderOptions::default() };
+            let now = renderers[k].frame_meshes(width, height, &camera, &list, &options);
+            pops[k] += self::pops(&previous[k], &now);
+            previous[k] = now;
+        }
+    }
+    let minutes = frames as f64 / (60.0 * 60.0);
+    let per_min = |k: usize| if minutes > 0.0 { pops[k] as f64 / minutes } else { 0.0 };
+    Ok(settings.iter().map(|s| key(s).and_then(|k| keys.binary_search(&k).ok()).map_or(0.0, per_min)).collect())
+}
+
+/// How many instances are drawn with another mesh in `now` than in `before` (from
+/// [`Renderer::frame_meshes`]), among those seen in both: one coming into view or leaving it is no pop.
+#[must_use]
+pub fn pops(before: &[Option<usize>], now: &[Option<usize>]) -> u64 {
+    now.iter().zip(before).filter(|(a, b)| a.zip(**b).is_some_and(|(a, b)| a != b)).count() as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::Level;
+
+    fn demo() -> (RaceScene, std::path::PathBuf) {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+        (RaceScene::load(&dir).unwrap(), dir.join("replays/demo-race.trace"))
+    }
+
+    #[test]
+    fn a_pop_is_another_mesh_for_an_instance_seen_in_both_frames() {
+        assert_eq!(pops(&[Some(1), Some(2), None, Some(4), Some(5)], &[Some(1), Some(3), Some(7), None, Some(6)]), 2);
+        assert_eq!(pops(&[], &[Some(1)]), 0);
+    }
+
+    #[test]
+    fn the_sequence_is_consecutive_chase_frames_from_tick_3000() {
+        let (scene, trace) = demo();
+        let seq = collect_sequence(&scene, &trace, 20).unwrap();
+        let names: Vec<&str> = seq.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names.len(), 20);
+        assert_eq!((names[0], names[19]), ("tick 3000 ChaseNear", "tick 3038 ChaseNear"));
+        assert_eq!(collect_sequence(&scene, &trace, 1).unwrap()[0].name, "tick 3000 ChaseNear");
+    }
+
+    #[test]
+    fn only_the_automatic_choice_pops_and_one_setting_counts_the_same_every_time() {
+        let (scene, trace) = demo();
+        let auto = RenderOptions::default();
+        let long = RenderOptions { lod: LodMode::Force(Level::Long), ..auto };
+        let size = (160, 120);
+        let p = lod_pops_per_min(&scene, &trace, &[(auto, size), (long, size), (auto, size)]).unwrap();
+        assert!(p[0] > 0.0 && p[0].is_finite(), "{p:?}");
+        assert_eq!((p[1], p[2]), (0.0, p[0]));
+        assert_eq!(lod_pops_per_min(&scene, &trace, &[(long, size)]).unwrap(), [0.0]);
+    }
 }

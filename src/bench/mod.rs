@@ -8,9 +8,14 @@
 //! FLIP 99th percentile, wrong pixels and PSNR against the reference (4x4-supersampled z-buffer, exact
 //! perspective, close LOD), plus the *visibility error*: wrong pixels and FLIP against the z-buffer frame at
 //! the same texture, filter and LOD settings, which isolates what the visibility method alone costs.
+//!
+//! Temporal stability (`stability`): every configuration also draws a sequence of consecutive frames on one
+//! renderer that keeps its LOD history, measured for shimmer against the reference sequence; and every LOD
+//! setting replays the whole trace to count its LOD pops per minute (`frames::lod_pops_per_min`).
 
 pub mod chart;
 pub mod frames;
+pub mod stability;
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -19,7 +24,8 @@ use crate::measure::{flip, psnr, reference_frame, wrong_pixels};
 use crate::render::{
     Camera, DepthKey, DrawList, Filter, Level, LodMode, Method, RenderError, RenderOptions, Renderer, TextureMode,
 };
-pub use frames::{BenchFrame, collect_frames};
+pub use frames::{BenchFrame, collect_frames, collect_sequence, lod_pops_per_min};
+use stability::{SequenceReferences, measure_sequence};
 
 /// One point of the chart: a named set of options at a frame size.
 #[derive(Clone, Debug)]
@@ -64,6 +70,19 @@ pub struct Row {
     pub pareto: bool,
     /// On the Pareto front of time against visibility error among the visibility configurations.
     pub vis_pareto: bool,
+    /// Mean FLIP against the reference over the stability sequence's frames (drawn with LOD history).
+    pub seq_flip_mean: f64,
+    /// Shimmer over the stability sequence: RMS (0-255) of the frame-to-frame change the reference does not
+    /// have ([`crate::measure::Shimmer`]); 0 for a sequence of fewer than two frames.
+    pub shimmer_rms: f64,
+    /// Share of shimmering pixels (change beyond the reference's by more than 24/255 in a channel) over the
+    /// sequence's frame pairs, in percent.
+    pub shimmer_pct: f64,
+    /// On the Pareto front of time against shimmer RMS among the main-size configurations.
+    pub stability_pareto: bool,
+    /// LOD pops per minute of race time over the whole trace (see [`lod_pops_per_min`]); 0 for a forced
+    /// level, which never switches. Filled in by the caller after [`run`] (0 until then).
+    pub lod_pops_per_min: f64,
 }
 
 /// The configurations of the sweep at `main` size, plus the resolution sweep.
@@ -182,10 +201,13 @@ fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() { 0.0 } else { v[v.len() / 2] }
 }
 
-/// Runs the sweep: every configuration over every frame. `threads` is the renderer's thread count for all
-/// of it; `progress(done, total)` is called after each configuration.
+/// Runs the sweep: every configuration over every frame, then over the stability `sequence` (consecutive
+/// frames, LOD history kept). `threads` is the renderer's thread count for all of it; `progress(done,
+/// total)` is called after each configuration.
+// long: one loop over the configurations, timing, then accuracy, then stability, each a few lines.
 pub fn run<'s>(
     frames: &'s [BenchFrame],
+    sequence: &'s [BenchFrame],
     list_for: impl Fn(&'s BenchFrame, &Config) -> DrawList<'s>,
     configs: &[Config],
     repeats: usize,
@@ -196,6 +218,7 @@ pub fn run<'s>(
     let mut references: BTreeMap<(usize, usize, usize), Vec<u32>> = BTreeMap::new();
     let mut rows = Vec::with_capacity(configs.len());
     let (mut img, mut zimg) = (Vec::new(), Vec::new());
+    let mut sequence_references = SequenceReferences::default();
     for (ci, config) in configs.iter().enumerate() {
         let options = RenderOptions { threads, ..config.options };
         let zoptions = RenderOptions { method: Method::ZBuffer, ..options };
@@ -233,6 +256,14 @@ pub fn run<'s>(
             acc[6] += vis.as_ref().map_or(0.0, |f| f64::from(f.mean));
         }
         let n = frames.len().max(1) as f64;
+        let seq = measure_sequence(
+            &mut renderer,
+            sequence,
+            |f| list_for(f, config),
+            &options,
+            config.size,
+            &mut sequence_references,
+        )?;
         rows.push(Row {
             config: config.clone(),
             ms: median(&mut times),
@@ -246,15 +277,22 @@ pub fn run<'s>(
             vis_flip_mean: acc[6] / n,
             pareto: false,
             vis_pareto: false,
+            seq_flip_mean: seq.flip_mean,
+            shimmer_rms: seq.shimmer_rms,
+            shimmer_pct: seq.shimmer_pct,
+            stability_pareto: false,
+            lod_pops_per_min: 0.0,
         });
         progress(ci + 1, configs.len(), &config.label);
     }
     let main = configs.first().map_or((0, 0), |c| c.size);
     let front = pareto(&rows, |r| (r.config.size == main).then_some((r.ms, r.flip_mean)));
     let vis_front = pareto(&rows, |r| (r.config.group == "visibility").then_some((r.ms, r.vis_wrong_pct)));
-    for ((r, a), b) in rows.iter_mut().zip(front).zip(vis_front) {
+    let stability_front = pareto(&rows, |r| (r.config.size == main).then_some((r.ms, r.shimmer_rms)));
+    for (((r, a), b), c) in rows.iter_mut().zip(front).zip(vis_front).zip(stability_front) {
         r.pareto = a;
         r.vis_pareto = b;
+        r.stability_pareto = c;
     }
     Ok(rows)
 }
@@ -277,11 +315,13 @@ pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<b
         .collect()
 }
 
-/// The rows as CSV, with a header line.
+/// The rows as CSV, with a header line. Columns after `vis_pareto`: `seq_flip_mean` (FLIP mean over the
+/// stability sequence), `shimmer_rms` and `shimmer_pct` (its shimmer), `stability_pareto` (on the front of
+/// time against shimmer RMS), `lod_pops_per_min` (0 for forced levels: they never switch).
 #[must_use]
 pub fn csv(rows: &[Row], threads: usize) -> String {
     let mut s = String::from(
-        "group,label,method,buckets,key,texture,filter,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto\n",
+        "group,label,method,buckets,key,texture,filter,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
     );
     for r in rows {
         let o = &r.config.options;
@@ -290,7 +330,7 @@ pub fn csv(rows: &[Row], threads: usize) -> String {
             LodMode::Force(l) => l.name(),
         };
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
             r.config.group,
             r.config.label,
             o.method,
@@ -314,7 +354,12 @@ pub fn csv(rows: &[Row], threads: usize) -> String {
             r.vis_wrong_pct,
             r.vis_flip_mean,
             r.pareto,
-            r.vis_pareto
+            r.vis_pareto,
+            r.seq_flip_mean,
+            r.shimmer_rms,
+            r.shimmer_pct,
+            r.stability_pareto,
+            r.lod_pops_per_min
         ));
     }
     s
@@ -344,6 +389,11 @@ mod tests {
             vis_flip_mean: 0.0,
             pareto: false,
             vis_pareto: false,
+            seq_flip_mean: 0.0,
+            shimmer_rms: 0.0,
+            shimmer_pct: 0.0,
+            stability_pareto: false,
+            lod_pops_per_min: 0.0,
         }
     }
 
@@ -355,6 +405,60 @@ mod tests {
         // Left-out rows are neither on the front nor able to beat others.
         let front = pareto(&rows, |r| (r.ms != 0.5).then_some((r.ms, r.flip_mean)));
         assert_eq!(front, [true, true, false, false, false, true]);
+    }
+
+    /// The bumper camera sits inside the player's car's bounding sphere. With no LOD history (as every bench
+    /// frame is drawn, and the game's first frame after a restart) that car must still get its close model:
+    /// it got the long-shot box, a fifth of the frame, which made `lod close` look far better than `auto`.
+    #[test]
+    fn a_fresh_renderer_draws_the_car_the_camera_is_in_with_its_close_model() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+        let scene = crate::shell::race_scene::RaceScene::load(&dir).unwrap();
+        let frames = collect_frames(&scene, &dir.join("replays/demo-race.trace"), 2).unwrap();
+        let bumper = frames.iter().find(|f| f.name.ends_with("Bumper")).unwrap();
+        let list = scene.draw_list(&bumper.instances);
+        let (w, h) = (160, 120);
+        let mut renderer = Renderer::new();
+        let auto = RenderOptions::default();
+        let close = RenderOptions { lod: LodMode::Force(Level::Close), ..auto };
+        // The player's car is the first of the eight cars after the circuit's instances.
+        let player = bumper.instances.len() - crate::shell::race_scene::FIELD;
+        let set = &list.lod_sets[bumper.instances[player].lod.unwrap()];
+        let (mut a, mut c) = (vec![], vec![]);
+        draw(&mut renderer, &list, &bumper.camera, &auto, (w, h), &mut a).unwrap();
+        draw(&mut renderer, &list, &bumper.camera, &close, (w, h), &mut c).unwrap();
+        // Only the far cars and track-side objects differ (0.1-0.4% of pixels in chase views); was 21%.
+        let differ = a.iter().zip(&c).filter(|(p, q)| p != q).count();
+        assert!(differ * 100 < 2 * w * h, "{differ} of {} pixels differ from all-close", w * h);
+        renderer.reset_lod();
+        assert_eq!(renderer.frame_meshes(w, h, &bumper.camera, &list, &auto)[player], Some(set.meshes[0]));
+    }
+
+    #[test]
+    fn csv_has_a_value_for_every_column_of_every_row() {
+        let mut r = row(2.0, 0.05);
+        (r.shimmer_rms, r.shimmer_pct, r.lod_pops_per_min, r.stability_pareto) = (11.6, 4.75, 12.5, true);
+        r.config.label = "lod auto +1".into();
+        let mut forced = row(1.0, 0.1);
+        forced.config.label = "lod long".into();
+        let text = csv(&[r, forced], 1);
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        for name in ["seq_flip_mean", "shimmer_rms", "shimmer_pct", "stability_pareto", "lod_pops_per_min"] {
+            assert!(header.contains(&name), "no column {name}");
+        }
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len(), 2);
+        let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        for r in &rows {
+            assert_eq!(r.len(), header.len());
+            assert!(r.iter().all(|v| !v.is_empty() && !v.eq_ignore_ascii_case("nan")), "{r:?}");
+        }
+        assert_eq!(rows[0][col("shimmer_rms")], "11.600");
+        assert_eq!(rows[0][col("shimmer_pct")], "4.750");
+        assert_eq!(rows[0][col("lod_pops_per_min")], "12.5");
+        assert_eq!(rows[0][col("stability_pareto")], "true");
+        assert_eq!(rows[1][col("lod_pops_per_min")], "0.0");
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! `scanline-racer bench`: the speed-against-accuracy sweep over a demo replay; writes a CSV and the chart.
+//! `scanline-racer bench`: the speed-against-accuracy sweep over a demo replay; writes a CSV and the charts.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -8,7 +8,7 @@ use clap::Args;
 use super::error::CliError;
 use super::values;
 use crate::bench::chart::Panel;
-use crate::bench::{Row, chart, collect_frames, configs, csv, run};
+use crate::bench::{Row, chart, collect_frames, collect_sequence, configs, csv, lod_pops_per_min, run};
 use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
 use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
 use crate::shell::png::write_png;
@@ -17,7 +17,7 @@ use crate::shell::race_scene::RaceScene;
 /// Arguments of `bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Folder for `bench.csv`, `bench.svg` and `bench.png`.
+    /// Folder for `bench.csv` and the charts (`bench`, `visibility` and `stability`, SVG and PNG).
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
     /// The trace to replay (default: the shipped demo race).
@@ -27,6 +27,10 @@ pub struct BenchArgs {
     /// views), 1 to 1000.
     #[arg(long, default_value_t = 8, value_parser = values::count(1000))]
     pub frames: usize,
+    /// Consecutive chase-camera frames (every second tick from tick 3000) for the temporal-stability
+    /// measure, 1 to 1000.
+    #[arg(long, default_value_t = 20, value_parser = values::count(1000))]
+    pub sequence: usize,
     /// Times each frame is drawn per configuration; the best counts (1 to 1000).
     #[arg(long, default_value_t = 3, value_parser = values::count(1000))]
     pub repeats: usize,
@@ -39,7 +43,8 @@ pub struct BenchArgs {
     /// Frame height of the main sweep (1 to 8192).
     #[arg(long, default_value_t = 480, value_parser = values::side(values::MAX_BENCH_SIDE))]
     pub height: usize,
-    /// A small sweep for tests: 2 frames, 1 repeat, 160x120, three bucket counts, two resolutions.
+    /// A small sweep for tests: 2 frames, a sequence of 4, 1 repeat, 160x120, three bucket counts, two
+    /// resolutions.
     #[arg(long)]
     pub quick: bool,
 }
@@ -51,12 +56,13 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
-    let (frames, repeats, main, buckets, resolutions): (usize, usize, _, Vec<usize>, Vec<(usize, usize)>) =
+    let (frames, sequence, repeats, main, buckets, resolutions): (usize, usize, usize, _, Vec<usize>, Vec<_>) =
         if args.quick {
-            (2, 1, (160, 120), vec![8, DEFAULT_BUCKETS, 65536], vec![(160, 120), (320, 240)])
+            (2, 4, 1, (160, 120), vec![8, DEFAULT_BUCKETS, 65536], vec![(160, 120), (320, 240)])
         } else {
             (
                 args.frames,
+                args.sequence,
                 args.repeats,
                 (args.width, args.height),
                 vec![8, 32, 128, 512, 1024, 4096, 16384, 65536],
@@ -67,13 +73,15 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     if frames.is_empty() {
         return Err(CliError::NoRacingFrames { trace: trace.clone() });
     }
+    let sequence = collect_sequence(&scene, &trace, sequence)?;
     let configs = configs(main, &buckets, &resolutions);
     let mut err = std::io::stderr();
     let terminal = std::io::IsTerminal::is_terminal(&err);
     eprintln!(
-        "bench: {} configurations x {} frames x {repeats} repeats, {} thread(s), main size {}x{}",
+        "bench: {} configurations x {} frames x {repeats} repeats and {} sequence frames, {} thread(s), main size {}x{}",
         configs.len(),
         frames.len(),
+        sequence.len(),
         args.threads,
         main.0,
         main.1
@@ -83,8 +91,9 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         .filter_map(|c| c.view_level)
         .map(|l| (l, ViewLists::build(&scene.scene().meshes, l, DEFAULT_MAX_POLYGONS)))
         .collect();
-    let rows = run(
+    let mut rows = run(
         &frames,
+        &sequence,
         |f, c| {
             let lists = c.view_level.and_then(|l| levels.iter().find(|(k, _)| *k == l)).map(|(_, v)| v);
             DrawList { view_lists: lists, ..scene.draw_list(&f.instances) }
@@ -103,14 +112,22 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     if terminal {
         eprintln!();
     }
+    let settings: Vec<_> = configs.iter().map(|c| (c.options, c.size)).collect();
+    for (r, pops) in rows.iter_mut().zip(lod_pops_per_min(&scene, &trace, &settings)?) {
+        r.lod_pops_per_min = pops;
+    }
     let trace_name = trace.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    write_outputs(args, &rows, &format!("{} frames of {trace_name}, {} thread(s)", frames.len(), args.threads))?;
+    let title =
+        format!("{} frames and a run of {} of {trace_name}, {} thread(s)", frames.len(), sequence.len(), args.threads);
+    write_outputs(args, &rows, &title)?;
     print_summary(&rows);
-    eprintln!("wrote {}/bench.csv, bench.svg, bench.png, visibility.svg and visibility.png", args.out.display());
+    eprintln!(
+        "wrote {}/bench.csv, bench.svg, bench.png, visibility.svg, visibility.png, stability.svg and stability.png",
+        args.out.display()
+    );
     Ok(())
 }
 
-/// Prints the Pareto front and the default configuration as a table.
 /// Writes the CSV and, for each panel, the chart as SVG and PNG into `--out`; `title` heads the charts.
 fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliError> {
     let write = |name: &str, bytes: &[u8]| {
@@ -121,6 +138,7 @@ fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliE
     for (name, panel, what) in [
         ("bench", Panel::Accuracy, "error against the reference"),
         ("visibility", Panel::Visibility, "visibility error alone"),
+        ("stability", Panel::Stability, "shimmer over consecutive frames"),
     ] {
         let title = format!("{title}: {what}");
         let chart_error = |source| CliError::Chart { name: name.to_string(), source };
@@ -131,33 +149,39 @@ fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliE
     Ok(())
 }
 
+/// Prints the Pareto fronts, the z-buffer, the LOD settings and the default configuration as a table.
 fn print_summary(rows: &[Row]) {
     println!(
-        "{:<28} {:>10} {:>8} {:>8} {:>9} {:>9}  front",
-        "configuration", "size", "ms", "x zbuf", "FLIP", "vis err%"
+        "{:<28} {:>10} {:>8} {:>8} {:>9} {:>9} {:>8} {:>7} {:>8}  front",
+        "configuration", "size", "ms", "x zbuf", "FLIP", "vis err%", "shimmer", "shim%", "pops/min"
     );
     let default = crate::render::RenderOptions::default();
     for r in rows {
         let is_default = r.config.group == "visibility" && r.config.options == default;
         if r.pareto
             || r.vis_pareto
+            || r.stability_pareto
+            || r.config.group == "lod"
             || is_default
             || r.config.options.method == Method::ZBuffer && r.config.group == "visibility"
         {
+            let fronts: Vec<&str> =
+                [(r.pareto, "accuracy"), (r.vis_pareto, "visibility"), (r.stability_pareto, "stability")]
+                    .into_iter()
+                    .filter_map(|(on, name)| on.then_some(name))
+                    .collect();
             println!(
-                "{:<28} {:>10} {:>8.2} {:>8.2} {:>9.5} {:>9.3}  {}{}",
+                "{:<28} {:>10} {:>8.2} {:>8.2} {:>9.5} {:>9.3} {:>8.2} {:>7.2} {:>8.1}  {}{}",
                 r.config.label,
                 format!("{}x{}", r.config.size.0, r.config.size.1),
                 r.ms,
                 r.ms / r.zbuffer_ms.max(1e-9),
                 r.flip_mean,
                 r.vis_wrong_pct,
-                match (r.pareto, r.vis_pareto) {
-                    (true, true) => "both",
-                    (true, false) => "accuracy",
-                    (false, true) => "visibility",
-                    (false, false) => "",
-                },
+                r.shimmer_rms,
+                r.shimmer_pct,
+                r.lod_pops_per_min,
+                fronts.join(","),
                 if is_default { " (default)" } else { "" }
             );
         }

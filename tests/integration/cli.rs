@@ -291,8 +291,9 @@ fn glb_with_embedded_images_renders_like_the_gltf() {
     }
 }
 
-/// `bench --quick` writes the CSV and both charts; the z-buffer has no visibility error, every method and
-/// the view-lists levels are there, and a Pareto front is marked.
+/// `bench --quick` writes the CSV and the three charts; the z-buffer has no visibility error, every method
+/// and the view-lists levels are there, a Pareto front is marked, the stability measures are numbers, and
+/// only the automatic LOD choice pops.
 #[test]
 fn bench_quick_writes_csv_and_charts() {
     let out = tmp("bench");
@@ -312,7 +313,19 @@ fn bench_quick_writes_csv_and_charts() {
     assert_eq!(zb[col("vis_wrong_pct")].parse::<f64>().unwrap(), 0.0);
     assert!(rows.iter().any(|r| r[col("pareto")] == "true"));
     assert!(rows.iter().all(|r| r[col("ms_median")].parse::<f64>().unwrap() > 0.0));
-    for chart in ["bench", "visibility"] {
+    let number = |r: &Vec<&str>, name: &str| r[col(name)].parse::<f64>().unwrap_or_else(|e| panic!("{name}: {e}"));
+    for r in &rows {
+        assert_eq!(r.len(), header.len());
+        for name in ["seq_flip_mean", "shimmer_rms", "shimmer_pct", "lod_pops_per_min"] {
+            assert!(number(r, name).is_finite() && number(r, name) >= 0.0, "{name} in {r:?}");
+        }
+        if r[col("lod")] != "auto" {
+            assert_eq!(number(r, "lod_pops_per_min"), 0.0, "{r:?}");
+        }
+    }
+    assert!(number(zb, "shimmer_rms") > 0.0 && number(zb, "lod_pops_per_min") > 0.0);
+    assert!(rows.iter().any(|r| r[col("stability_pareto")] == "true"));
+    for chart in ["bench", "visibility", "stability"] {
         let (px, w, h) = read_png(&out.join(format!("{chart}.png"))).unwrap();
         assert_eq!((w, h), (1200, 760));
         assert!(px.iter().filter(|&&p| p != 0xffffff).count() > 5000, "{chart}.png has a plot");

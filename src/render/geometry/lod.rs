@@ -18,7 +18,9 @@ use crate::render::geometry::cull::world_sphere;
 /// by this much, switching to a coarser one to fall this much below it.
 pub const HYSTERESIS: f32 = 0.15;
 
-/// The level for a projected height, given the level used last frame (if any).
+/// The level for a projected height, given the level used last frame (if any). An infinite height (the eye
+/// inside the object's bounding sphere, as the bumper camera is in the player's car) is the close model; a
+/// NaN height keeps the previous level (the long one without history).
 #[must_use]
 pub fn choose(size_px: f32, switch_px: [f32; 2], previous: Option<Level>) -> Level {
     let plain = |margin: [f32; 2]| {
@@ -30,7 +32,7 @@ pub fn choose(size_px: f32, switch_px: [f32; 2], previous: Option<Level>) -> Lev
             Level::Long
         }
     };
-    if !size_px.is_finite() {
+    if size_px.is_nan() {
         return previous.unwrap_or(Level::Long);
     }
     let Some(prev) = previous else {
@@ -136,6 +138,10 @@ mod tests {
         assert_eq!(choose(24.0, s, None), Level::Mid);
         assert_eq!(choose(23.9, s, None), Level::Long);
         assert_eq!(choose(f32::NAN, s, None), Level::Long);
+        assert_eq!(choose(f32::NAN, s, Some(Level::Mid)), Level::Mid);
+        // The eye inside the bounding sphere: the close model, with or without history.
+        assert_eq!(choose(f32::INFINITY, s, None), Level::Close);
+        assert_eq!(choose(f32::INFINITY, s, Some(Level::Long)), Level::Close);
     }
 
     #[test]
