@@ -14,6 +14,7 @@
 //! setting replays the whole trace to count its LOD pops per minute (`frames::lod_pops_per_min`).
 
 pub mod chart;
+pub mod configs;
 pub mod frames;
 pub mod stability;
 
@@ -21,9 +22,9 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use crate::measure::{flip, psnr, reference_frame, wrong_pixels};
-use crate::render::{
-    Camera, DepthKey, DrawList, Filter, Level, LodMode, Method, RenderError, RenderOptions, Renderer, TextureMode,
-};
+use crate::render::{Camera, DrawList, LodMode, Method, RenderError, RenderOptions, Renderer};
+pub use configs::configs;
+use configs::{filter_name, key_name, mode_name};
 pub use frames::{BenchFrame, collect_frames, collect_sequence, lod_pops_per_min};
 use stability::{SequenceReferences, measure_sequence};
 
@@ -83,101 +84,6 @@ pub struct Row {
     /// LOD pops per minute of race time over the whole trace (see [`lod_pops_per_min`]); 0 for a forced
     /// level, which never switches. Filled in by the caller after [`run`] (0 until then).
     pub lod_pops_per_min: f64,
-}
-
-/// The configurations of the sweep at `main` size, plus the resolution sweep.
-#[must_use]
-pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(usize, usize)]) -> Vec<Config> {
-    let base = RenderOptions::default();
-    let mut v = vec![];
-    let mut add = |group, label: String, options: RenderOptions, size| {
-        v.push(Config { group, label, options, size, view_level: None })
-    };
-    add("visibility", "zbuffer".into(), RenderOptions { method: Method::ZBuffer, ..base }, main);
-    for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max] {
-        add("visibility", format!("sort {}", key_name(key)), RenderOptions { method: Method::Sort, key, ..base }, main);
-    }
-    for method in [Method::BucketFar, Method::BucketNear] {
-        for &buckets in bucket_counts {
-            add(
-                "visibility",
-                format!("{method} {buckets} {}", key_name(base.key)),
-                RenderOptions { method, buckets, ..base },
-                main,
-            );
-        }
-        for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max].into_iter().filter(|&k| k != base.key) {
-            add(
-                "visibility",
-                format!("{method} {} {}", base.buckets, key_name(key)),
-                RenderOptions { method, key, ..base },
-                main,
-            );
-        }
-    }
-    for level in 0..=2u32 {
-        let dirs = crate::render::order::view_lists::directions(level).len();
-        v.push(Config {
-            group: "visibility",
-            label: format!("view-lists {dirs} dirs"),
-            options: RenderOptions { method: Method::ViewLists, ..base },
-            size: main,
-            view_level: Some(level),
-        });
-    }
-    let mut add = |group, label: String, options: RenderOptions, size| {
-        v.push(Config { group, label, options, size, view_level: None })
-    };
-    for mode in [TextureMode::Affine, TextureMode::Subdivided, TextureMode::Perspective] {
-        for filter in [Filter::Nearest, Filter::Bilinear] {
-            add(
-                "texture",
-                format!("{} {}", mode_name(mode), filter_name(filter)),
-                RenderOptions { texture_mode: mode, filter, ..base },
-                main,
-            );
-        }
-    }
-    add("lod", "lod close".into(), RenderOptions { lod: LodMode::Force(Level::Close), ..base }, main);
-    for bias in [-1.0f32, 1.0] {
-        add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
-    }
-    add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
-    // The default at every size, beside the fastest method (`bucket-near`) at the same size.
-    for &size in resolutions.iter().filter(|&&s| s != main) {
-        add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
-        add(
-            "resolution",
-            format!("bucket-near {}x{}", size.0, size.1),
-            RenderOptions { method: Method::BucketNear, ..base },
-            size,
-        );
-    }
-    v
-}
-
-fn key_name(k: DepthKey) -> &'static str {
-    match k {
-        DepthKey::Avg => "avg",
-        DepthKey::Min => "min",
-        DepthKey::Max => "max",
-    }
-}
-
-fn mode_name(m: TextureMode) -> &'static str {
-    match m {
-        TextureMode::Perspective => "perspective",
-        TextureMode::Subdivided => "subdivided",
-        TextureMode::Affine => "affine",
-    }
-}
-
-fn filter_name(f: Filter) -> &'static str {
-    match f {
-        Filter::Nearest => "nearest",
-        Filter::Bilinear => "bilinear",
-        Filter::Trilinear => "trilinear",
-    }
 }
 
 /// Draws `frame` with `options` at `size` on a renderer with no LOD history (frames are not consecutive).
@@ -321,7 +227,7 @@ pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<b
 #[must_use]
 pub fn csv(rows: &[Row], threads: usize) -> String {
     let mut s = String::from(
-        "group,label,method,buckets,key,texture,filter,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
+        "group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
     );
     for r in rows {
         let o = &r.config.options;
@@ -330,7 +236,7 @@ pub fn csv(rows: &[Row], threads: usize) -> String {
             LodMode::Force(l) => l.name(),
         };
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
             r.config.group,
             r.config.label,
             o.method,
@@ -338,6 +244,8 @@ pub fn csv(rows: &[Row], threads: usize) -> String {
             key_name(o.key),
             mode_name(o.texture_mode),
             filter_name(o.filter),
+            o.mip,
+            o.antialias,
             lod,
             o.lod_bias,
             r.config.size.0,

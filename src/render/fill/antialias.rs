@@ -50,8 +50,8 @@ pub(crate) fn fill_polygon(
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
     for_each_row(v, &pattern, t.band, width, |cov| {
-        let inner = if fast.is_some() { cov.inner } else { (0, 0) };
-        for x in (cov.lo..cov.hi).filter(|x| !(inner.0..inner.1).contains(x)) {
+        let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
+        for x in (cov.lo..inner.0).chain(inner.1..cov.hi) {
             total += pixel(t, cov, x, cov.mask(x), &paint);
         }
         let Some((source, alpha)) = fast.filter(|_| inner.0 < inner.1) else { return };
@@ -60,10 +60,12 @@ pub(crate) fn fill_polygon(
         let r = (cov.y - t.band.0) as usize;
         if t.store.row_has_expanded(r) {
             let full = t.pattern.full();
-            for x in inner.0..inner.1 {
-                if t.store.is_expanded(r * t.pixels.width + x as usize) {
-                    total += pixel(t, cov, x, full, &paint);
-                }
+            let start = r * t.pixels.width;
+            let mut x = inner.0;
+            while let Some(found) = t.store.next_expanded(start + x as usize..start + inner.1 as usize) {
+                x = (found - start) as i32;
+                total += pixel(t, cov, x, full, &paint);
+                x += 1;
             }
         }
     });

@@ -75,10 +75,20 @@ impl SampleStore {
         self.row_expanded.get(row).is_some_and(|&n| n > 0)
     }
 
-    /// Whether band pixel `index` is expanded.
+    /// The first expanded band pixel in `range`, if any: eight slots at a time, as most runs have none.
     #[inline]
-    pub(crate) fn is_expanded(&self, index: usize) -> bool {
-        self.slot.get(index).is_some_and(|&s| s != 0)
+    pub(crate) fn next_expanded(&self, range: std::ops::Range<usize>) -> Option<usize> {
+        let start = range.start;
+        let slots = self.slot.get(range)?;
+        let mut chunks = slots.chunks_exact(8);
+        let mut base = start;
+        for c in chunks.by_ref() {
+            if c.iter().fold(0, |a, &s| a | s) != 0 {
+                return c.iter().position(|&s| s != 0).map(|i| base + i);
+            }
+            base += 8;
+        }
+        chunks.remainder().iter().position(|&s| s != 0).map(|i| base + i)
     }
 
     /// Draws one polygon's samples `mask` of a pixel under `vis`: the polygon's depth is `centre` at the

@@ -1,0 +1,137 @@
+//! The configurations the bench draws: the visibility methods and their settings, texture mapping and
+//! filtering, mip-maps, anti-aliasing, levels of detail and frame sizes, each a point on the charts.
+
+use super::Config;
+use crate::render::{Antialias, DepthKey, Filter, Level, LodMode, Method, MipMode, RenderOptions, TextureMode};
+
+/// The configurations of the sweep at `main` size, plus the resolution sweep.
+#[must_use]
+pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(usize, usize)]) -> Vec<Config> {
+    let base = RenderOptions::default();
+    let mut v = vec![];
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
+    add("visibility", "zbuffer".into(), RenderOptions { method: Method::ZBuffer, ..base }, main);
+    for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max] {
+        add("visibility", format!("sort {}", key_name(key)), RenderOptions { method: Method::Sort, key, ..base }, main);
+    }
+    for method in [Method::BucketFar, Method::BucketNear] {
+        for &buckets in bucket_counts {
+            add(
+                "visibility",
+                format!("{method} {buckets} {}", key_name(base.key)),
+                RenderOptions { method, buckets, ..base },
+                main,
+            );
+        }
+        for key in [DepthKey::Avg, DepthKey::Min, DepthKey::Max].into_iter().filter(|&k| k != base.key) {
+            add(
+                "visibility",
+                format!("{method} {} {}", base.buckets, key_name(key)),
+                RenderOptions { method, key, ..base },
+                main,
+            );
+        }
+    }
+    for level in 0..=2u32 {
+        let dirs = crate::render::order::view_lists::directions(level).len();
+        v.push(Config {
+            group: "visibility",
+            label: format!("view-lists {dirs} dirs"),
+            options: RenderOptions { method: Method::ViewLists, ..base },
+            size: main,
+            view_level: Some(level),
+        });
+    }
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
+    for mode in [TextureMode::Affine, TextureMode::Subdivided, TextureMode::Perspective] {
+        for filter in [Filter::Nearest, Filter::Bilinear] {
+            add(
+                "texture",
+                format!("{} {}", mode_name(mode), filter_name(filter)),
+                RenderOptions { texture_mode: mode, filter, ..base },
+                main,
+            );
+        }
+    }
+    add("lod", "lod close".into(), RenderOptions { lod: LodMode::Force(Level::Close), ..base }, main);
+    for bias in [-1.0f32, 1.0] {
+        add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
+    }
+    add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
+    for (filter, mip) in [
+        (Filter::Nearest, MipMode::Polygon),
+        (Filter::Nearest, MipMode::Span),
+        (Filter::Nearest, MipMode::Pixel),
+        (Filter::Bilinear, MipMode::Pixel),
+        (Filter::Trilinear, MipMode::Polygon),
+        (Filter::Trilinear, MipMode::Span),
+        (Filter::Trilinear, MipMode::Pixel),
+    ] {
+        add("mip", format!("{} mip {mip}", filter_name(filter)), RenderOptions { filter, mip, ..base }, main);
+    }
+    for (method, antialias) in [
+        (Method::ZBuffer, Antialias::Samples4),
+        (Method::ZBuffer, Antialias::Samples8),
+        (Method::ZBuffer, Antialias::Samples16),
+        (Method::BucketNear, Antialias::Samples4),
+        (Method::BucketNear, Antialias::Samples16),
+        (Method::BucketFar, Antialias::Samples4),
+        (Method::ZBuffer, Antialias::Supersample2x2),
+    ] {
+        add("antialias", format!("{method} aa {antialias}"), RenderOptions { method, antialias, ..base }, main);
+    }
+    // Anti-aliasing with mip-maps: edges and textures both.
+    for (antialias, filter, mip) in [
+        (Antialias::Samples4, Filter::Nearest, MipMode::Polygon),
+        (Antialias::Samples4, Filter::Nearest, MipMode::Pixel),
+        (Antialias::Samples4, Filter::Trilinear, MipMode::Pixel),
+        (Antialias::Samples8, Filter::Nearest, MipMode::Pixel),
+        (Antialias::Supersample2x2, Filter::Nearest, MipMode::Polygon),
+    ] {
+        add(
+            "antialias",
+            format!("aa {antialias} {} mip {mip}", filter_name(filter)),
+            RenderOptions { antialias, filter, mip, ..base },
+            main,
+        );
+    }
+    // The default at every size, beside the fastest method (`bucket-near`) at the same size.
+    for &size in resolutions.iter().filter(|&&s| s != main) {
+        add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
+        add(
+            "resolution",
+            format!("bucket-near {}x{}", size.0, size.1),
+            RenderOptions { method: Method::BucketNear, ..base },
+            size,
+        );
+    }
+    v
+}
+
+pub(crate) fn key_name(k: DepthKey) -> &'static str {
+    match k {
+        DepthKey::Avg => "avg",
+        DepthKey::Min => "min",
+        DepthKey::Max => "max",
+    }
+}
+
+pub(crate) fn mode_name(m: TextureMode) -> &'static str {
+    match m {
+        TextureMode::Perspective => "perspective",
+        TextureMode::Subdivided => "subdivided",
+        TextureMode::Affine => "affine",
+    }
+}
+
+pub(crate) fn filter_name(f: Filter) -> &'static str {
+    match f {
+        Filter::Nearest => "nearest",
+        Filter::Bilinear => "bilinear",
+        Filter::Trilinear => "trilinear",
+    }
+}
