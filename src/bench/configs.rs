@@ -62,7 +62,8 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
         add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
     }
     add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
-    for (filter, mip) in [
+    let mips = [
+        (Filter::Nearest, MipMode::Off),
         (Filter::Nearest, MipMode::Polygon),
         (Filter::Nearest, MipMode::Span),
         (Filter::Nearest, MipMode::Pixel),
@@ -70,7 +71,9 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
         (Filter::Trilinear, MipMode::Polygon),
         (Filter::Trilinear, MipMode::Span),
         (Filter::Trilinear, MipMode::Pixel),
-    ] {
+    ];
+    // Every choice but the default's (the visibility sweep's `zbuffer` is that point).
+    for (filter, mip) in mips.into_iter().filter(|&m| m != (base.filter, base.mip)) {
         add("mip", format!("{} mip {mip}", filter_name(filter)), RenderOptions { filter, mip, ..base }, main);
     }
     for (method, antialias) in [
@@ -84,13 +87,13 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
     ] {
         add("antialias", format!("{method} aa {antialias}"), RenderOptions { method, antialias, ..base }, main);
     }
-    // Anti-aliasing with mip-maps: edges and textures both.
+    // Anti-aliasing with other mip-map choices than the default's.
     for (antialias, filter, mip) in [
-        (Antialias::Samples4, Filter::Nearest, MipMode::Polygon),
+        (Antialias::Samples4, Filter::Nearest, MipMode::Off),
         (Antialias::Samples4, Filter::Nearest, MipMode::Pixel),
         (Antialias::Samples4, Filter::Trilinear, MipMode::Pixel),
         (Antialias::Samples8, Filter::Nearest, MipMode::Pixel),
-        (Antialias::Supersample2x2, Filter::Nearest, MipMode::Polygon),
+        (Antialias::Supersample2x2, Filter::Nearest, MipMode::Off),
     ] {
         add(
             "antialias",
