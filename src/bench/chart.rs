@@ -117,6 +117,8 @@ fn draw<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .x_desc("milliseconds per frame (median over frames, log scale)")
+        // Tick values are products like 7 x 0.1, which print as 0.7000000000000001 by default.
+        .x_label_formatter(&|x| format!("{}", libm::round(x * 1e6) / 1e6))
         .y_desc(panel.y_desc())
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
