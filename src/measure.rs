@@ -1,6 +1,7 @@
 //! The project's measures (DESIGN.md): the supersampled reference image and error metrics against it.
 //!
-//! - Reference image: z-buffer, perspective-correct, the close-up LOD everywhere, 4x4 supersampled and
+//! - Reference image: z-buffer, perspective-correct, the close-up LOD everywhere, nearest texels of level 0
+//!   (no mip-maps, no anti-aliasing: the samples themselves are the filter), 4x4 supersampled and
 //!   box-filtered.
 //! - Wrong pixels: the share of pixels whose colour differs by more than 8/255 in any channel.
 //! - PSNR over the three colour channels.
@@ -9,7 +10,10 @@
 //! - FLIP (NVIDIA's perceptual difference, LDR), mean and 99th percentile of its per-pixel error map, at
 //!   the viewing condition `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (a 0.7 m wide monitor of 3840 px at 0.7 m).
 
-use crate::render::{Camera, DrawList, Level, LodMode, Method, RenderError, RenderOptions, Renderer, TextureMode};
+use crate::render::{
+    Antialias, Camera, DrawList, Filter, Level, LodMode, Method, MipMode, RenderError, RenderOptions, Renderer,
+    TextureMode,
+};
 
 /// Supersampling factor per axis of the reference image.
 pub const REFERENCE_SUPERSAMPLING: usize = 4;
@@ -29,6 +33,9 @@ pub fn reference_frame(
         method: Method::ZBuffer,
         texture_mode: TextureMode::Perspective,
         lod: LodMode::Force(Level::Close),
+        filter: Filter::Nearest,
+        mip: MipMode::Off,
+        antialias: Antialias::Off,
         background: Some(background),
         ..RenderOptions::default()
     };

@@ -1,14 +1,50 @@
 //! The configurations the bench draws: the visibility methods and their settings, texture mapping and
 //! filtering, mip-maps, anti-aliasing, levels of detail and frame sizes, each a point on the charts.
 
-use super::Config;
 use crate::render::{Antialias, DepthKey, Filter, Level, LodMode, Method, MipMode, RenderOptions, TextureMode};
+
+/// One point of the chart: a named set of options at a frame size.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Which sweep it belongs to (`visibility`, `texture`, `lod`, `resolution`).
+    pub group: &'static str,
+    /// A short label for the chart.
+    pub label: String,
+    /// The renderer's options.
+    pub options: RenderOptions,
+    /// Frame width and height.
+    pub size: (usize, usize),
+    /// For `view-lists`: the icosahedron subdivision level of the stored directions.
+    pub view_level: Option<u32>,
+}
 
 /// The configurations of the sweep at `main` size, plus the resolution sweep.
 #[must_use]
 pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(usize, usize)]) -> Vec<Config> {
     let base = RenderOptions::default();
     let mut v = vec![];
+    visibility(&mut v, base, main, bucket_counts);
+    texture_and_lod(&mut v, base, main);
+    mips_and_antialiasing(&mut v, base, main);
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
+    // The default at every size, beside the fastest method (`bucket-near`) at the same size.
+    for &size in resolutions.iter().filter(|&&s| s != main) {
+        add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
+        add(
+            "resolution",
+            format!("bucket-near {}x{}", size.0, size.1),
+            RenderOptions { method: Method::BucketNear, ..base },
+            size,
+        );
+    }
+    v
+}
+
+/// The visibility methods: the z-buffer, the sort and the ordering table by key and bucket count, and the
+/// stored view lists by direction count.
+fn visibility(v: &mut Vec<Config>, base: RenderOptions, main: (usize, usize), bucket_counts: &[usize]) {
     let mut add = |group, label: String, options: RenderOptions, size| {
         v.push(Config { group, label, options, size, view_level: None })
     };
@@ -44,6 +80,10 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
             view_level: Some(level),
         });
     }
+}
+
+/// Texture mapping and filtering without mip-maps, and the levels of detail.
+fn texture_and_lod(v: &mut Vec<Config>, base: RenderOptions, main: (usize, usize)) {
     let mut add = |group, label: String, options: RenderOptions, size| {
         v.push(Config { group, label, options, size, view_level: None })
     };
@@ -62,6 +102,13 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
         add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
     }
     add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
+}
+
+/// The mip-map choices, and anti-aliasing alone and with other mip choices than the default's.
+fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize, usize)) {
+    let mut add = |group, label: String, options: RenderOptions, size| {
+        v.push(Config { group, label, options, size, view_level: None })
+    };
     let mips = [
         (Filter::Nearest, MipMode::Off),
         (Filter::Nearest, MipMode::Polygon),
@@ -102,17 +149,6 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
             main,
         );
     }
-    // The default at every size, beside the fastest method (`bucket-near`) at the same size.
-    for &size in resolutions.iter().filter(|&&s| s != main) {
-        add("resolution", format!("{} {}x{}", base.method, size.0, size.1), base, size);
-        add(
-            "resolution",
-            format!("bucket-near {}x{}", size.0, size.1),
-            RenderOptions { method: Method::BucketNear, ..base },
-            size,
-        );
-    }
-    v
 }
 
 pub(crate) fn key_name(k: DepthKey) -> &'static str {

@@ -23,25 +23,10 @@ use std::time::Instant;
 
 use crate::measure::{flip, psnr, reference_frame, wrong_pixels};
 use crate::render::{Camera, DrawList, LodMode, Method, RenderError, RenderOptions, Renderer};
-pub use configs::configs;
+pub use configs::{Config, configs};
 use configs::{filter_name, key_name, mode_name};
 pub use frames::{BenchFrame, collect_frames, collect_sequence, lod_pops_per_min};
 use stability::{SequenceReferences, measure_sequence};
-
-/// One point of the chart: a named set of options at a frame size.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Which sweep it belongs to (`visibility`, `texture`, `lod`, `resolution`).
-    pub group: &'static str,
-    /// A short label for the chart.
-    pub label: String,
-    /// The renderer's options.
-    pub options: RenderOptions,
-    /// Frame width and height.
-    pub size: (usize, usize),
-    /// For `view-lists`: the icosahedron subdivision level of the stored directions.
-    pub view_level: Option<u32>,
-}
 
 /// What was measured for one configuration.
 #[derive(Clone, Debug)]
@@ -276,6 +261,7 @@ pub fn csv(rows: &[Row], threads: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::Level;
 
     fn row(ms: f64, flip_mean: f64) -> Row {
         Row {

@@ -12,7 +12,7 @@ use crate::common::*;
 use glam::{DMat4, DVec4};
 use scanline_racer::asset::{LoadedScene, load};
 use scanline_racer::render::core::texture::{unpack, wrap};
-use scanline_racer::render::{AlphaMode, Camera, Method, RenderOptions, Renderer};
+use scanline_racer::render::{AlphaMode, Camera, Method, MipMode, RenderOptions, Renderer};
 
 struct Reference {
     color: Vec<u32>,
@@ -139,7 +139,9 @@ fn compare(name: &str, scene: &LoadedScene, camera: &Camera, w: usize, h: usize)
     let bg = 0x0087ceeb;
     let reference = reference_render(scene, camera, w, h, bg);
     let mut frame = vec![0u32; w * h];
-    let opts = RenderOptions { method: Method::ZBuffer, background: Some(bg), ..RenderOptions::default() };
+    // The reference samples level 0 by the nearest texel, as GL does without mip-maps.
+    let opts =
+        RenderOptions { method: Method::ZBuffer, mip: MipMode::Off, background: Some(bg), ..RenderOptions::default() };
     Renderer::new().render(&mut frame, w, h, camera, &scene.draw_list(), &opts).unwrap();
     let (mut wrong, mut interior) = (0, 0);
     for y in 0..h {
