@@ -6,6 +6,7 @@
 mod bench_cmd;
 mod error;
 mod export_cmd;
+mod picture;
 mod play_cmd;
 mod render_cmd;
 mod replay_cmd;

@@ -5,11 +5,12 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::error::CliError;
+use super::picture::PictureArgs;
 use super::values;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
 use crate::input::ghost::GhostSearch;
 use crate::input::recording::Kept;
-use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions};
+use crate::render::{Method, RenderOptions};
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings, SettingsFile};
@@ -42,15 +43,9 @@ pub struct PlayArgs {
     /// Visibility method (keys 1-5 switch: zbuffer, sort, bucket-far, bucket-near, view-lists).
     #[arg(long, default_value_t = RenderOptions::default().method)]
     pub method: Method,
-    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
-    #[arg(long, default_value_t = RenderOptions::default().antialias)]
-    pub aa: Antialias,
-    /// Texture filtering: nearest, bilinear or trilinear.
-    #[arg(long, default_value_t = RenderOptions::default().filter)]
-    pub filter: Filter,
-    /// Where mip levels are chosen: off, polygon, span or pixel.
-    #[arg(long, default_value_t = RenderOptions::default().mip)]
-    pub mip: MipMode,
+    /// Texture filter, mip levels and anti-aliasing.
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// Renderer worker threads (default: the cores available).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -93,9 +88,7 @@ impl Default for PlayArgs {
             scale: None,
             settings: None,
             method: RenderOptions::default().method,
-            aa: RenderOptions::default().antialias,
-            filter: RenderOptions::default().filter,
-            mip: RenderOptions::default().mip,
+            picture: PictureArgs::default(),
             threads: 0,
             scene: None,
             demo: false,
@@ -112,14 +105,8 @@ impl Default for PlayArgs {
 
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
-    let options = RenderOptions {
-        method: args.method,
-        threads: args.threads,
-        antialias: args.aa,
-        filter: args.filter,
-        mip: args.mip,
-        ..RenderOptions::default()
-    };
+    let options =
+        args.picture.apply(RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() });
     let window = WindowConfig {
         size: (args.width, args.height),
         fullscreen: args.fullscreen,

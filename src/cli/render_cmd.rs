@@ -6,12 +6,12 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 
 use super::error::CliError;
+use super::picture::PictureArgs;
 use super::values;
 use crate::asset::{LoadedScene, load};
 use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{
-    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Filter, LodMode, Method, MipMode, RenderOptions, Renderer,
-    Stats, TextureMode,
+    BucketMapping, DEFAULT_BUCKETS, DepthKey, LodMode, Method, RenderOptions, Renderer, Stats, TextureMode,
 };
 
 /// Texture interpolation names on the command line.
@@ -64,17 +64,9 @@ pub struct RenderArgs {
     /// Texture-coordinate interpolation.
     #[arg(long, value_enum, default_value_t = TextureArg::Perspective)]
     pub texture: TextureArg,
-    /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
-    /// detail, blended; bilinear with --mip off).
-    #[arg(long, default_value_t = RenderOptions::default().filter)]
-    pub filter: Filter,
-    /// Where mip levels are chosen: off (level 0 only), polygon (once per polygon), span (at each span's
-    /// middle pixel) or pixel (at every pixel).
-    #[arg(long, default_value_t = RenderOptions::default().mip)]
-    pub mip: MipMode,
-    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
-    #[arg(long, default_value_t = RenderOptions::default().antialias)]
-    pub aa: Antialias,
+    /// Texture filter, mip levels and anti-aliasing.
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// Level of detail for LOD sets: auto (by projected size), or close, mid or long for every set.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
@@ -110,7 +102,7 @@ impl RenderArgs {
     /// The renderer options these arguments ask for (clap has checked every range).
     #[must_use]
     pub fn options(&self) -> RenderOptions {
-        RenderOptions {
+        self.picture.apply(RenderOptions {
             method: self.method,
             buckets: self.buckets,
             key: self.key,
@@ -123,14 +115,12 @@ impl RenderArgs {
                 TextureArg::Subdivided => TextureMode::Subdivided,
                 TextureArg::Affine => TextureMode::Affine,
             },
-            filter: self.filter,
-            mip: self.mip,
             threads: self.threads,
             background: Some(self.background),
             lod: self.lod,
             lod_bias: self.lod_bias,
-            antialias: self.aa,
-        }
+            ..RenderOptions::default()
+        })
     }
 }
 

@@ -6,10 +6,11 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::error::CliError;
+use super::picture::PictureArgs;
 use super::values;
 use crate::audio::{CHANNELS, Mixer, wav};
 use crate::input::replay::Replay;
-use crate::render::{Antialias, Filter, LodMode, Method, MipMode, RenderOptions, Renderer};
+use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::png::write_png;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View};
@@ -49,16 +50,9 @@ pub struct ReplayArgs {
     /// Level of detail: auto, or close, mid or long for every car and tree.
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
-    /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
-    /// detail, blended; bilinear with --mip off).
-    #[arg(long, default_value_t = RenderOptions::default().filter)]
-    pub filter: Filter,
-    /// Where mip levels are chosen: off (level 0 only), polygon, span or pixel.
-    #[arg(long, default_value_t = RenderOptions::default().mip)]
-    pub mip: MipMode,
-    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling).
-    #[arg(long, default_value_t = RenderOptions::default().antialias)]
-    pub aa: Antialias,
+    /// Texture filter, mip levels and anti-aliasing.
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// In the window: stop (freeze the frame) when the replay reaches this tick.
     #[arg(long)]
     pub stop_at: Option<u64>,
@@ -71,15 +65,12 @@ impl ReplayArgs {
     /// The renderer options these arguments ask for.
     #[must_use]
     pub fn options(&self) -> RenderOptions {
-        RenderOptions {
+        self.picture.apply(RenderOptions {
             method: self.method,
             threads: self.threads,
             lod: self.lod,
-            filter: self.filter,
-            mip: self.mip,
-            antialias: self.aa,
             ..RenderOptions::default()
-        }
+        })
     }
 }
 
