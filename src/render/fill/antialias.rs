@@ -16,7 +16,7 @@ use super::scanline::Span;
 use super::span::{Prepared, Shading, exact_at, shade_surface};
 use super::span_lanes::{self, Source, colour_at};
 use crate::render::core::options::TextureMode;
-use crate::render::core::samples::{MAX_SAMPLES, SamplePattern};
+use crate::render::core::samples::SamplePattern;
 use crate::render::core::vertex::{ScreenVertex, slot};
 
 /// What the band's anti-aliased fill draws into.
@@ -31,16 +31,17 @@ pub(crate) struct Target<'p, 'b> {
     pub(crate) band: (i32, i32),
 }
 
-/// Draws one polygon (corners `v`) with its shading into the band's samples.
-pub(crate) fn fill_polygon(
+/// Draws one polygon (corners `v`) with its shading into the band's samples, for a pattern of `N` samples
+/// (a constant, so that every loop over a pixel's samples unrolls).
+pub(crate) fn fill_polygon<const N: usize>(
     v: &[ScreenVertex],
     sh: &Shading<'_>,
     prepared: &Prepared<'_>,
     t: &mut Target<'_, '_>,
 ) -> SpanCounts {
     let Some(planes) = Planes::of(v) else { return SpanCounts::default() };
-    let mut dz = [0.0f32; MAX_SAMPLES];
-    for (j, d) in dz.iter_mut().enumerate().take(t.pattern.count) {
+    let mut dz = [0.0f32; N];
+    for (j, d) in dz.iter_mut().enumerate() {
         let (ox, oy) = t.pattern.offset(j);
         *d = planes.dx[slot::DEPTH] * ox + planes.dy[slot::DEPTH] * oy;
     }
@@ -49,7 +50,7 @@ pub(crate) fn fill_polygon(
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
-    for_each_row(v, &pattern, t.band, width, |cov| {
+    for_each_row::<N>(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
         for x in (cov.lo..inner.0).chain(inner.1..cov.hi) {
             total += pixel(t, cov, x, cov.mask(x), &paint);
@@ -72,19 +73,25 @@ pub(crate) fn fill_polygon(
     total
 }
 
-/// How one polygon's pixels are shaded and where its samples' depths lie.
-struct Paint<'a> {
+/// How one polygon's pixels are shaded and where its `N` samples' depths lie.
+struct Paint<'a, const N: usize> {
     shading: &'a Shading<'a>,
     /// The fast path's source and alpha mask, if the polygon has one.
     fast: Option<(Source<'a>, Option<(f32, f32)>)>,
     planes: &'a Planes,
     /// Each sample's depth less the pixel centre's.
-    dz: &'a [f32; MAX_SAMPLES],
+    dz: &'a [f32; N],
 }
 
 /// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre.
 #[inline]
-fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &Paint<'_>) -> SpanCounts {
+fn pixel<const N: usize>(
+    t: &mut Target<'_, '_>,
+    cov: &RowCoverage<N>,
+    x: i32,
+    mask: u16,
+    paint: &Paint<'_, N>,
+) -> SpanCounts {
     let Paint { shading: sh, fast, planes, dz } = *paint;
     if mask == 0 || sh.screen_door && (x + cov.y) & 1 != 0 {
         return SpanCounts::default();
@@ -117,10 +124,10 @@ fn pixel(t: &mut Target<'_, '_>, cov: &RowCoverage, x: i32, mask: u16, paint: &P
     })
 }
 
-/// Resolves the band's expanded pixels into its colours.
-pub(crate) fn resolve(t: &mut Target<'_, '_>, vis: Visibility) {
+/// Resolves the band's expanded pixels (of `N` samples) into its colours.
+pub(crate) fn resolve<const N: usize>(t: &mut Target<'_, '_>, vis: Visibility) {
     let rows = (t.band.1 - t.band.0).max(0) as usize;
     for r in 0..rows {
-        t.store.resolve_row(r, t.pixels.width, t.pixels.color, vis);
+        t.store.resolve_row::<N>(r, t.pixels.width, t.pixels.color, vis);
     }
 }

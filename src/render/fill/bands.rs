@@ -95,7 +95,7 @@ pub(crate) struct FillContext<'a> {
     pub(crate) pattern: Option<SamplePattern>,
 }
 
-impl FillContext<'_> {
+impl<'a> FillContext<'a> {
     /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
     pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
         SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
@@ -157,14 +157,11 @@ impl FillContext<'_> {
         if let Some(pattern) = &self.pattern {
             samples.begin(height * w, height, pattern);
             let mut target = Target { pixels: &mut rows, store: samples, pattern, band: band_rows };
-            for p in bin() {
-                // Set-up makes no small triangles when the frame is anti-aliased: every polygon has corners.
-                let Some(verts) = self.screens.of(p) else { continue };
-                let shading = self.shading(p);
-                add(antialias::fill_polygon(verts, &shading, &shading.prepare(), &mut target));
-            }
-            antialias::resolve(&mut target, self.visibility);
-            return total;
+            return match pattern.count {
+                4 => self.fill_band_antialiased::<4>(bin(), &mut target),
+                8 => self.fill_band_antialiased::<8>(bin(), &mut target),
+                _ => self.fill_band_antialiased::<16>(bin(), &mut target),
+            };
         }
         if self.visibility != Visibility::DepthTest {
             // Painter's orders visit the polygons in depth order, at random places in memory: reading one
@@ -203,6 +200,23 @@ impl FillContext<'_> {
                 Some(_) => fill_spans_first::<4>(verts, band_rows, w as i32, draw),
             }
         }
+        total
+    }
+
+    /// Draws a band's polygons `bin` anti-aliased with a pattern of `N` samples, then resolves the band.
+    fn fill_band_antialiased<const N: usize>(
+        &self,
+        bin: impl Iterator<Item = &'a DrawPolygon>,
+        target: &mut Target<'_, '_>,
+    ) -> SpanCounts {
+        let mut total = SpanCounts::default();
+        for p in bin {
+            // Set-up makes no small triangles when the frame is anti-aliased: every polygon has corners.
+            let Some(verts) = self.screens.of(p) else { continue };
+            let shading = self.shading(p);
+            total += antialias::fill_polygon::<N>(verts, &shading, &shading.prepare(), target);
+        }
+        antialias::resolve::<N>(target, self.visibility);
         total
     }
 }

@@ -14,14 +14,16 @@ use crate::render::core::fixed::Fx28_4;
 use crate::render::core::samples::{MAX_SAMPLES, SamplePattern};
 use crate::render::core::vertex::{ScreenVertex, signed_area2};
 
-/// The samples of one pixel row a polygon covers: for sample `j`, pixels `l[j]..r[j]` (empty when equal).
+/// The samples of one pixel row a polygon covers: for sample `j` of `N`, pixels `l[j]..r[j]` (empty when
+/// equal).
+///
+/// The count is a constant so that a pixel's mask is one short loop the compiler unrolls and vectorises.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct RowCoverage {
+pub(crate) struct RowCoverage<const N: usize> {
     /// The row.
     pub(crate) y: i32,
-    l: [i32; MAX_SAMPLES],
-    r: [i32; MAX_SAMPLES],
-    n: usize,
+    l: [i32; N],
+    r: [i32; N],
     /// Pixels with at least one covered sample: `lo..hi`.
     pub(crate) lo: i32,
     pub(crate) hi: i32,
@@ -29,13 +31,13 @@ pub(crate) struct RowCoverage {
     pub(crate) inner: (i32, i32),
 }
 
-impl RowCoverage {
+impl<const N: usize> RowCoverage<N> {
     /// The mask of samples of pixel `x` covered (bit `j` for sample `j`).
     #[inline]
     pub(crate) fn mask(&self, x: i32) -> u16 {
         let mut m = 0u16;
-        for j in 0..self.n {
-            m |= u16::from(self.l[j] <= x && x < self.r[j]) << j;
+        for j in 0..N {
+            m |= u16::from((self.l[j] <= x) & (x < self.r[j])) << j;
         }
         m
     }
@@ -47,17 +49,14 @@ struct SampleEdge {
     bottom: i32,
     /// Index of the lower vertex, where the chain continues.
     end: usize,
-    // First pixel = q + (r != 0), the ceiling of (x(Y) - X) / 16.
-    q: i64,
-    r: i64,
-    sq: i64,
-    sr: i64,
-    d: i64,
+    /// First pixel = q + (r != 0), the ceiling of (x(Y) - X) / 16; each row adds sq + sr / d.
+    dda: [i32; 5],
 }
 
 impl SampleEdge {
-    /// The edge from `a` down to `b` crossed by the sample row of pixel row `row` for sample `(sx, sy)`.
-    fn new(a: &ScreenVertex, b: &ScreenVertex, end: usize, row: i32, (sx, sy): (i32, i32)) -> Self {
+    /// The edge from `a` down to `b` crossed by the sample row of pixel row `row` for sample `(sx, sy)`;
+    /// `None` if its steps do not fit 32 bits (they do for any corner inside the clip's guard band).
+    fn new(a: &ScreenVertex, b: &ScreenVertex, end: usize, row: i32, (sx, sy): (i32, i32)) -> Option<Self> {
         let (x0, y0) = (i64::from(a.x.0), i64::from(a.y.0));
         let (x1, y1) = (i64::from(b.x.0), i64::from(b.y.0));
         let (dx, dy) = (x1 - x0, y1 - y0);
@@ -68,22 +67,14 @@ impl SampleEdge {
         // (x(ys) - sx) / one with x(ys) = x0 + dx * (ys - y0) / dy, over the common denominator one * dy.
         let n = (x0 - i64::from(sx)) * dy + dx * (ys - y0);
         let s = one * dx;
-        Self { bottom: b.y.0, end, q: n.div_euclid(d), r: n.rem_euclid(d), sq: s.div_euclid(d), sr: s.rem_euclid(d), d }
-    }
-
-    #[inline]
-    fn pixel(&self) -> i64 {
-        self.q + i64::from(self.r != 0)
-    }
-
-    #[inline]
-    fn step(&mut self) {
-        self.q += self.sq;
-        self.r += self.sr;
-        if self.r >= self.d {
-            self.r -= self.d;
-            self.q += 1;
-        }
+        let narrow = |v: i64| i32::try_from(v).ok();
+        // Room for a step's sums: the quotient moves by at most the edge's width in pixels.
+        let (s, d) = (narrow(s)?, narrow(d)?);
+        d.checked_mul(2)?;
+        let q = n.div_euclid(i64::from(d));
+        let r = n - q * i64::from(d);
+        let dda = [narrow(q)?, narrow(r)?, s.div_euclid(d), s.rem_euclid(d), d];
+        Some(Self { bottom: b.y.0, end, dda })
     }
 }
 
@@ -99,17 +90,55 @@ fn edge_for(v: &[ScreenVertex], from: usize, dir: usize, row: i32, sample: (i32,
             return None;
         }
         if v[j].y.0 > ys {
-            return Some(SampleEdge::new(&v[i], &v[j], j, row, sample));
+            return SampleEdge::new(&v[i], &v[j], j, row, sample);
         }
         i = j;
     }
     None
 }
 
-/// One sample's walk down the polygon: its rows and its two current edges.
-struct SampleWalk {
-    rows: (i32, i32),
-    edges: Option<(SampleEdge, SampleEdge)>,
+/// One side's edges, a lane per sample: the exact quotient-and-remainder DDA of each sample row's
+/// crossing, stepped together.
+#[derive(Clone, Copy)]
+struct Side<const N: usize> {
+    q: [i32; N],
+    r: [i32; N],
+    sq: [i32; N],
+    sr: [i32; N],
+    d: [i32; N],
+    /// Raw y of each lane's edge's lower vertex, and that vertex's index.
+    bottom: [i32; N],
+    end: [usize; N],
+}
+
+impl<const N: usize> Side<N> {
+    const EMPTY: Self =
+        Self { q: [0; N], r: [0; N], sq: [0; N], sr: [0; N], d: [1; N], bottom: [i32::MIN; N], end: [0; N] };
+
+    /// Puts `e` in lane `j`.
+    #[inline]
+    fn set(&mut self, j: usize, e: &SampleEdge) {
+        let [q, r, sq, sr, d] = e.dda;
+        (self.q[j], self.r[j], self.sq[j], self.sr[j], self.d[j]) = (q, r, sq, sr, d);
+        (self.bottom[j], self.end[j]) = (e.bottom, e.end);
+    }
+
+    /// Lane `j`'s first pixel at or right of its edge, clipped to `0..=width`.
+    #[inline(always)]
+    fn pixel(&self, j: usize, width: i32) -> i32 {
+        (self.q[j] + i32::from(self.r[j] != 0)).clamp(0, width)
+    }
+
+    /// Every lane one row down.
+    #[inline(always)]
+    fn step(&mut self) {
+        for j in 0..N {
+            let r = self.r[j] + self.sr[j];
+            let carry = r >= self.d[j];
+            self.r[j] = if carry { r - self.d[j] } else { r };
+            self.q[j] += self.sq[j] + i32::from(carry);
+        }
+    }
 }
 
 /// A y-monotone polygon's corners, its top corner and which way round each chain goes from it.
@@ -120,42 +149,54 @@ struct Chains<'v> {
     rdir: usize,
 }
 
-impl SampleWalk {
-    /// The pixels `l..r` (clipped to `0..width`) whose `sample` row `row` covers; `Some((0, 0))` off the
-    /// walk's rows, `None` when the polygon turns out not y-monotone.
+/// Every sample's walk down the polygon, a lane per sample: its rows and its two current edges.
+struct Walks<const N: usize> {
+    /// Lane `j` walks pixel rows `first[j]..last[j]`.
+    first: [i32; N],
+    last: [i32; N],
+    left: Side<N>,
+    right: Side<N>,
+}
+
+impl<const N: usize> Walks<N> {
+    /// Makes sure each lane walking pixel row `row` is on the edges its sample row crosses there: its
+    /// first edges on its first row, the next ones past a corner. `None` when the polygon turns out not
+    /// y-monotone.
     #[inline]
-    fn row(&mut self, c: &Chains<'_>, row: i32, sample: (i32, i32), width: i32) -> Option<(i32, i32)> {
-        if !(self.rows.0..self.rows.1).contains(&row) {
-            return Some((0, 0));
+    fn enter(&mut self, c: &Chains<'_>, row: i32, pattern: &SamplePattern) -> Option<()> {
+        for j in 0..N {
+            if !(self.first[j]..self.last[j]).contains(&row) {
+                continue;
+            }
+            let sample = pattern.positions[j];
+            let y = row * Fx28_4::ONE + sample.1;
+            if row == self.first[j] {
+                self.left.set(j, &edge_for(c.v, c.top, c.ldir, row, sample)?);
+                self.right.set(j, &edge_for(c.v, c.top, c.rdir, row, sample)?);
+                continue;
+            }
+            if y >= self.left.bottom[j] {
+                self.left.set(j, &edge_for(c.v, self.left.end[j], c.ldir, row, sample)?);
+            }
+            if y >= self.right.bottom[j] {
+                self.right.set(j, &edge_for(c.v, self.right.end[j], c.rdir, row, sample)?);
+            }
         }
-        if self.edges.is_none() {
-            self.edges = edge_for(c.v, c.top, c.ldir, row, sample).zip(edge_for(c.v, c.top, c.rdir, row, sample));
-        }
-        let (left, right) = self.edges.as_mut()?;
-        let y = row * Fx28_4::ONE + sample.1;
-        if y >= left.bottom {
-            *left = edge_for(c.v, left.end, c.ldir, row, sample)?;
-        }
-        if y >= right.bottom {
-            *right = edge_for(c.v, right.end, c.rdir, row, sample)?;
-        }
-        let xs = left.pixel().clamp(0, i64::from(width));
-        let xe = right.pixel().clamp(0, i64::from(width));
-        left.step();
-        right.step();
-        Some(if xs < xe { (xs as i32, xe as i32) } else { (0, 0) })
+        Some(())
     }
 }
 
 /// Calls `emit` for every pixel row in `rows` (clipped to `0..width` across) where the y-monotone polygon
-/// `v` covers at least one sample of `pattern`. Zero-area polygons cover nothing; either winding works.
-pub(crate) fn for_each_row(
+/// `v` covers at least one sample of `pattern`, which has `N` samples. Zero-area polygons cover nothing;
+/// either winding works.
+pub(crate) fn for_each_row<const N: usize>(
     v: &[ScreenVertex],
     pattern: &SamplePattern,
     rows: (i32, i32),
     width: i32,
-    mut emit: impl FnMut(&RowCoverage),
+    mut emit: impl FnMut(&RowCoverage<N>),
 ) {
+    debug_assert!(pattern.count == N && N <= MAX_SAMPLES, "a pattern of {} samples walked as {N}", pattern.count);
     let n = v.len();
     let area = signed_area2(v);
     if n < 3 || area == 0 {
@@ -172,31 +213,36 @@ pub(crate) fn for_each_row(
     }
     let (ldir, rdir) = if area > 0 { (n - 1, 1) } else { (1, n - 1) };
     let chains = Chains { v, top, ldir, rdir };
-    let count = pattern.count.min(MAX_SAMPLES);
     // Sample row `16y + sy` is covered for y in ceil((ymin - sy) / 16) .. ceil((ymax - sy) / 16).
     let ceil16 = |a: i32| a.div_euclid(Fx28_4::ONE) + i32::from(a.rem_euclid(Fx28_4::ONE) != 0);
-    let mut walks: [SampleWalk; MAX_SAMPLES] = std::array::from_fn(|_| SampleWalk { rows: (0, 0), edges: None });
+    let mut walks = Walks { first: [0; N], last: [0; N], left: Side::EMPTY, right: Side::EMPTY };
     let (mut first, mut last) = (i32::MAX, i32::MIN);
-    for (w, &(_, sy)) in walks.iter_mut().zip(&pattern.positions).take(count) {
-        w.rows = (ceil16(ymin - sy).max(rows.0), ceil16(ymax - sy).min(rows.1));
-        if w.rows.0 < w.rows.1 {
-            first = first.min(w.rows.0);
-            last = last.max(w.rows.1);
+    for (j, &(_, sy)) in pattern.positions.iter().enumerate().take(N) {
+        let (a, b) = (ceil16(ymin - sy).max(rows.0), ceil16(ymax - sy).min(rows.1));
+        (walks.first[j], walks.last[j]) = if a < b { (a, b) } else { (i32::MIN, i32::MIN) };
+        if a < b {
+            first = first.min(a);
+            last = last.max(b);
         }
     }
-    let mut cov = RowCoverage { y: 0, l: [0; MAX_SAMPLES], r: [0; MAX_SAMPLES], n: count, lo: 0, hi: 0, inner: (0, 0) };
+    let mut cov = RowCoverage { y: 0, l: [0; N], r: [0; N], lo: 0, hi: 0, inner: (0, 0) };
     for row in first..last.max(first) {
+        if walks.enter(&chains, row, pattern).is_none() {
+            return;
+        }
         let (mut lo, mut hi, mut in_lo, mut in_hi) = (i32::MAX, i32::MIN, i32::MIN, i32::MAX);
-        for (j, w) in walks.iter_mut().enumerate().take(count) {
-            let Some((l, r)) = w.row(&chains, row, pattern.positions[j], width) else { return };
+        for j in 0..N {
+            let (l, r) = (walks.left.pixel(j, width), walks.right.pixel(j, width));
+            let on = (walks.first[j] <= row) & (row < walks.last[j]) & (l < r);
+            let (l, r) = if on { (l, r) } else { (0, 0) };
             (cov.l[j], cov.r[j]) = (l, r);
-            if l < r {
-                lo = lo.min(l);
-                hi = hi.max(r);
-            }
+            lo = if on { lo.min(l) } else { lo };
+            hi = if on { hi.max(r) } else { hi };
             in_lo = in_lo.max(l);
             in_hi = in_hi.min(r);
         }
+        walks.left.step();
+        walks.right.step();
         if lo < hi {
             (cov.y, cov.lo, cov.hi, cov.inner) = (row, lo, hi, (in_lo, in_hi));
             emit(&cov);
@@ -214,17 +260,31 @@ mod tests {
         ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [0.0; ATTRS] }
     }
 
+    /// Every pixel `v` covers a sample of under `p` (in a `w` x `h` frame) as `(x, y, mask, inner)`, for
+    /// any of the standard counts.
+    fn pixels(v: &[ScreenVertex], p: &SamplePattern, w: i32, h: i32) -> Vec<(i32, i32, u16, bool)> {
+        fn go<const N: usize>(v: &[ScreenVertex], p: &SamplePattern, w: i32, h: i32) -> Vec<(i32, i32, u16, bool)> {
+            let mut out = Vec::new();
+            for_each_row::<N>(v, p, (0, h), w, |c| {
+                out.extend((c.lo..c.hi).map(|x| (x, c.y, c.mask(x), c.inner.0 <= x && x < c.inner.1)));
+            });
+            out
+        }
+        match p.count {
+            4 => go::<4>(v, p, w, h),
+            8 => go::<8>(v, p, w, h),
+            _ => go::<16>(v, p, w, h),
+        }
+    }
+
     /// Adds one to every (pixel, sample) `v` covers, in a `w` x `h` frame.
     fn add(v: &[ScreenVertex], p: &SamplePattern, counts: &mut [u32], w: i32, h: i32) {
-        for_each_row(v, p, (0, h), w, |c| {
-            for x in c.lo..c.hi {
-                let m = c.mask(x);
-                assert!(x < c.inner.0 || x >= c.inner.1 || m == p.full(), "inner pixels are fully covered");
-                for j in 0..p.count {
-                    counts[((c.y * w + x) as usize) * p.count + j] += u32::from(m >> j & 1);
-                }
+        for (x, y, m, inner) in pixels(v, p, w, h) {
+            assert!(!inner || m == p.full(), "inner pixels are fully covered");
+            for j in 0..p.count {
+                counts[((y * w + x) as usize) * p.count + j] += u32::from(m >> j & 1);
             }
-        });
+        }
     }
 
     #[test]
@@ -338,11 +398,9 @@ mod tests {
                 let mut pt = || sv(rng.range(-size, w * 16 + size), rng.range(-size, h * 16 + size));
                 let t = [pt(), pt(), pt()];
                 let mut got = vec![0u16; (w * h) as usize];
-                for_each_row(&t, &p, (0, h), w, |c| {
-                    for x in c.lo..c.hi {
-                        got[(c.y * w + x) as usize] = c.mask(x);
-                    }
-                });
+                for (x, y, m, _) in pixels(&t, &p, w, h) {
+                    got[(y * w + x) as usize] = m;
+                }
                 for py in 0..h {
                     for px in 0..w {
                         let mut want = 0u16;

@@ -91,37 +91,33 @@ impl SampleStore {
         chunks.remainder().iter().position(|&s| s != 0).map(|i| base + i)
     }
 
-    /// Draws one polygon's samples `mask` of a pixel under `vis`: the polygon's depth is `centre` at the
-    /// pixel's centre and `centre + dz[j]` at sample `j`, and `shade()` gives its colour there (`None` where
-    /// its alpha cutoff drops it), called at most once.
+    /// Draws one polygon's samples `mask` of a pixel under `vis`, for a pattern of `N` samples: the polygon's
+    /// depth is `centre` at the pixel's centre and `centre + dz[j]` at sample `j`, and `shade()` gives its
+    /// colour there (`None` where its alpha cutoff drops it), called at most once.
+    ///
+    /// `N` is a constant so that the loops over a pixel's samples unroll and vectorise.
     // long: the three visibility methods' cases of one pixel, simple or expanded, side by side
-    pub(crate) fn draw(
+    pub(crate) fn draw<const N: usize>(
         &mut self,
         px: Pixel<'_>,
         mask: u16,
         vis: Visibility,
-        (centre, dz): (f32, &[f32; MAX_SAMPLES]),
+        (centre, dz): (f32, &[f32; N]),
         shade: impl FnOnce() -> Option<u32>,
     ) -> SpanCounts {
-        let (n, full) = (self.count, self.full);
+        debug_assert_eq!(self.count, N, "a store begun for {} samples drawn with {N}", self.count);
+        let (n, full) = (N, self.full);
         let rejected = SpanCounts { rejected: 1, ..SpanCounts::default() };
         let drawn = SpanCounts { shaded: 1, written: 1, rejected: 0 };
         let dropped = SpanCounts { shaded: 1, ..SpanCounts::default() };
         let slot = self.slot.get(px.index).copied().unwrap_or(0);
-        // The samples of `mask` whose depth is nearer than `old(j)`.
-        let nearer = |mask: u16, old: &dyn Fn(usize) -> f32| {
-            let mut pass = 0u16;
-            for (j, d) in dz.iter().enumerate().take(n) {
-                pass |= u16::from(mask >> j & 1 == 1 && centre + d > old(j)) << j;
-            }
-            pass
-        };
+        let nearer = |mask: u16, old: &[f32; N]| nearer(mask, centre, dz, old);
         if slot == 0 {
             // A simple pixel.
             let (pass, old_depth) = match (vis, &px.depth, &px.covered) {
                 (Visibility::DepthTest, Some(d), _) => {
                     let old = **d;
-                    (nearer(mask, &|_| old), old)
+                    (nearer(mask, &[old; N]), old)
                 }
                 (Visibility::Coverage, _, Some((w, bit))) if **w & bit != 0 => (0, 0.0),
                 _ => (mask, 0.0),
@@ -158,7 +154,7 @@ impl SampleStore {
             if let Some(r) = self.row_expanded.get_mut(px.row) {
                 *r += 1;
             }
-            self.write(k, pass, c, (centre, dz), vis);
+            self.write::<N>(k, pass, c, (centre, dz), vis);
             // The marks the fast loops stop at.
             if let Some(d) = px.depth {
                 *d = f32::INFINITY;
@@ -171,8 +167,11 @@ impl SampleStore {
         let k = slot as usize - 1;
         let pass = match vis {
             Visibility::DepthTest => {
-                let depths = self.depths.get(k * n..(k + 1) * n).unwrap_or_default();
-                nearer(mask, &|j| depths.get(j).copied().unwrap_or(f32::INFINITY))
+                let Some(depths) = self.depths.get(k * n..(k + 1) * n).and_then(|d| <&[f32; N]>::try_from(d).ok())
+                else {
+                    return rejected;
+                };
+                nearer(mask, depths)
             }
             Visibility::Coverage => mask & !self.drawn.get(k).copied().unwrap_or(full),
             Visibility::Overwrite => mask,
@@ -181,7 +180,7 @@ impl SampleStore {
             return rejected;
         }
         let Some(c) = shade() else { return dropped };
-        self.write(k, pass, c, (centre, dz), vis);
+        self.write::<N>(k, pass, c, (centre, dz), vis);
         let fold = match vis {
             Visibility::Coverage => self.drawn.get(k) == Some(&full),
             Visibility::DepthTest | Visibility::Overwrite => pass == full,
@@ -204,8 +203,8 @@ impl SampleStore {
 
     /// Gives samples `pass` of expanded pixel `k` colour `c` (and their depths, or marks them drawn).
     #[inline]
-    fn write(&mut self, k: usize, pass: u16, c: u32, (centre, dz): (f32, &[f32; MAX_SAMPLES]), vis: Visibility) {
-        let n = self.count;
+    fn write<const N: usize>(&mut self, k: usize, pass: u16, c: u32, (centre, dz): (f32, &[f32; N]), vis: Visibility) {
+        let n = N;
         match vis {
             Visibility::Coverage => {
                 if let (Some(d), Some(sum)) = (self.drawn.get_mut(k), self.sums.get_mut(k)) {
@@ -214,18 +213,19 @@ impl SampleStore {
                 }
             }
             Visibility::DepthTest | Visibility::Overwrite => {
-                let colors = self.colors.get_mut(k * n..(k + 1) * n).unwrap_or_default();
-                for (j, s) in colors.iter_mut().enumerate() {
-                    if pass >> j & 1 == 1 {
-                        *s = c;
+                if let Some(colors) =
+                    self.colors.get_mut(k * n..(k + 1) * n).and_then(|s| <&mut [u32; N]>::try_from(s).ok())
+                {
+                    for (j, s) in colors.iter_mut().enumerate() {
+                        *s = if pass >> j & 1 == 1 { c } else { *s };
                     }
                 }
-                if vis == Visibility::DepthTest {
-                    let depths = self.depths.get_mut(k * n..(k + 1) * n).unwrap_or_default();
-                    for (j, (s, d)) in depths.iter_mut().zip(dz).enumerate() {
-                        if pass >> j & 1 == 1 {
-                            *s = centre + d;
-                        }
+                if vis == Visibility::DepthTest
+                    && let Some(depths) =
+                        self.depths.get_mut(k * n..(k + 1) * n).and_then(|s| <&mut [f32; N]>::try_from(s).ok())
+                {
+                    for (j, s) in depths.iter_mut().enumerate() {
+                        *s = if pass >> j & 1 == 1 { centre + dz[j] } else { *s };
                     }
                 }
             }
@@ -234,11 +234,11 @@ impl SampleStore {
 
     /// Resolves every pixel still expanded in band row `row` (pixels `row * width..`) into `color`: the
     /// mean of its samples (coverage: the samples never drawn count as the colour the pixel held).
-    pub(crate) fn resolve_row(&self, row: usize, width: usize, color: &mut [u32], vis: Visibility) {
+    pub(crate) fn resolve_row<const N: usize>(&self, row: usize, width: usize, color: &mut [u32], vis: Visibility) {
         if !self.row_has_expanded(row) {
             return;
         }
-        let n = self.count;
+        let n = N;
         let start = row * width;
         let (Some(slots), Some(colors)) = (self.slot.get(start..start + width), color.get_mut(start..start + width))
         else {
@@ -262,6 +262,16 @@ impl SampleStore {
             *c = mean(sum, n);
         }
     }
+}
+
+/// The samples of `mask` whose depth, `centre + dz[j]`, is nearer than `old[j]`.
+#[inline(always)]
+fn nearer<const N: usize>(mask: u16, centre: f32, dz: &[f32; N], old: &[f32; N]) -> u16 {
+    let mut pass = 0u16;
+    for j in 0..N {
+        pass |= u16::from((mask >> j & 1 == 1) & (centre + dz[j] > old[j])) << j;
+    }
+    pass
 }
 
 /// Adds `weight` times the channels of `c` to `sum`.
