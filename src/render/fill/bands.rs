@@ -157,6 +157,8 @@ impl<'a> FillContext<'a> {
         if let Some(pattern) = &self.pattern {
             samples.begin(height * w, height, pattern);
             let mut target = Target { pixels: &mut rows, store: samples, pattern, band: band_rows };
+            // The pattern comes from `SamplePattern::standard`, which makes only these three counts.
+            debug_assert!(matches!(pattern.count, 4 | 8 | 16), "a pattern of {} samples", pattern.count);
             return match pattern.count {
                 4 => self.fill_band_antialiased::<4>(bin(), &mut target),
                 8 => self.fill_band_antialiased::<8>(bin(), &mut target),
