@@ -35,11 +35,7 @@ impl<const N: usize> RowCoverage<N> {
     /// The mask of samples of pixel `x` covered (bit `j` for sample `j`).
     #[inline]
     pub(crate) fn mask(&self, x: i32) -> u16 {
-        let mut m = 0u16;
-        for j in 0..N {
-            m |= u16::from((self.l[j] <= x) & (x < self.r[j])) << j;
-        }
-        m
+        super::sample_lanes::within(&self.l, &self.r, x)
     }
 }
 

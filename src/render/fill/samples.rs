@@ -18,6 +18,7 @@
 //! - overwrite (painter's order): a colour per sample, overwritten by each polygon covering it.
 
 use super::row::{SpanCounts, Visibility};
+use super::sample_lanes as lanes;
 use crate::render::core::samples::{MAX_SAMPLES, SamplePattern};
 
 /// A band's expanded pixels, kept per thread and reused band after band.
@@ -111,7 +112,7 @@ impl SampleStore {
         let drawn = SpanCounts { shaded: 1, written: 1, rejected: 0 };
         let dropped = SpanCounts { shaded: 1, ..SpanCounts::default() };
         let slot = self.slot.get(px.index).copied().unwrap_or(0);
-        let nearer = |mask: u16, old: &[f32; N]| nearer(mask, centre, dz, old);
+        let nearer = |mask: u16, old: &[f32; N]| lanes::nearer(mask, centre, dz, old);
         if slot == 0 {
             // A simple pixel.
             let (pass, old_depth) = match (vis, &px.depth, &px.covered) {
@@ -216,17 +217,13 @@ impl SampleStore {
                 if let Some(colors) =
                     self.colors.get_mut(k * n..(k + 1) * n).and_then(|s| <&mut [u32; N]>::try_from(s).ok())
                 {
-                    for (j, s) in colors.iter_mut().enumerate() {
-                        *s = if pass >> j & 1 == 1 { c } else { *s };
-                    }
+                    lanes::write_colour(colors, pass, c);
                 }
                 if vis == Visibility::DepthTest
                     && let Some(depths) =
                         self.depths.get_mut(k * n..(k + 1) * n).and_then(|s| <&mut [f32; N]>::try_from(s).ok())
                 {
-                    for (j, s) in depths.iter_mut().enumerate() {
-                        *s = if pass >> j & 1 == 1 { centre + dz[j] } else { *s };
-                    }
+                    lanes::write_depth(depths, pass, centre, dz);
                 }
             }
         }
@@ -254,24 +251,13 @@ impl SampleStore {
                 let (Some(&drawn), Some(&drawn_sum)) = (self.drawn.get(k), self.sums.get(k)) else { continue };
                 sum = drawn_sum;
                 add_to_sum(&mut sum, *c, n as u32 - drawn.count_ones());
-            } else {
-                for &s in self.colors.get(k * n..(k + 1) * n).unwrap_or_default() {
-                    add_to_sum(&mut sum, s, 1);
-                }
+            } else if let Some(colors) = self.colors.get(k * n..(k + 1) * n).and_then(|s| <&[u32; N]>::try_from(s).ok())
+            {
+                sum = lanes::channel_sums(colors);
             }
             *c = mean(sum, n);
         }
     }
-}
-
-/// The samples of `mask` whose depth, `centre + dz[j]`, is nearer than `old[j]`.
-#[inline(always)]
-fn nearer<const N: usize>(mask: u16, centre: f32, dz: &[f32; N], old: &[f32; N]) -> u16 {
-    let mut pass = 0u16;
-    for j in 0..N {
-        pass |= u16::from((mask >> j & 1 == 1) & (centre + dz[j] > old[j])) << j;
-    }
-    pass
 }
 
 /// Adds `weight` times the channels of `c` to `sum`.
