@@ -53,7 +53,7 @@ pub(crate) fn fill_polygon<const N: usize>(
     for_each_row::<N>(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
         for x in (cov.lo..inner.0).chain(inner.1..cov.hi) {
-            total += pixel(t, cov, x, cov.mask(x), &paint);
+            pixel(t, cov, (x, cov.mask(x)), &paint, &mut total);
         }
         let Some((source, alpha)) = fast.filter(|_| inner.0 < inner.1) else { return };
         let span = Span { y: cov.y, x0: inner.0, x1: inner.1, a0: planes.at(inner.0, cov.y), da: planes.dx };
@@ -65,7 +65,7 @@ pub(crate) fn fill_polygon<const N: usize>(
             let mut x = inner.0;
             while let Some(found) = t.store.next_expanded(start + x as usize..start + inner.1 as usize) {
                 x = (found - start) as i32;
-                total += pixel(t, cov, x, full, &paint);
+                pixel(t, cov, (x, full), &paint, &mut total);
                 x += 1;
             }
         }
@@ -83,18 +83,20 @@ struct Paint<'a, const N: usize> {
     dz: &'a [f32; N],
 }
 
-/// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre.
+/// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre, and adds what
+/// it did to `total` (by reference: a returned record comes back through memory, where the caller's wide
+/// read of the callee's narrow writes stalls store forwarding).
 #[inline]
 fn pixel<const N: usize>(
     t: &mut Target<'_, '_>,
     cov: &RowCoverage<N>,
-    x: i32,
-    mask: u16,
+    (x, mask): (i32, u16),
     paint: &Paint<'_, N>,
-) -> SpanCounts {
+    total: &mut SpanCounts,
+) {
     let Paint { shading: sh, fast, planes, dz } = *paint;
     if mask == 0 || sh.screen_door && (x + cov.y) & 1 != 0 {
-        return SpanCounts::default();
+        return;
     }
     let a = planes.at(x, cov.y);
     let centre = a[slot::DEPTH];
@@ -102,7 +104,7 @@ fn pixel<const N: usize>(
     let r = (cov.y as usize).wrapping_sub(px.y0);
     let index = r * px.width + x as usize;
     let words = px.words;
-    let Some(color) = px.color.get_mut(index) else { return SpanCounts::default() };
+    let Some(color) = px.color.get_mut(index) else { return };
     let pixel = Pixel {
         index,
         row: r,
@@ -115,13 +117,13 @@ fn pixel<const N: usize>(
         },
     };
     let perspective = sh.mode != TextureMode::Affine;
-    t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match fast {
+    *total += t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match fast {
         Some((source, alpha)) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
         None => {
             let lod = sh.lod_at([a[slot::Q], a[slot::S], a[slot::T]]);
             shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), lod)
         }
-    })
+    });
 }
 
 /// Resolves the band's expanded pixels (of `N` samples) into its colours.
