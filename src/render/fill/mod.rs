@@ -94,9 +94,16 @@ impl Fill {
         if layout.threads == 1 {
             return jobs.map(|(i, band)| ctx.fill_band(band, i)).fold(SpanCounts::default(), |a, b| a + b);
         }
-        // Bands are handed out by work stealing, as the sky and the ground cost very different amounts.
+        // Bands are handed out by work stealing, as the sky and the ground cost very different amounts: one
+        // band a task (`with_max_len(1)`), so that an idle thread can take any band not yet begun. Left to
+        // itself, rayon cuts the list into a few runs of bands, each drawn in turn by one thread; a run that
+        // holds the horizon's bands (ten times a sky band's cost when anti-aliased) then finished alone
+        // while the other thread idled.
         let jobs: Vec<_> = jobs.collect();
-        jobs.into_par_iter().map(|(i, band)| ctx.fill_band(band, i)).reduce(SpanCounts::default, |a, b| a + b)
+        jobs.into_par_iter()
+            .with_max_len(1)
+            .map(|(i, band)| ctx.fill_band(band, i))
+            .reduce(SpanCounts::default, |a, b| a + b)
     }
 
     /// Bins what the fill bins itself (the painter's order, or the z-buffer's stretches of the main batch) in
