@@ -4,83 +4,52 @@
 //! An anti-aliased frame spends most of its extra time in the pixels an edge crosses, and each of them
 //! loops over its `N` samples several times. Written as plain loops that build a bit mask, those loops
 //! stay scalar (a compare and a branch per sample), so on x86-64 each operation here works four samples
-//! at a time with SSE2, which every x86-64 CPU has (no run-time detection: the target guarantees it). Every function
-//! has a portable twin, the reference the tests hold the vector one to bit for bit, and which other
+//! at a time with SSE2, which every x86-64 target has (no run-time detection). Every function has a
+//! portable twin, the reference the tests hold the vector one to bit for bit, and which other
 //! architectures run. `N` is 4, 8 or 16 (a multiple of four); bit `j` of a mask is sample `j`.
+
+/// Calls the SSE2 body of an operation where the target has SSE2, its portable twin elsewhere.
+macro_rules! sse2_or_portable {
+    ($f:ident($($arg:expr),*)) => {{
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 target does), which is all the
+        // body's `#[target_feature]` asks for.
+        #[allow(unsafe_code)]
+        let out = unsafe { sse2::$f($($arg),*) };
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
+        let out = portable::$f($($arg),*);
+        out
+    }};
+}
 
 /// The samples `j` whose run `l[j]..r[j]` holds pixel `x`.
 #[inline(always)]
 pub(crate) fn within<const N: usize>(l: &[i32; N], r: &[i32; N], x: i32) -> u16 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-    // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 CPU does).
-    #[allow(unsafe_code)]
-    unsafe {
-        sse2::within(l, r, x)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-    {
-        portable::within(l, r, x)
-    }
+    sse2_or_portable!(within(l, r, x))
 }
 
 /// The samples of `mask` whose depth, `centre + dz[j]`, is nearer (greater) than `old[j]`.
 #[inline(always)]
 pub(crate) fn nearer<const N: usize>(mask: u16, centre: f32, dz: &[f32; N], old: &[f32; N]) -> u16 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-    // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 CPU does).
-    #[allow(unsafe_code)]
-    unsafe {
-        sse2::nearer(mask, centre, dz, old)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-    {
-        portable::nearer(mask, centre, dz, old)
-    }
+    sse2_or_portable!(nearer(mask, centre, dz, old))
 }
 
 /// Sets the samples of `pass` in `colors` to `c`.
 #[inline(always)]
 pub(crate) fn write_colour<const N: usize>(colors: &mut [u32; N], pass: u16, c: u32) {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-    // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 CPU does).
-    #[allow(unsafe_code)]
-    unsafe {
-        sse2::write_colour(colors, pass, c)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-    {
-        portable::write_colour(colors, pass, c)
-    }
+    sse2_or_portable!(write_colour(colors, pass, c))
 }
 
 /// Sets the samples `j` of `pass` in `depths` to `centre + dz[j]`.
 #[inline(always)]
 pub(crate) fn write_depth<const N: usize>(depths: &mut [f32; N], pass: u16, centre: f32, dz: &[f32; N]) {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-    // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 CPU does).
-    #[allow(unsafe_code)]
-    unsafe {
-        sse2::write_depth(depths, pass, centre, dz)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-    {
-        portable::write_depth(depths, pass, centre, dz)
-    }
+    sse2_or_portable!(write_depth(depths, pass, centre, dz))
 }
 
 /// The sums of the red, green and blue channels of `colors` (`0x00rrggbb`).
 #[inline(always)]
 pub(crate) fn channel_sums<const N: usize>(colors: &[u32; N]) -> [u32; 3] {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-    // SAFETY: the build's target has SSE2 (the `cfg` above; every x86-64 CPU does).
-    #[allow(unsafe_code)]
-    unsafe {
-        sse2::channel_sums(colors)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-    {
-        portable::channel_sums(colors)
-    }
+    sse2_or_portable!(channel_sums(colors))
 }
 
 /// The reference: one sample at a time.
