@@ -170,19 +170,29 @@ pub(crate) struct FastPathRule {
     pub(crate) filter: Filter,
     /// The texture mode of the frame.
     pub(crate) mode: TextureMode,
-    /// Where mip levels are chosen: the fast paths take one texture per polygon, so only off or per polygon.
+    /// Where mip levels are chosen: the fast paths take one level per polygon or choose it per pixel, so
+    /// not per span.
     pub(crate) mip: MipMode,
 }
 
 impl FastPathRule {
     /// Whether a polygon with (or without) a texture, a constant colour and an alpha cutoff, drawn with or
     /// without the screen door, takes a fast path. The one place this is decided: the fill's span
-    /// preparation picks its path by it, and set-up by it sets small triangles up for the fast fill.
+    /// preparation picks its path by it, and set-up by it ([`small_triangles`](Self::small_triangles)) sets
+    /// small triangles up for the fast fill.
     #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let one_level = matches!(self.mip, MipMode::Off | MipMode::Polygon);
-        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && one_level;
+        let levels = matches!(self.mip, MipMode::Off | MipMode::Polygon | MipMode::Pixel);
+        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && levels;
         !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
+    }
+
+    /// Whether set-up makes such a polygon's small triangles for the fast fill: when it takes a fast path
+    /// with one level for it. A level chosen per pixel needs the polygon's gradients, which a small
+    /// triangle's record does not carry, so its triangles stay polygons.
+    #[inline]
+    pub(crate) fn small_triangles(&self, textured: bool, constant: bool, cutoff: bool, screen_door: bool) -> bool {
+        self.applies(textured, constant, cutoff, screen_door) && !(textured && self.mip == MipMode::Pixel)
     }
 }
 

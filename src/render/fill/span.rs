@@ -5,7 +5,7 @@
 
 use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
-use super::span_lanes::{self, Source};
+use super::span_lanes::{self, Source, Tex};
 use crate::render::core::mip::{TexGradients, nearest_level};
 use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};
@@ -121,18 +121,25 @@ impl<'a> Shading<'a> {
             self.alpha_cutoff.is_some(),
             self.screen_door,
         );
-        // The rule gives a textured polygon a fast path only with one level for it: its level's texture
-        // (texture coordinates are normalised, so the same ones address every level).
-        let one_level = |t: &'a Texture| t.level(nearest_level(self.lod_at([1.0, 0.0, 0.0]), t.last_level()));
+        // The rule gives a textured polygon a fast path with one level for it, its level's texture (texture
+        // coordinates are normalised, so the same ones address every level), or with the level chosen per
+        // pixel, the whole chain and the polygon's gradients.
+        let tex = |t: &'a Texture| match self.mip {
+            MipMode::Pixel => Tex { texture: t, sampler: self.sampler, per_pixel: Some(self.gradients) },
+            _ => {
+                let level = t.level(nearest_level(self.lod_at([1.0, 0.0, 0.0]), t.last_level()));
+                Tex { texture: level, sampler: self.sampler, per_pixel: None }
+            }
+        };
         // Which fast path, for a polygon the rule gives one.
-        let source = match (self.texture.map(one_level), self.constant_color) {
+        let source = match (self.texture.map(tex), self.constant_color) {
             _ if !fast => None,
             (None, Some(c)) => Some(Source::Flat(pack_rgb(c))),
-            (Some(t), Some([1.0, 1.0, 1.0, _])) => Some(Source::Texel(t, self.sampler)),
+            (Some(t), Some([1.0, 1.0, 1.0, _])) => Some(Source::Texel(t)),
             (Some(t), Some(c)) => {
                 // `as u32` saturates (NaN and negatives to 0); colours above 1 are clamped to 1 as packing would.
                 let fx16 = |c: f32| ((c.min(1.0) * 65536.0 + 0.5) as u32).min(65536);
-                Some(Source::Tinted(t, self.sampler, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
+                Some(Source::Tinted(t, [fx16(c[0]), fx16(c[1]), fx16(c[2])]))
             }
             (_, None) => None,
         };
@@ -234,9 +241,9 @@ mod tests {
     fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_nearest_perspective_textures() {
         let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
         for mip in MipMode::ALL {
-            // A textured polygon takes a fast path only with one level for the whole polygon.
-            let one_level = matches!(mip, MipMode::Off | MipMode::Polygon);
-            assert_eq!(fast_paths(&texture, mip), 8 + if one_level { 4 } else { 0 }, "{mip}");
+            // A textured polygon takes a fast path with one level for the whole polygon or a level per pixel.
+            let levels = mip != MipMode::Span;
+            assert_eq!(fast_paths(&texture, mip), 8 + if levels { 4 } else { 0 }, "{mip}");
         }
     }
 
@@ -266,11 +273,58 @@ mod tests {
             };
             let expected = sh.prepare().fast().is_some();
             assert_eq!(rule.applies(bit(2), bit(4), bit(3), bit(6)), expected, "combination {bits:07b}");
+            // Set-up makes small triangles for a fast path with one level for the polygon only.
+            let small = expected && !(bit(2) && mip == MipMode::Pixel);
+            assert_eq!(rule.small_triangles(bit(2), bit(4), bit(3), bit(6)), small, "combination {bits:07b}");
             fast += usize::from(expected);
         }
         // Flat without a cutoff under any filter and mode, white or not (8); textured with nearest
         // perspective sampling, with or without a cutoff, white or tinted (4).
         fast
+    }
+
+    #[test]
+    fn a_level_chosen_per_pixel_draws_what_the_general_span_draws() {
+        use crate::render::core::test_rng::Lcg;
+        let mut rng = Lcg(3);
+        // 64x16 down to 1x1: seven levels, each texel random.
+        let texture = Texture::new(64, 16, (0..64 * 16).map(|_| rng.next() | 0xff00_0000).collect()).unwrap();
+        let mut unit = |scale: f32| (rng.unit() - 0.5) * scale;
+        for case in 0..400 {
+            let gradients =
+                TexGradients { dx: [unit(0.01), unit(0.5), unit(0.5)], dy: [unit(0.01), unit(0.5), unit(0.5)] };
+            let sh = Shading {
+                texture: Some(&texture),
+                sampler: Sampler::default(),
+                filter: Filter::Nearest,
+                mip: MipMode::Pixel,
+                lod: 0.0,
+                gradients,
+                mode: TextureMode::Perspective,
+                alpha_cutoff: None,
+                visibility: Visibility::DepthTest,
+                constant_color: Some([1.0; 4]),
+                screen_door: false,
+            };
+            let prepared = sh.prepare();
+            assert!(prepared.fast().is_some(), "a white nearest texture with levels per pixel has a fast path");
+            let mut a0 = [0.0; ATTRS];
+            let mut da = [0.0; ATTRS];
+            (a0[slot::DEPTH], da[slot::DEPTH]) = (unit(2.0), unit(0.1));
+            (a0[slot::Q], da[slot::Q]) = (0.2 + unit(0.3).abs(), gradients.dx[0]);
+            (a0[slot::S], da[slot::S]) = (unit(8.0), gradients.dx[1]);
+            (a0[slot::T], da[slot::T]) = (unit(8.0), gradients.dx[2]);
+            let span = Span { y: 0, x0: 3, x1: 3 + 1 + (case % 40), a0, da };
+            let depth: Vec<f32> = (0..48).map(|_| unit(2.0)).collect();
+            let draw = |general: bool| {
+                let (mut color, mut depth) = (vec![0u32; 48], depth.clone());
+                let row = &mut Row { color: &mut color, depth: &mut depth, coverage: &mut [] };
+                let counts =
+                    if general { draw_general(&span, &sh, row) } else { draw_prepared(&span, &sh, &prepared, row) };
+                (color, depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>(), counts)
+            };
+            assert_eq!(draw(false), draw(true), "case {case}: {gradients:?}");
+        }
     }
 
     #[test]

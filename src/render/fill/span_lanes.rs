@@ -1,18 +1,22 @@
-//! The span fast paths: flat colour, texel, and tinted texel, under every visibility rule, one monomorphised
-//! pixel loop for each combination.
+//! The span fast paths: flat colour, texel, and tinted texel (from the polygon's mip level, or from the
+//! level chosen at each pixel), under every visibility rule, one monomorphised pixel loop for each
+//! combination.
 //!
 //! [`walk`] draws a run of pixels: where the CPU has AVX2 the run's whole chunks of [`LANES`] pixels go
 //! through the vector loop (`span_avx2`), and the rest (or, without AVX2, all of it) through the per-pixel
 //! loop here, which is the reference the vector loop matches bit for bit: the same IEEE operations in the
-//! same order, no fused multiply-add. Writes are selects (the old value where the visibility test failed),
-//! so a rejected pixel keeps its colour and depth bit for bit. [`dispatch`] picks the loop for a polygon's
-//! source and visibility once, so a group of polygons shares it.
+//! same order, no fused multiply-add. A level chosen per pixel has no vector loop: its pixels go one at a
+//! time, still far cheaper than the general span (no float colour, no per-pixel colour multiply). Writes are
+//! selects (the old value where the visibility test failed), so a rejected pixel keeps its colour and depth
+//! bit for bit. [`dispatch`] picks the loop for a polygon's source and visibility once, so a group of
+//! polygons shares it.
 
 use super::row::{
     COVERAGE, DEPTH_TEST, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
 };
 use super::scanline::Span;
-use crate::render::core::texture::{Sampler, Texture};
+use crate::render::core::mip::{TexGradients, nearest_level};
+use crate::render::core::texture::{Sampler, Texture, floor_i32};
 use crate::render::core::vertex::slot;
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;
@@ -23,11 +27,41 @@ pub(crate) enum Source<'a> {
     /// One packed colour for the whole span.
     Flat(u32),
     /// The nearest texel, perspective-correct, used as is.
-    Texel(&'a Texture, Sampler),
+    Texel(Tex<'a>),
     /// The nearest texel times the polygon's one colour, in `Fx16` (65536 is 1.0) per channel; the product
     /// is rounded to the nearest 1/255 in integers, which equals the general path's float rounding except
     /// within 1/500 of a level's boundary, where it may be one level off.
-    Tinted(&'a Texture, Sampler, [u32; 3]),
+    Tinted(Tex<'a>, [u32; 3]),
+}
+
+/// A fast path's texture: one mip level for the whole polygon, or the whole chain with the level chosen at
+/// every pixel.
+#[derive(Clone, Copy)]
+pub(crate) struct Tex<'a> {
+    /// The level the polygon is drawn with, or level 0 of the chain when `per_pixel` is set.
+    pub(crate) texture: &'a Texture,
+    pub(crate) sampler: Sampler,
+    /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel.
+    pub(crate) per_pixel: Option<TexGradients>,
+}
+
+impl Tex<'_> {
+    /// The nearest texel at pixel offset `k` of the span `s` describes (its `w` and `h` are the texture's
+    /// size): in the polygon's level, or in the level of detail measured there, by the same operations in the
+    /// same order as the general span (so the same texel).
+    #[inline(always)]
+    fn texel_at(&self, s: &Setup, k: f32) -> u32 {
+        let Some(g) = &self.per_pixel else {
+            let (tx, ty) = s.texel_xy(k);
+            return self.texture.texel(tx, ty, self.sampler);
+        };
+        let t = self.texture;
+        let qst = [s.q0 + k * s.dq, s.s0 + k * s.ds, s.t0 + k * s.dt];
+        let level = t.level(nearest_level(g.lod_at(qst, (t.width(), t.height())), t.last_level()));
+        let w = 1.0 / qst[0];
+        let (u, v) = (qst[1] * w, qst[2] * w);
+        level.texel(floor_i32(u * level.width() as f32), floor_i32(v * level.height() as f32), self.sampler)
+    }
 }
 
 /// Draws a span with a fast-path source under a visibility rule.
@@ -76,7 +110,7 @@ pub(crate) fn draw(
 /// `(flat colour, tint, alpha mask)`.
 #[derive(Clone, Copy)]
 pub(crate) struct Paint<'a> {
-    tex: Option<(&'a Texture, Sampler)>,
+    tex: Option<Tex<'a>>,
     colors: (u32, [u32; 3], Option<(f32, f32)>),
 }
 
@@ -114,8 +148,8 @@ pub(crate) fn dispatch(source: Source<'_>, alpha: Option<(f32, f32)>, vis: Visib
     }
     match source {
         Source::Flat(c) => by_vis!(FLAT, Paint { tex: None, colors: (c, [0; 3], None) }),
-        Source::Texel(t, s) => by_vis!(TEXEL, Paint { tex: Some((t, s)), colors: (0, [0; 3], alpha) }),
-        Source::Tinted(t, s, tint) => by_vis!(TINTED, Paint { tex: Some((t, s)), colors: (0, tint, alpha) }),
+        Source::Texel(t) => by_vis!(TEXEL, Paint { tex: Some(t), colors: (0, [0; 3], alpha) }),
+        Source::Tinted(t, tint) => by_vis!(TINTED, Paint { tex: Some(t), colors: (0, tint, alpha) }),
     }
 }
 
@@ -137,15 +171,14 @@ fn shade<const SRC: u8>(t: u32, (flat, [cr, cg, cb]): (u32, [u32; 3])) -> u32 {
 /// match the inner runs these loops draw, bit for bit.
 #[inline]
 pub(crate) fn colour_at(source: Source<'_>, alpha: Option<(f32, f32)>, a: [f32; 4]) -> Option<u32> {
-    let (t, s, tint, tinted) = match source {
+    let (t, tint, tinted) = match source {
         Source::Flat(c) => return Some(c),
-        Source::Texel(t, s) => (t, s, [0; 3], false),
-        Source::Tinted(t, s, tint) => (t, s, tint, true),
+        Source::Texel(t) => (t, [0; 3], false),
+        Source::Tinted(t, tint) => (t, tint, true),
     };
-    let (w, h) = (t.width() as f32, t.height() as f32);
+    let (w, h) = (t.texture.width() as f32, t.texture.height() as f32);
     let setup = Setup { d0: a[0], dd: 0.0, q0: a[1], dq: 0.0, s0: a[2], ds: 0.0, t0: a[3], dt: 0.0, w, h };
-    let (tx, ty) = setup.texel_xy(0.0);
-    let texel = t.texel(tx, ty, s);
+    let texel = t.texel_at(&setup, 0.0);
     if let Some((a, cutoff)) = alpha {
         let ta = (texel >> 24) as f32 * (1.0 / 255.0) * a;
         if ta.partial_cmp(&cutoff).is_none_or(std::cmp::Ordering::is_lt) {
@@ -161,7 +194,7 @@ pub(crate) fn colour_at(source: Source<'_>, alpha: Option<(f32, f32)>, a: [f32; 
 pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
     let Paint { tex, colors } = *paint;
     let (a0, da) = (&run.a0, &run.da);
-    let (w, h) = tex.map_or((0.0, 0.0), |(t, _)| (t.width() as f32, t.height() as f32));
+    let (w, h) = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
     let setup = Setup { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h };
     let (x0, x1) = (run.x0, run.x1);
     // The chunk loop's counts live in memory (it takes them by reference); the per-pixel loop counts in
@@ -172,9 +205,12 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     #[cfg(target_arch = "x86_64")]
     // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up, and
     // small polygons give mostly such spans (1-3 pixels).
+    // A level chosen per pixel has no chunk loop: its pixels all go one at a time.
     if x1.saturating_sub(x0) >= LANES
+        && tex.is_none_or(|t| t.per_pixel.is_none())
         && let Some(avx2) = simd::avx2()
     {
+        let tex = tex.map(|t| (t.texture, t.sampler));
         x = crate::render::fill::span_avx2::chunks::<VIS, SRC>(avx2, (x0, x1), &setup, tex, colors, row, &mut counts);
     }
     let (flat, tint, alpha) = colors;
@@ -193,10 +229,7 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
         }
         shaded += 1;
         let texel = match tex {
-            Some((t, s)) if SRC != FLAT => {
-                let (tx, ty) = setup.texel_xy(k);
-                t.texel(tx, ty, s)
-            }
+            Some(t) if SRC != FLAT => t.texel_at(&setup, k),
             _ => flat,
         };
         // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
@@ -303,7 +336,8 @@ mod tests {
                 .collect();
             let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
             let alpha = (rng.below(2) == 0).then(|| (float(&mut rng, hostile), float(&mut rng, false) * 0.3));
-            let sources = [Source::Flat(rng.next()), Source::Texel(&tex, sampler), Source::Tinted(&tex, sampler, tint)];
+            let t = Tex { texture: &tex, sampler, per_pixel: None };
+            let sources = [Source::Flat(rng.next()), Source::Texel(t), Source::Tinted(t, tint)];
             for source in sources {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
                     let start = (&color[..], &depth[..], &coverage[..]);

@@ -204,7 +204,7 @@ impl ObjectSetup<'_> {
             AlphaMode::Mask { cutoff } => Some(cutoff),
         };
         // A depth bias moves the corners' depths, which the direct path does not do.
-        let fast = self.fast_path.applies(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
+        let fast = self.fast_path.small_triangles(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
         let mip_size = texture.and_then(|t| self.mip_textures.get(t as usize)).map(|t| (t.width(), t.height()));
         MaterialSetup {
             index,
@@ -389,7 +389,7 @@ impl ObjectSetup<'_> {
                 out.keys.push(key);
             }
         };
-        let fast = self.fast_path.applies(
+        let fast = self.fast_path.small_triangles(
             texture.is_some(),
             g.constant_color.is_some(),
             alpha_cutoff.is_some(),
