@@ -182,7 +182,7 @@ impl FastPathRule {
     /// small triangles up for the fast fill.
     #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let levels = matches!(self.mip, MipMode::Off | MipMode::Polygon | MipMode::Pixel);
+        let levels = self.mip != MipMode::Span;
         let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && levels;
         !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
     }

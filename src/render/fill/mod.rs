@@ -1,13 +1,14 @@
 //! The fill (Quake's `d_*` half): the frame's polygons drawn, in order, band by band on the worker pool.
 //!
 //! The ordered polygons are binned once by the bands of about 32 rows they touch (in pieces, on the pool);
-//! each band then clears its own rows and draws its bin (`bands`). A polygon is drawn by the scanline
-//! walk of seeds 001 and 002 ([`scanline`]) into spans, shaded by the general span ([`span`]) or a fast path's
-//! pixel loop (`span_lanes`, with its AVX2 child), or, for a small triangle set up in advance, by `small` (with its
-//! AVX2 child). An anti-aliased frame draws each polygon's coverage samples (`coverage`) into the band's samples
-//! (`samples`, a pixel's samples as vector lanes in `sample_lanes`) by `antialias`, resolving them at the end of
-//! the band. Edge positions are exact integers and attributes are evaluated per row from the polygon's vertices, so
-//! a row's pixels do not depend on which band drew it: frames are bit-identical for every thread count.
+//! each band then clears its own rows and draws its bin (`bands`). A polygon is drawn by the scanline walk
+//! of seeds 001 and 002 ([`scanline`]) into spans, shaded by the general span ([`span`]) or a fast path's
+//! pixel loop (`span_lanes`, with its AVX2 child), or, for a small triangle set up in advance, by `small`
+//! (with its AVX2 child). An anti-aliased frame draws each polygon's coverage samples (`coverage`) into the
+//! band's samples (`samples`, a pixel's samples as vector lanes in `sample_lanes`) by `antialias`,
+//! resolving them at the end of the band. Edge positions are exact integers and attributes are evaluated
+//! per row from the polygon's vertices, so a row's pixels do not depend on which band drew it: frames are
+//! bit-identical for every thread count.
 
 pub(crate) mod antialias;
 pub(crate) mod bands;
