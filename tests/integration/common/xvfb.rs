@@ -33,8 +33,11 @@ impl Xvfb {
     pub fn start() -> Option<Xvfb> {
         let one = ONE_DISPLAY.lock().unwrap_or_else(PoisonError::into_inner);
         for _ in 0..50 {
-            // Other processes may run Xvfb too: each server takes its own display number.
-            let num = 90 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
+            // Other processes may run Xvfb too: each server takes its own display number. The audio test's
+            // own Xvfb, started in this process outside the lock, takes numbers from 300 to 899, so these
+            // start above: the two could race for one number, and a game then meet the other's server going
+            // away (a likely cause of one "Failed to open connection to X server" seen once).
+            let num = 1000 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
             if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
                 continue;
             }
