@@ -112,9 +112,13 @@ pub fn log2_approx(x: f32) -> f32 {
     let bits = x.to_bits();
     let exponent = ((bits >> 23) & 0xff) as i32 - 127;
     let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) - 1.0;
-    const C: [f32; 4] = [1.438_073_3, -0.674_766_7, 0.317_000_7, -0.080_307_3];
-    exponent as f32 + m * (C[0] + m * (C[1] + m * (C[2] + m * C[3])))
+    let c = LOG2_QUARTIC;
+    exponent as f32 + m * (c[0] + m * (c[1] + m * (c[2] + m * c[3])))
 }
+
+/// [`log2_approx`]'s quartic in the mantissa `m - 1`, lowest power first (the vector loops evaluate the same
+/// one, in the same order).
+pub(crate) const LOG2_QUARTIC: [f32; 4] = [1.438_073_3, -0.674_766_7, 0.317_000_7, -0.080_307_3];
 
 /// `λ` from the squared lengths (in texels) of the pixel's footprint along x and along y.
 #[inline]

@@ -4,18 +4,22 @@
 //! Each step repeats the portable loop in [`crate::render::fill::span_lanes`] operation for operation (the same IEEE
 //! operations in the same order, no fused multiply-add; `floor_i32`'s saturation and NaN rule are rebuilt
 //! with compares and blends), so the two produce bit-identical frames; a unit test compares them on
-//! random and hostile spans.
+//! random and hostile spans. A mip level chosen per pixel is measured on all eight lanes too, and the
+//! texels fetched from one level at once when the drawn lanes share it.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi32, _mm256_add_ps,
-    _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps, _mm256_castps_si256, _mm256_cmp_ps,
-    _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32,
-    _mm256_min_epi32, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32,
-    _mm256_set1_ps, _mm256_setr_epi32, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32,
+    __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi32, _mm256_add_ps, _mm256_and_ps,
+    _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps, _mm256_castps_si256,
+    _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps,
+    _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32, _mm256_movemask_ps,
+    _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_setr_epi32,
+    _mm256_setzero_ps, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
 };
 
 use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
-use crate::render::core::texture::{Sampler, Texture, Wrap};
+use super::span_lanes::Tex;
+use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
+use crate::render::core::texture::{Sampler, Texture, Wrap, floor_i32};
 use crate::render::simd::Avx2;
 use crate::render::simd::x86::{load8, store8};
 
@@ -65,15 +69,24 @@ macro_rules! wrap_x8 {
     }};
 }
 
-/// The nearest texels of eight pixels at pixel offsets `k`.
-macro_rules! texels_x8 {
-    ($s:expr, $k:expr, $tex:expr, $sampler:expr, $in_range:expr) => {{
-        let (s, k, tex, sampler): (&Setup, __m256, &Texture, Sampler) = ($s, $k, $tex, $sampler);
+/// `1/w` (the reciprocal of `1/w`) and the texture coordinates `u`, `v` of eight pixels at offsets `k`.
+macro_rules! coordinates_x8 {
+    ($s:expr, $k:expr) => {{
+        let (s, k): (&Setup, __m256) = ($s, $k);
         let q = _mm256_add_ps(_mm256_set1_ps(s.q0), _mm256_mul_ps(k, _mm256_set1_ps(s.dq)));
         let q = _mm256_div_ps(_mm256_set1_ps(1.0), q);
         let u = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.s0), _mm256_mul_ps(k, _mm256_set1_ps(s.ds))), q);
         let v = _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(s.t0), _mm256_mul_ps(k, _mm256_set1_ps(s.dt))), q);
-        let (fx, fy) = (_mm256_mul_ps(u, _mm256_set1_ps(s.w)), _mm256_mul_ps(v, _mm256_set1_ps(s.h)));
+        (q, u, v)
+    }};
+}
+
+/// The nearest texels of one texture (one mip level) at texture coordinates `u`, `v` on eight lanes.
+macro_rules! texels_x8 {
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $in_range:expr) => {{
+        let (u, v, tex, sampler): (__m256, __m256, &Texture, Sampler) = ($u, $v, $tex, $sampler);
+        let fx = _mm256_mul_ps(u, _mm256_set1_ps(tex.width() as f32));
+        let fy = _mm256_mul_ps(v, _mm256_set1_ps(tex.height() as f32));
         let (xi, yi) = if $in_range {
             (floor_in_range_x8!(fx), floor_in_range_x8!(fy))
         } else {
@@ -95,6 +108,78 @@ macro_rules! texels_x8 {
             }
         };
         bytemuck::cast::<[u32; LANES], __m256i>(out)
+    }};
+}
+
+/// The mip level nearest the level of detail at eight pixels, as `Tex::texel_at` chooses it for one:
+/// `TexGradients::lod_at`, `lod_from_squares` (with `f32::max`'s NaN rule and `log2_approx`'s quartic)
+/// and `nearest_level`, operation for operation. `q` is `1/w` (already the reciprocal), `u`, `v` the
+/// texture coordinates, `size` level 0's.
+macro_rules! levels_x8 {
+    ($q:expr, $u:expr, $v:expr, $g:expr, $size:expr, $last:expr) => {{
+        let (q, u, v, g, (tw, th), last): (__m256, __m256, __m256, &TexGradients, (u32, u32), usize) =
+            ($q, $u, $v, $g, $size, $last);
+        let (tw, th) = (_mm256_mul_ps(_mm256_set1_ps(tw as f32), q), _mm256_mul_ps(_mm256_set1_ps(th as f32), q));
+        let square = |d: &[f32; 3]| {
+            let d0 = _mm256_set1_ps(d[0]);
+            let du = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(d[1]), _mm256_mul_ps(u, d0)), tw);
+            let dv = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(d[2]), _mm256_mul_ps(v, d0)), th);
+            _mm256_add_ps(_mm256_mul_ps(du, du), _mm256_mul_ps(dv, dv))
+        };
+        let (x2, y2) = (square(&g.dx), square(&g.dy));
+        // `f32::max` returns the other operand when one is NaN; `maxps` returns its second.
+        let rho2 = _mm256_blendv_ps(_mm256_max_ps(x2, y2), x2, _mm256_cmp_ps::<_CMP_UNORD_Q>(y2, y2));
+        let usable = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(rho2, _mm256_setzero_ps()),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(rho2, _mm256_set1_ps(f32::INFINITY)),
+        );
+        let bits = _mm256_castps_si256(rho2);
+        let exponent = _mm256_sub_epi32(
+            _mm256_and_si256(_mm256_srli_epi32::<23>(bits), _mm256_set1_epi32(0xff)),
+            _mm256_set1_epi32(127),
+        );
+        let m = _mm256_castsi256_ps(_mm256_or_si256(
+            _mm256_and_si256(bits, _mm256_set1_epi32(0x007f_ffff)),
+            _mm256_set1_epi32(0x3f80_0000),
+        ));
+        let m = _mm256_sub_ps(m, _mm256_set1_ps(1.0));
+        let c = |i: usize| _mm256_set1_ps(LOG2_QUARTIC[i]);
+        let p = _mm256_add_ps(c(2), _mm256_mul_ps(m, c(3)));
+        let p = _mm256_add_ps(c(1), _mm256_mul_ps(m, p));
+        let p = _mm256_add_ps(c(0), _mm256_mul_ps(m, p));
+        let log2 = _mm256_add_ps(_mm256_cvtepi32_ps(exponent), _mm256_mul_ps(m, p));
+        let lod = _mm256_and_ps(usable, _mm256_mul_ps(_mm256_set1_ps(0.5), log2));
+        // `(lod + 0.5) as usize`: negatives to 0 (the sum is finite, at most 64.5, so truncation is exact).
+        let nearest = _mm256_max_ps(_mm256_add_ps(lod, _mm256_set1_ps(0.5)), _mm256_setzero_ps());
+        _mm256_min_epi32(_mm256_cvttps_epi32(nearest), _mm256_set1_epi32(last.min(255) as i32))
+    }};
+}
+
+/// The nearest texels of eight pixels at offsets `k`, each from the mip level chosen at it: one vector
+/// fetch when the drawn lanes (`pass`) share a level (they mostly do: the level changes slowly along a
+/// span), else one lane at a time.
+macro_rules! per_pixel_texels_x8 {
+    ($s:expr, $k:expr, $tex:expr, $g:expr, $pass:expr, $in_range:expr) => {{
+        let (s, k, tex, g, pass): (&Setup, __m256, Tex<'_>, &TexGradients, __m256i) = ($s, $k, $tex, $g, $pass);
+        let (q, u, v) = coordinates_x8!(s, k);
+        let t = tex.texture;
+        let levels = levels_x8!(q, u, v, g, (t.width(), t.height()), t.last_level());
+        let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
+        let first: [i32; LANES] = bytemuck::cast(levels);
+        let first = first[drawn.trailing_zeros() as usize % LANES];
+        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(levels, _mm256_set1_epi32(first))));
+        if drawn & !(same as u32) == 0 {
+            texels_x8!(u, v, t.level(first as usize), tex.sampler, $in_range)
+        } else {
+            let (us, vs, ls): ([f32; LANES], [f32; LANES], [i32; LANES]) =
+                (bytemuck::cast(u), bytemuck::cast(v), bytemuck::cast(levels));
+            let out: [u32; LANES] = std::array::from_fn(|l| {
+                let level = t.level(ls[l] as usize);
+                let (x, y) = (us[l] * level.width() as f32, vs[l] * level.height() as f32);
+                level.texel(floor_i32(x), floor_i32(y), tex.sampler)
+            });
+            bytemuck::cast::<[u32; LANES], __m256i>(out)
+        }
     }};
 }
 
@@ -122,7 +207,7 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     _: Avx2,
     span: (usize, usize),
     s: &Setup,
-    tex: Option<(&Texture, Sampler)>,
+    tex: Option<Tex<'_>>,
     colors: (u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
     counts: &mut SpanCounts,
@@ -140,7 +225,7 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
 fn chunks_avx2<const VIS: u8, const SRC: u8>(
     (x0, x1): (usize, usize),
     s: &Setup,
-    tex: Option<(&Texture, Sampler)>,
+    tex: Option<Tex<'_>>,
     (flat, tint, alpha): (u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
     counts: &mut SpanCounts,
@@ -203,7 +288,13 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
         }
         let texels = match (SRC, tex) {
             (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
-            (_, Some((t, sampler))) => texels_x8!(s, k, t, sampler, in_range),
+            (_, Some(t)) => match &t.per_pixel {
+                None => {
+                    let (_, u, v) = coordinates_x8!(s, k);
+                    texels_x8!(u, v, t.texture, t.sampler, in_range)
+                }
+                Some(g) => per_pixel_texels_x8!(s, k, t, g, pass, in_range),
+            },
         };
         // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
         let write = match alpha {

@@ -5,11 +5,10 @@
 //! [`walk`] draws a run of pixels: where the CPU has AVX2 the run's whole chunks of [`LANES`] pixels go
 //! through the vector loop (`span_avx2`), and the rest (or, without AVX2, all of it) through the per-pixel
 //! loop here, which is the reference the vector loop matches bit for bit: the same IEEE operations in the
-//! same order, no fused multiply-add. A level chosen per pixel has no vector loop: its pixels go one at a
-//! time, still far cheaper than the general span (no float colour, no per-pixel colour multiply). Writes are
-//! selects (the old value where the visibility test failed), so a rejected pixel keeps its colour and depth
-//! bit for bit. [`dispatch`] picks the loop for a polygon's source and visibility once, so a group of
-//! polygons shares it.
+//! same order, no fused multiply-add; a level chosen per pixel is measured there the same way (the
+//! `log2_approx` quartic on eight lanes). Writes are selects (the old value where the visibility test
+//! failed), so a rejected pixel keeps its colour and depth bit for bit. [`dispatch`] picks the loop for a
+//! polygon's source and visibility once, so a group of polygons shares it.
 
 use super::row::{
     COVERAGE, DEPTH_TEST, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
@@ -205,12 +204,9 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     #[cfg(target_arch = "x86_64")]
     // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up, and
     // small polygons give mostly such spans (1-3 pixels).
-    // A level chosen per pixel has no chunk loop: its pixels all go one at a time.
     if x1.saturating_sub(x0) >= LANES
-        && tex.is_none_or(|t| t.per_pixel.is_none())
         && let Some(avx2) = simd::avx2()
     {
-        let tex = tex.map(|t| (t.texture, t.sampler));
         x = crate::render::fill::span_avx2::chunks::<VIS, SRC>(avx2, (x0, x1), &setup, tex, colors, row, &mut counts);
     }
     let (flat, tint, alpha) = colors;
@@ -337,7 +333,19 @@ mod tests {
             let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
             let alpha = (rng.below(2) == 0).then(|| (float(&mut rng, hostile), float(&mut rng, false) * 0.3));
             let t = Tex { texture: &tex, sampler, per_pixel: None };
-            let sources = [Source::Flat(rng.next()), Source::Texel(t), Source::Tinted(t, tint)];
+            // Gradients that give level changes within a chunk, or one level for all of it, or (hostile)
+            // none that can be measured.
+            let scale = [0.002, 0.05, 1.0][rng.below(3) as usize];
+            let mut gradient = || std::array::from_fn(|_| float(&mut rng, hostile) * scale);
+            let g = TexGradients { dx: gradient(), dy: gradient() };
+            let levels = Tex { per_pixel: Some(g), ..t };
+            let sources = [
+                Source::Flat(rng.next()),
+                Source::Texel(t),
+                Source::Tinted(t, tint),
+                Source::Texel(levels),
+                Source::Tinted(levels, tint),
+            ];
             for source in sources {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
                     let start = (&color[..], &depth[..], &coverage[..]);
