@@ -182,17 +182,18 @@ impl FastPathRule {
     /// small triangles up for the fast fill.
     #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let levels = self.mip != MipMode::Span;
-        let nearest_perspective = self.filter == Filter::Nearest && self.mode == TextureMode::Perspective && levels;
-        !screen_door && constant_color && if textured { nearest_perspective } else { !alpha_cutoff }
+        let perspective = self.mode == TextureMode::Perspective && self.mip != MipMode::Span;
+        !screen_door && constant_color && if textured { perspective } else { !alpha_cutoff }
     }
 
     /// Whether set-up makes such a polygon's small triangles for the fast fill: when it takes a fast path
-    /// with one level for it. A level chosen per pixel needs the polygon's gradients, which a small
-    /// triangle's record does not carry, so its triangles stay polygons.
+    /// with nearest texels (or none) from one level for it. A level chosen per pixel needs the polygon's
+    /// gradients, which a small triangle's record does not carry, and the small fill samples nearest only,
+    /// so such triangles stay polygons.
     #[inline]
     pub(crate) fn small_triangles(&self, textured: bool, constant: bool, cutoff: bool, screen_door: bool) -> bool {
-        self.applies(textured, constant, cutoff, screen_door) && !(textured && self.mip == MipMode::Pixel)
+        let one_nearest_level = self.mip != MipMode::Pixel && self.filter == Filter::Nearest;
+        self.applies(textured, constant, cutoff, screen_door) && (!textured || one_nearest_level)
     }
 }
 

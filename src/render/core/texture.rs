@@ -4,6 +4,14 @@
 //! Texels are stored as packed `0xAARRGGBB` and used exactly as stored (no colour-space conversion), as the
 //! `render` command promises. Texture coordinates follow glTF: `(0, 0)` is the top-left corner of the image,
 //! `u` grows to the right and `v` downwards, and texel `i` spans `[i, i + 1) / size`.
+//!
+//! The renderer's bilinear filter works in integers on packed texels ([`Texture::bilinear`]): the sample
+//! lies at `u·W − ½` (texel centres at half-integers) in `Fx24_8` (256 steps a texel), floored; the integer
+//! part names the left of the two texels and the low 8 bits the weight `a` of the right one, likewise along
+//! `v`. Two texels blend per channel, alpha included, as `(x·(256 − a) + y·a + 128) >> 8` ([`blend`]): two
+//! channels at a time in one 32-bit word (each product fits 16 bits), exact at `a = 0`, never outside
+//! `0..=255`. Trilinear blends the bilinear texels of the two levels around `λ` by its fraction in 1/256,
+//! truncated ([`trilinear_levels`]). Every span path, fast or general, filters this way, so they agree.
 
 use thiserror::Error;
 
@@ -209,7 +217,8 @@ impl Texture {
         unpack(self.texel(x, y, sampler))
     }
 
-    /// Bilinear sample at `(u, v)` as RGBA in `0..=1`; each of the four texels is wrapped on its own.
+    /// Bilinear sample at `(u, v)` as RGBA in `0..=1`, in floats (smoother than [`Texture::bilinear`]'s
+    /// 1/256 steps, for the overlay's magnified glyphs); each of the four texels is wrapped on its own.
     #[must_use]
     pub fn sample_bilinear(&self, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
         let fx = u * self.width as f32 - 0.5;
@@ -240,25 +249,61 @@ impl Texture {
         let last = self.last_level();
         match filter {
             Filter::Nearest => self.level(mip::nearest_level(lod, last)).sample_nearest(u, v, sampler),
-            Filter::Bilinear => self.level(mip::nearest_level(lod, last)).sample_bilinear(u, v, sampler),
+            Filter::Bilinear => unpack(self.level(mip::nearest_level(lod, last)).bilinear(u, v, sampler)),
             Filter::Trilinear => {
-                // `as usize` saturates and sends NaN and negatives to level 0.
-                let k = lod as usize;
-                let f = lod - k as f32;
-                let fine = self.level(k).sample_bilinear(u, v, sampler);
+                let (k, weight) = trilinear_levels(lod, last);
+                let fine = self.level(k).bilinear(u, v, sampler);
                 // At a whole level (or beyond the last, or magnified) the finer level alone, bit for bit.
-                if k >= last || f.is_nan() || f <= 0.0 {
-                    return fine;
+                if weight == 0 {
+                    return unpack(fine);
                 }
-                let coarse = self.level(k + 1).sample_bilinear(u, v, sampler);
-                let mut out = [0.0; 4];
-                for c in 0..4 {
-                    out[c] = fine[c] + (coarse[c] - fine[c]) * f;
-                }
-                out
+                unpack(blend(fine, self.level(k + 1).bilinear(u, v, sampler), weight))
             }
         }
     }
+
+    /// The bilinear texel at `(u, v)`, packed, by the integer rule of the module doc; each of the four
+    /// texels is wrapped on its own.
+    #[inline(always)]
+    #[must_use]
+    pub fn bilinear(&self, u: f32, v: f32, sampler: Sampler) -> u32 {
+        let (px, py) = (fx24_8(u, self.width), fx24_8(v, self.height));
+        let (x, y, ax, ay) = (px >> 8, py >> 8, (px & 255) as u32, (py & 255) as u32);
+        let (x1, y1) = (x.wrapping_add(1), y.wrapping_add(1));
+        let top = blend(self.texel(x, y, sampler), self.texel(x1, y, sampler), ax);
+        let bottom = blend(self.texel(x, y1, sampler), self.texel(x1, y1, sampler), ax);
+        blend(top, bottom, ay)
+    }
+}
+
+/// The finer of the two levels trilinear filtering blends at level of detail `lod` (`lod` as a whole
+/// number, at most `last`), and the coarser one's weight in 1/256: the fraction truncated, 0 at or past the
+/// last level and for magnification (`lod <= 0`, or NaN).
+#[inline(always)]
+#[must_use]
+pub fn trilinear_levels(lod: f32, last: usize) -> (usize, u32) {
+    // `as` saturates, sending NaN and negatives to 0.
+    let k = (lod as usize).min(last);
+    let weight = if k < last { ((lod - k as f32) * 256.0) as u32 } else { 0 };
+    (k, weight.min(255))
+}
+
+/// Texels `x` and `y` blended per channel with weight `a` (0..=256) on `y`, rounded to nearest.
+#[inline(always)]
+#[must_use]
+pub fn blend(x: u32, y: u32, a: u32) -> u32 {
+    const M: u32 = 0x00ff_00ff;
+    let b = 256 - a;
+    let rb = (((x & M) * b + (y & M) * a + 0x0080_0080) >> 8) & M;
+    let ag = (((x >> 8) & M) * b + ((y >> 8) & M) * a + 0x0080_0080) & !M;
+    rb | ag
+}
+
+/// The sample position `u·size − ½` in `Fx24_8` (256 steps a texel), floored (saturating, NaN to 0).
+#[inline(always)]
+#[must_use]
+pub fn fx24_8(u: f32, size: u32) -> i32 {
+    floor_i32(u * (size as f32 * 256.0) - 128.0)
 }
 
 fn sanitize_frac(f: f32) -> f32 {
@@ -392,21 +437,25 @@ mod tests {
         let s = Sampler::default();
         for (u, v) in [(0.3, 0.7), (0.01, 0.99), (0.5, 0.5), (0.123, 0.456)] {
             for k in 0..=t.last_level() {
-                let b = t.level(k).sample_bilinear(u, v, s);
+                let b = unpack(t.level(k).bilinear(u, v, s));
                 assert_eq!(t.sample(Filter::Trilinear, k as f32, u, v, s), b, "level {k}");
                 assert_eq!(t.sample(Filter::Bilinear, k as f32, u, v, s), b, "level {k}");
             }
             // Magnified or mip-maps off (λ = 0): exactly bilinear and nearest in level 0.
-            assert_eq!(t.sample(Filter::Trilinear, -3.0, u, v, s), t.sample_bilinear(u, v, s));
+            assert_eq!(t.sample(Filter::Trilinear, -3.0, u, v, s), unpack(t.bilinear(u, v, s)));
             assert_eq!(t.sample(Filter::Nearest, 0.0, u, v, s), t.sample_nearest(u, v, s));
-            let (a, b) = (t.level(1).sample_bilinear(u, v, s), t.level(2).sample_bilinear(u, v, s));
+            let (a, b) = (unpack(t.level(1).bilinear(u, v, s)), unpack(t.level(2).bilinear(u, v, s)));
             let half = t.sample(Filter::Trilinear, 1.5, u, v, s);
             for c in 0..4 {
-                assert!((half[c] - (a[c] + b[c]) / 2.0).abs() < 1e-6, "channel {c}: {half:?} {a:?} {b:?}");
+                // Halfway rounds to the nearest level, so within half a level of the mean.
+                assert!(
+                    (half[c] - (a[c] + b[c]) / 2.0).abs() <= 0.5 / 255.0 + 1e-6,
+                    "channel {c}: {half:?} {a:?} {b:?}"
+                );
             }
             // Nearest and bilinear take the level nearest λ.
             assert_eq!(t.sample(Filter::Nearest, 1.6, u, v, s), t.level(2).sample_nearest(u, v, s));
-            assert_eq!(t.sample(Filter::Bilinear, 1.4, u, v, s), t.level(1).sample_bilinear(u, v, s));
+            assert_eq!(t.sample(Filter::Bilinear, 1.4, u, v, s), unpack(t.level(1).bilinear(u, v, s)));
         }
     }
 }

@@ -25,6 +25,7 @@ pub mod span;
 #[cfg(target_arch = "x86_64")]
 mod span_avx2;
 pub(crate) mod span_lanes;
+pub(crate) mod texel;
 
 use std::ops::Range;
 

@@ -158,6 +158,13 @@ impl Setup {
         self.d0 + k * self.dd
     }
 
+    /// The texture coordinates `(u, v)` at pixel offset `k` (perspective-correct).
+    #[inline(always)]
+    pub(crate) fn uv(&self, k: f32) -> (f32, f32) {
+        let q = 1.0 / (self.q0 + k * self.dq);
+        ((self.s0 + k * self.ds) * q, (self.t0 + k * self.dt) * q)
+    }
+
     /// The texel coordinates at pixel offset `k` (perspective-correct), floored.
     #[inline(always)]
     pub(crate) fn texel_xy(&self, k: f32) -> (i32, i32) {

@@ -6,7 +6,7 @@
 use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
 use super::span_lanes::{self, Source, Tex};
-use crate::render::core::mip::{TexGradients, nearest_level};
+use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};
 use crate::render::core::texture::{Filter, Sampler, Texture};
@@ -125,11 +125,8 @@ impl<'a> Shading<'a> {
         // coordinates are normalised, so the same ones address every level), or with the level chosen per
         // pixel, the whole chain and the polygon's gradients.
         let tex = |t: &'a Texture| match self.mip {
-            MipMode::Pixel => Tex { texture: t, sampler: self.sampler, per_pixel: Some(self.gradients) },
-            _ => {
-                let level = t.level(nearest_level(self.lod_at([1.0, 0.0, 0.0]), t.last_level()));
-                Tex { texture: level, sampler: self.sampler, per_pixel: None }
-            }
+            MipMode::Pixel => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
+            _ => Tex::polygon(t, self.sampler, self.filter, self.lod_at([1.0, 0.0, 0.0])),
         };
         // Which fast path, for a polygon the rule gives one.
         let source = match (self.texture.map(tex), self.constant_color) {
@@ -238,12 +235,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_nearest_perspective_textures() {
+    fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_perspective_textures() {
         let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
         for mip in MipMode::ALL {
-            // A textured polygon takes a fast path with one level for the whole polygon or a level per pixel.
+            // A textured polygon takes a fast path with one level (or two) for the whole polygon or a level
+            // per pixel, under every filter.
             let levels = mip != MipMode::Span;
-            assert_eq!(fast_paths(&texture, mip), 8 + if levels { 4 } else { 0 }, "{mip}");
+            assert_eq!(fast_paths(&texture, mip), 8 + if levels { 8 } else { 0 }, "{mip}");
         }
     }
 
@@ -273,13 +271,13 @@ mod tests {
             };
             let expected = sh.prepare().fast().is_some();
             assert_eq!(rule.applies(bit(2), bit(4), bit(3), bit(6)), expected, "combination {bits:07b}");
-            // Set-up makes small triangles for a fast path with one level for the polygon only.
-            let small = expected && !(bit(2) && mip == MipMode::Pixel);
+            // Set-up makes small triangles for a fast path with one nearest level for the polygon only.
+            let small = expected && !(bit(2) && (mip == MipMode::Pixel || bit(0)));
             assert_eq!(rule.small_triangles(bit(2), bit(4), bit(3), bit(6)), small, "combination {bits:07b}");
             fast += usize::from(expected);
         }
-        // Flat without a cutoff under any filter and mode, white or not (8); textured with nearest
-        // perspective sampling, with or without a cutoff, white or tinted (4).
+        // Flat without a cutoff under any filter and mode, white or not (8); textured with perspective
+        // sampling, nearest or bilinear, with or without a cutoff, white or tinted (8).
         fast
     }
 

@@ -8,18 +8,19 @@
 //! texels fetched from one level at once when the drawn lanes share it.
 
 use std::arch::x86_64::{
-    __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi32, _mm256_add_ps, _mm256_and_ps,
-    _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps, _mm256_castps_si256,
-    _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps,
-    _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32, _mm256_movemask_ps,
-    _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32, _mm256_set1_ps, _mm256_setr_epi32,
-    _mm256_setzero_ps, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
+    __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi16, _mm256_add_epi32,
+    _mm256_add_ps, _mm256_and_ps, _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps,
+    _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32,
+    _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32,
+    _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi16, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32,
+    _mm256_set1_ps, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_setzero_si256, _mm256_slli_epi32, _mm256_srai_epi32,
+    _mm256_srli_epi16, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
 };
 
 use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
 use super::span_lanes::Tex;
 use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
-use crate::render::core::texture::{Sampler, Texture, Wrap, floor_i32};
+use crate::render::core::texture::{Filter, Sampler, Texture, Wrap, floor_i32};
 use crate::render::simd::Avx2;
 use crate::render::simd::x86::{load8, store8};
 
@@ -115,10 +116,9 @@ macro_rules! texels_x8 {
 /// `TexGradients::lod_at`, `lod_from_squares` (with `f32::max`'s NaN rule and `log2_approx`'s quartic)
 /// and `nearest_level`, operation for operation. `q` is `1/w` (already the reciprocal), `u`, `v` the
 /// texture coordinates, `size` level 0's.
-macro_rules! levels_x8 {
-    ($q:expr, $u:expr, $v:expr, $g:expr, $size:expr, $last:expr) => {{
-        let (q, u, v, g, (tw, th), last): (__m256, __m256, __m256, &TexGradients, (u32, u32), usize) =
-            ($q, $u, $v, $g, $size, $last);
+macro_rules! lod_x8 {
+    ($q:expr, $u:expr, $v:expr, $g:expr, $size:expr) => {{
+        let (q, u, v, g, (tw, th)): (__m256, __m256, __m256, &TexGradients, (u32, u32)) = ($q, $u, $v, $g, $size);
         let (tw, th) = (_mm256_mul_ps(_mm256_set1_ps(tw as f32), q), _mm256_mul_ps(_mm256_set1_ps(th as f32), q));
         let square = |d: &[f32; 3]| {
             let d0 = _mm256_set1_ps(d[0]);
@@ -148,10 +148,136 @@ macro_rules! levels_x8 {
         let p = _mm256_add_ps(c(1), _mm256_mul_ps(m, p));
         let p = _mm256_add_ps(c(0), _mm256_mul_ps(m, p));
         let log2 = _mm256_add_ps(_mm256_cvtepi32_ps(exponent), _mm256_mul_ps(m, p));
-        let lod = _mm256_and_ps(usable, _mm256_mul_ps(_mm256_set1_ps(0.5), log2));
+        _mm256_and_ps(usable, _mm256_mul_ps(_mm256_set1_ps(0.5), log2))
+    }};
+}
+
+/// `nearest_level` on eight lanes of `λ` from [`lod_x8`] (finite, within ±64.5).
+macro_rules! nearest_x8 {
+    ($lod:expr, $last:expr) => {{
+        let (lod, last): (__m256, usize) = ($lod, $last);
         // `(lod + 0.5) as usize`: negatives to 0 (the sum is finite, at most 64.5, so truncation is exact).
         let nearest = _mm256_max_ps(_mm256_add_ps(lod, _mm256_set1_ps(0.5)), _mm256_setzero_ps());
         _mm256_min_epi32(_mm256_cvttps_epi32(nearest), _mm256_set1_epi32(last.min(255) as i32))
+    }};
+}
+
+/// `trilinear_levels` on eight lanes of `λ` from [`lod_x8`]: the finer level and the coarser one's weight.
+macro_rules! trilinear_x8 {
+    ($lod:expr, $last:expr) => {{
+        let (lod, last): (__m256, usize) = ($lod, $last);
+        let last = _mm256_set1_epi32(last.min(255) as i32);
+        let k = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_max_ps(lod, _mm256_setzero_ps())), last);
+        let f = _mm256_mul_ps(_mm256_sub_ps(lod, _mm256_cvtepi32_ps(k)), _mm256_set1_ps(256.0));
+        // `as u32` sends negatives to 0; the weight is 0 at the last level.
+        let weight =
+            _mm256_min_epi32(_mm256_max_epi32(_mm256_cvttps_epi32(f), _mm256_setzero_si256()), _mm256_set1_epi32(255));
+        (k, _mm256_andnot_si256(_mm256_cmpeq_epi32(k, last), weight))
+    }};
+}
+
+/// `blend` on eight lanes: texels `x` and `y` per channel with weights `a` (0..=256) on `y`, rounded.
+macro_rules! blend_x8 {
+    ($x:expr, $y:expr, $a:expr) => {{
+        let (x, y, a): (__m256i, __m256i, __m256i) = ($x, $y, $a);
+        let m = _mm256_set1_epi32(0x00ff_00ff);
+        let half = _mm256_set1_epi32(0x0080_0080);
+        let pair = |w: __m256i| _mm256_or_si256(w, _mm256_slli_epi32::<16>(w));
+        let (a, b) = (pair(a), pair(_mm256_sub_epi32(_mm256_set1_epi32(256), a)));
+        let mix = |x: __m256i, y: __m256i| {
+            _mm256_add_epi16(_mm256_add_epi16(_mm256_mullo_epi16(x, b), _mm256_mullo_epi16(y, a)), half)
+        };
+        let rb = _mm256_srli_epi16::<8>(mix(_mm256_and_si256(x, m), _mm256_and_si256(y, m)));
+        let ag = mix(_mm256_and_si256(_mm256_srli_epi32::<8>(x), m), _mm256_and_si256(_mm256_srli_epi32::<8>(y), m));
+        _mm256_or_si256(rb, _mm256_andnot_si256(m, ag))
+    }};
+}
+
+/// `bilinear` on eight lanes: the bilinear texels of one level at texture coordinates `u`, `v`.
+macro_rules! bilinear_x8 {
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr) => {{
+        let (u, v, tex, sampler): (__m256, __m256, &Texture, Sampler) = ($u, $v, $tex, $sampler);
+        let (w, h) = (tex.width(), tex.height());
+        let position = |u: __m256, size: u32| {
+            floor_i32x8!(_mm256_sub_ps(_mm256_mul_ps(u, _mm256_set1_ps(size as f32 * 256.0)), _mm256_set1_ps(128.0)))
+        };
+        let (px, py) = (position(u, w), position(v, h));
+        let (x, y) = (_mm256_srai_epi32::<8>(px), _mm256_srai_epi32::<8>(py));
+        let byte = _mm256_set1_epi32(255);
+        let (ax, ay) = (_mm256_and_si256(px, byte), _mm256_and_si256(py, byte));
+        let one = _mm256_set1_epi32(1);
+        let (x1, y1) = (_mm256_add_epi32(x, one), _mm256_add_epi32(y, one));
+        let columns = wrap_x8!(x, w, sampler.wrap_s).zip(wrap_x8!(x1, w, sampler.wrap_s));
+        let rows = wrap_x8!(y, h, sampler.wrap_t).zip(wrap_x8!(y1, h, sampler.wrap_t));
+        match columns.zip(rows) {
+            Some(((x, x1), (y, y1))) => {
+                let texels = tex.texels();
+                let width = _mm256_set1_epi32(w as i32);
+                let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
+                // Each index is in range (see `texels_x8`); the lookups are still checked.
+                let fetch = |row: __m256i, column: __m256i| {
+                    let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row, column));
+                    let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
+                    bytemuck::cast::<[u32; LANES], __m256i>(out)
+                };
+                let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
+                let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);
+                blend_x8!(top, bottom, ay)
+            }
+            None => {
+                let (us, vs): ([f32; LANES], [f32; LANES]) = (bytemuck::cast(u), bytemuck::cast(v));
+                let out: [u32; LANES] = std::array::from_fn(|l| tex.bilinear(us[l], vs[l], sampler));
+                bytemuck::cast::<[u32; LANES], __m256i>(out)
+            }
+        }
+    }};
+}
+
+/// The bilinear or trilinear texels of eight pixels at offsets `k` (`Tex::texel_at`): from the polygon's
+/// level (or two), or from the levels chosen at each pixel, fetched a level at a time when the drawn lanes
+/// (`pass`) share it, else one lane at a time.
+macro_rules! filtered_texels_x8 {
+    ($s:expr, $k:expr, $tex:expr, $pass:expr) => {{
+        let (s, k, tex, pass): (&Setup, __m256, Tex<'_>, __m256i) = ($s, $k, $tex, $pass);
+        let (q, u, v) = coordinates_x8!(s, k);
+        let t = tex.texture;
+        match &tex.per_pixel {
+            None => {
+                let fine = bilinear_x8!(u, v, t, tex.sampler);
+                match tex.coarser {
+                    Some((c, w)) => blend_x8!(fine, bilinear_x8!(u, v, c, tex.sampler), _mm256_set1_epi32(w as i32)),
+                    None => fine,
+                }
+            }
+            Some(g) => {
+                let lod = lod_x8!(q, u, v, g, (t.width(), t.height()));
+                let last = t.last_level();
+                let (levels, weight) = match tex.filter {
+                    Filter::Trilinear => trilinear_x8!(lod, last),
+                    _ => (nearest_x8!(lod, last), _mm256_setzero_si256()),
+                };
+                let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
+                let first: [i32; LANES] = bytemuck::cast(levels);
+                let first = first[drawn.trailing_zeros() as usize % LANES];
+                let same =
+                    _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(levels, _mm256_set1_epi32(first))));
+                if drawn & !(same as u32) == 0 {
+                    let fine = bilinear_x8!(u, v, t.level(first as usize), tex.sampler);
+                    let blends =
+                        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(weight, _mm256_setzero_si256())));
+                    if drawn & blends as u32 == 0 {
+                        fine
+                    } else {
+                        blend_x8!(fine, bilinear_x8!(u, v, t.level(first as usize + 1), tex.sampler), weight)
+                    }
+                } else {
+                    let (us, vs, lods): ([f32; LANES], [f32; LANES], [f32; LANES]) =
+                        (bytemuck::cast(u), bytemuck::cast(v), bytemuck::cast(lod));
+                    let out: [u32; LANES] = std::array::from_fn(|l| tex.at_lod(us[l], vs[l], lods[l]));
+                    bytemuck::cast::<[u32; LANES], __m256i>(out)
+                }
+            }
+        }
     }};
 }
 
@@ -163,7 +289,7 @@ macro_rules! per_pixel_texels_x8 {
         let (s, k, tex, g, pass): (&Setup, __m256, Tex<'_>, &TexGradients, __m256i) = ($s, $k, $tex, $g, $pass);
         let (q, u, v) = coordinates_x8!(s, k);
         let t = tex.texture;
-        let levels = levels_x8!(q, u, v, g, (t.width(), t.height()), t.last_level());
+        let levels = nearest_x8!(lod_x8!(q, u, v, g, (t.width(), t.height())), t.last_level());
         let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
         let first: [i32; LANES] = bytemuck::cast(levels);
         let first = first[drawn.trailing_zeros() as usize % LANES];
@@ -288,12 +414,13 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
         }
         let texels = match (SRC, tex) {
             (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
-            (_, Some(t)) => match &t.per_pixel {
-                None => {
+            (_, Some(t)) => match (&t.per_pixel, t.filter) {
+                (None, Filter::Nearest) => {
                     let (_, u, v) = coordinates_x8!(s, k);
                     texels_x8!(u, v, t.texture, t.sampler, in_range)
                 }
-                Some(g) => per_pixel_texels_x8!(s, k, t, g, pass, in_range),
+                (Some(g), Filter::Nearest) => per_pixel_texels_x8!(s, k, t, g, pass, in_range),
+                _ => filtered_texels_x8!(s, k, t, pass),
             },
         };
         // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).

@@ -14,8 +14,7 @@ use super::row::{
     COVERAGE, DEPTH_TEST, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
 };
 use super::scanline::Span;
-use crate::render::core::mip::{TexGradients, nearest_level};
-use crate::render::core::texture::{Sampler, Texture, floor_i32};
+pub(crate) use super::texel::Tex;
 use crate::render::core::vertex::slot;
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;
@@ -31,36 +30,6 @@ pub(crate) enum Source<'a> {
     /// is rounded to the nearest 1/255 in integers, which equals the general path's float rounding except
     /// within 1/500 of a level's boundary, where it may be one level off.
     Tinted(Tex<'a>, [u32; 3]),
-}
-
-/// A fast path's texture: one mip level for the whole polygon, or the whole chain with the level chosen at
-/// every pixel.
-#[derive(Clone, Copy)]
-pub(crate) struct Tex<'a> {
-    /// The level the polygon is drawn with, or level 0 of the chain when `per_pixel` is set.
-    pub(crate) texture: &'a Texture,
-    pub(crate) sampler: Sampler,
-    /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel.
-    pub(crate) per_pixel: Option<TexGradients>,
-}
-
-impl Tex<'_> {
-    /// The nearest texel at pixel offset `k` of the span `s` describes (its `w` and `h` are the texture's
-    /// size): in the polygon's level, or in the level of detail measured there, by the same operations in the
-    /// same order as the general span (so the same texel).
-    #[inline(always)]
-    fn texel_at(&self, s: &Setup, k: f32) -> u32 {
-        let Some(g) = &self.per_pixel else {
-            let (tx, ty) = s.texel_xy(k);
-            return self.texture.texel(tx, ty, self.sampler);
-        };
-        let t = self.texture;
-        let qst = [s.q0 + k * s.dq, s.s0 + k * s.ds, s.t0 + k * s.dt];
-        let level = t.level(nearest_level(g.lod_at(qst, (t.width(), t.height())), t.last_level()));
-        let w = 1.0 / qst[0];
-        let (u, v) = (qst[1] * w, qst[2] * w);
-        level.texel(floor_i32(u * level.width() as f32), floor_i32(v * level.height() as f32), self.sampler)
-    }
 }
 
 /// Draws a span with a fast-path source under a visibility rule.
@@ -263,8 +232,9 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::core::mip::TexGradients;
     use crate::render::core::test_rng::Lcg;
-    use crate::render::core::texture::Wrap;
+    use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
     use crate::render::core::vertex::ATTRS;
     use crate::render::fill::row::{cover_bits, coverage_byte};
     use crate::render::simd::{force_portable, has_avx2};
@@ -332,13 +302,19 @@ mod tests {
                 .collect();
             let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
             let alpha = (rng.below(2) == 0).then(|| (float(&mut rng, hostile), float(&mut rng, false) * 0.3));
-            let t = Tex { texture: &tex, sampler, per_pixel: None };
+            let t = Tex::polygon(&tex, sampler, Filter::Nearest, 0.0);
             // Gradients that give level changes within a chunk, or one level for all of it, or (hostile)
             // none that can be measured.
             let scale = [0.002, 0.05, 1.0][rng.below(3) as usize];
             let mut gradient = || std::array::from_fn(|_| float(&mut rng, hostile) * scale);
             let g = TexGradients { dx: gradient(), dy: gradient() };
-            let levels = Tex { per_pixel: Some(g), ..t };
+            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][rng.below(3) as usize];
+            let lod = float(&mut rng, hostile) * 2.0;
+            // A level for each pixel, or a filtered level (or two) for the polygon.
+            let levels = match rng.below(2) {
+                0 => Tex::per_pixel(&tex, sampler, filter, g),
+                _ => Tex::polygon(&tex, sampler, filter, lod),
+            };
             let sources = [
                 Source::Flat(rng.next()),
                 Source::Texel(t),
@@ -351,7 +327,10 @@ mod tests {
                     let start = (&color[..], &depth[..], &coverage[..]);
                     let fast = run(&span, source, alpha, vis, start, false);
                     let slow = run(&span, source, alpha, vis, start, true);
-                    assert_eq!(fast, slow, "case {case}, {vis:?}, span {x0}..{x1} of {width}, {tw}x{th} {sampler:?}");
+                    assert_eq!(
+                        fast, slow,
+                        "case {case}, {vis:?}, span {x0}..{x1} of {width}, {tw}x{th} {sampler:?} {filter}"
+                    );
                 }
             }
         }
