@@ -5,12 +5,14 @@
 //! pixels an edge crosses. A polygon with a fast path draws its inner run with the same span loops as the
 //! plain fill (SIMD where the CPU has it), then visits the row's expanded pixels there, if the row has any;
 //! the crossed pixels, and every pixel of a polygon without a fast path, go one at a time, shaded at the
-//! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)). Every value comes from the
+//! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)); where the fast path's
+//! colour is costly (a filter, or a level per pixel), a run of crossed pixels is shaded ahead by the fast
+//! loops instead, eight lanes at a time, stepping from the run's first pixel. Every value comes from the
 //! polygon and the row alone, so a band's pixels do not depend on which thread draws it.
 
 use super::coverage::{RowCoverage, for_each_row};
 use super::plane::Planes;
-use super::row::{BandPixels, SpanCounts, Visibility};
+use super::row::{BandPixels, LANES, Row, SpanCounts, Visibility};
 use super::samples::{Pixel, SampleStore};
 use super::scanline::Span;
 use super::span::{Prepared, Shading, exact_at, shade_surface};
@@ -50,10 +52,17 @@ pub(crate) fn fill_polygon<const N: usize>(
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
+    // A costly colour is shaded for a run of crossed pixels at once, eight lanes at a time.
+    let ahead = fast.filter(|(source, _)| source.costly());
+    let mut colours = [UNSHADED; AHEAD];
     for_each_row::<N>(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
-        for x in (cov.lo..inner.0).chain(inner.1..cov.hi) {
-            pixel(t, cov, (x, cov.mask(x)), &paint, &mut total);
+        for (x0, x1) in [(cov.lo, inner.0), (inner.1, cov.hi)] {
+            let shaded = ahead.is_some_and(|(s, alpha)| shade_ahead(s, alpha, &planes, (cov.y, x0, x1), &mut colours));
+            for x in x0..x1 {
+                let pre = colours.get((x - x0) as usize).filter(|_| shaded).map(|&c| (c != UNSHADED).then_some(c));
+                pixel(t, cov, (x, cov.mask(x)), (&paint, pre), &mut total);
+            }
         }
         let Some((source, alpha)) = fast.filter(|_| inner.0 < inner.1) else { return };
         let span = Span { y: cov.y, x0: inner.0, x1: inner.1, a0: planes.at(inner.0, cov.y), da: planes.dx };
@@ -65,12 +74,47 @@ pub(crate) fn fill_polygon<const N: usize>(
             let mut x = inner.0;
             while let Some(found) = t.store.next_expanded(start + x as usize..start + inner.1 as usize) {
                 x = (found - start) as i32;
-                pixel(t, cov, (x, full), &paint, &mut total);
+                pixel(t, cov, (x, full), (&paint, None), &mut total);
                 x += 1;
             }
         }
     });
     total
+}
+
+/// The longest run of crossed pixels shaded ahead (longer runs, from edges close to horizontal, are shaded
+/// a pixel at a time as they are visited).
+const AHEAD: usize = 64;
+
+/// Marks a pixel shaded ahead that the alpha mask drops (a colour is `0x00RRGGBB`, so never this).
+const UNSHADED: u32 = u32::MAX;
+
+/// Shades pixels `x0..x1` of row `y` into `out` (from its start) with the fast loops, stepping the
+/// attributes from `x0` as an inner run does, and marks those the alpha mask drops [`UNSHADED`]; false (and
+/// nothing shaded) when the run is empty or longer than `out`. Only the run's chunks of `out` are written.
+fn shade_ahead(
+    source: Source<'_>,
+    alpha: Option<(f32, f32)>,
+    planes: &Planes,
+    (y, x0, x1): (i32, i32, i32),
+    out: &mut [u32; AHEAD],
+) -> bool {
+    let n = (x1 - x0).max(0) as usize;
+    // A chunk's worth of row at least, so the chunk loop takes even a short run.
+    let Some(row) = out.get_mut(..n.next_multiple_of(LANES).max(LANES)) else { return false };
+    if n == 0 {
+        return false;
+    }
+    row.fill(UNSHADED);
+    let span = Span { y, x0: 0, x1: n as i32, a0: planes.at(x0, y), da: planes.dx };
+    span_lanes::draw(
+        &span,
+        source,
+        alpha,
+        Visibility::Overwrite,
+        &mut Row { color: row, depth: &mut [], coverage: &mut [] },
+    );
+    true
 }
 
 /// How one polygon's pixels are shaded and where its `N` samples' depths lie.
@@ -91,7 +135,7 @@ fn pixel<const N: usize>(
     t: &mut Target<'_, '_>,
     cov: &RowCoverage<N>,
     (x, mask): (i32, u16),
-    paint: &Paint<'_, N>,
+    (paint, pre): (&Paint<'_, N>, Option<Option<u32>>),
     total: &mut SpanCounts,
 ) {
     let Paint { shading: sh, fast, planes, dz } = *paint;
@@ -117,9 +161,10 @@ fn pixel<const N: usize>(
         },
     };
     let perspective = sh.mode != TextureMode::Affine;
-    *total += t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match fast {
-        Some((source, alpha)) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
-        None => {
+    *total += t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match (pre, fast) {
+        (Some(colour), _) => colour,
+        (None, Some((source, alpha))) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
+        (None, None) => {
             let lod = sh.lod_at([a[slot::Q], a[slot::S], a[slot::T]]);
             shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), lod)
         }
@@ -131,5 +176,63 @@ pub(crate) fn resolve<const N: usize>(t: &mut Target<'_, '_>, vis: Visibility) {
     let rows = (t.band.1 - t.band.0).max(0) as usize;
     for r in 0..rows {
         t.store.resolve_row::<N>(r, t.pixels.width, t.pixels.color, vis);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::core::mip::TexGradients;
+    use crate::render::core::test_rng::Lcg;
+    use crate::render::core::texture::{Filter, Sampler, Texture};
+    use crate::render::core::vertex::ATTRS;
+    use crate::render::fill::texel::Tex;
+    use crate::render::simd::force_portable;
+
+    #[test]
+    fn crossed_pixels_shaded_ahead_are_the_pixels_shaded_alone() {
+        let mut rng = Lcg(21);
+        let texels = (0..64 * 32).map(|_| rng.next()).collect();
+        let Ok(chain) = Texture::new(64, 32, texels) else { panic!("texture") };
+        let g = TexGradients { dx: [0.001, 0.02, -0.01], dy: [0.0, 0.01, 0.03] };
+        // Attributes and steps in 1/64ths, so stepping along a run and evaluating the plane at each pixel give
+        // the same values exactly, and so the same colours.
+        let dyadic = |rng: &mut Lcg, scale: f32| (rng.below(129) as f32 - 64.0) / 64.0 * scale;
+        for case in 0..600 {
+            let mut a0 = [0.0; ATTRS];
+            let (mut dx, mut dy) = ([0.0; ATTRS], [0.0; ATTRS]);
+            a0[slot::Q] = 1.0 + dyadic(&mut rng, 0.5);
+            for k in [slot::S, slot::T] {
+                (a0[k], dx[k], dy[k]) = (dyadic(&mut rng, 4.0), dyadic(&mut rng, 0.25), dyadic(&mut rng, 0.25));
+            }
+            let planes = Planes::new((0.5, 0.5), a0, dx, dy);
+            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][case % 3];
+            let tex = if case % 2 == 0 {
+                Tex::per_pixel(&chain, Sampler::default(), filter, g)
+            } else {
+                Tex::polygon(&chain, Sampler::default(), filter, 1.25)
+            };
+            let source = if case % 4 < 2 { Source::Texel(tex) } else { Source::Tinted(tex, [40_000, 65_536, 9_000]) };
+            // An alpha mask that drops about half the texels.
+            let alpha = (case % 5 != 0).then_some((1.0, 0.5));
+            let (y, x0) = (rng.below(40) as i32, rng.below(40) as i32);
+            let n = 1 + (case % 70) as i32;
+            for portable in [false, true] {
+                force_portable(portable);
+                let mut out = [0u32; AHEAD];
+                let shaded = shade_ahead(source, alpha, &planes, (y, x0, x0 + n), &mut out);
+                force_portable(false);
+                assert_eq!(shaded, n as usize <= AHEAD, "case {case}: a run of {n}");
+                if !shaded {
+                    continue;
+                }
+                for i in 0..n {
+                    let a = planes.at(x0 + i, y);
+                    let alone = colour_at(source, alpha, [a[0], a[1], a[2], a[3]]);
+                    let ahead = out[i as usize];
+                    assert_eq!((ahead != UNSHADED).then_some(ahead), alone, "case {case}, pixel {i} of {n}");
+                }
+            }
+        }
     }
 }

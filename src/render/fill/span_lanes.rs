@@ -32,6 +32,18 @@ pub(crate) enum Source<'a> {
     Tinted(Tex<'a>, [u32; 3]),
 }
 
+impl Source<'_> {
+    /// Whether a pixel's colour costs more than a nearest texel from one level: worth shading eight pixels
+    /// at once even where fewer are wanted.
+    #[inline]
+    pub(crate) fn costly(&self) -> bool {
+        match self {
+            Source::Flat(_) => false,
+            Source::Texel(t) | Source::Tinted(t, _) => t.costly(),
+        }
+    }
+}
+
 /// Draws a span with a fast-path source under a visibility rule.
 pub(crate) fn draw(
     span: &Span,
@@ -171,9 +183,12 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
-    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up, and
-    // small polygons give mostly such spans (1-3 pixels).
-    if x1.saturating_sub(x0) >= LANES
+    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up (for a
+    // nearest texel from one level), and small polygons give mostly such spans (1-3 pixels).
+    // A costly texel (filtered, or a level measured per pixel) is worth a chunk of lanes however short the
+    // span, where the row holds a chunk.
+    let costly = tex.is_some_and(|t| t.costly()) && row.color.len() >= LANES;
+    if (x1.saturating_sub(x0) >= LANES || costly && x1 > x0)
         && let Some(avx2) = simd::avx2()
     {
         x = crate::render::fill::span_avx2::chunks::<VIS, SRC>(avx2, (x0, x1), &setup, tex, colors, row, &mut counts);

@@ -44,6 +44,12 @@ impl<'a> Tex<'a> {
         Self { texture: chain, coarser: None, sampler, filter, per_pixel: Some(g) }
     }
 
+    /// Whether a texel costs more than a nearest one from one level (a filter, or a level per pixel).
+    #[inline]
+    pub(crate) fn costly(&self) -> bool {
+        self.per_pixel.is_some() || self.filter != Filter::Nearest
+    }
+
     /// The texel at pixel offset `k` of the span `s` describes (its `w` and `h` are the texture's size):
     /// nearest by the same operations in the same order as the general span (so the same texel); bilinear
     /// and trilinear by the integer rules of the module doc.
