@@ -405,7 +405,8 @@ fn start_xvfb(children: &mut Children) -> Option<String> {
             continue;
         }
         let display = format!(":{num}");
-        let Some(child) = spawn("Xvfb", &[&display, "-screen", "0", "640x480x24", "-nolisten", "tcp"], &[]) else {
+        let Some(child) = spawn("Xvfb", &[&display, "-screen", "0", "640x480x24", "-nolisten", "tcp", "-noreset"], &[])
+        else {
             if std::env::var_os(REQUIRE_XVFB).is_some() {
                 panic!("cannot start Xvfb and {REQUIRE_XVFB} is set: install it (apt-get install xvfb)");
             }

@@ -35,14 +35,16 @@ impl Xvfb {
         for _ in 0..50 {
             // Other processes may run Xvfb too: each server takes its own display number. The audio test's
             // own Xvfb, started in this process outside the lock, takes numbers from 300 to 899, so these
-            // start above: the two could race for one number, and a game then meet the other's server going
-            // away (a likely cause of one "Failed to open connection to X server" seen once).
+            // start above, so the two never race for one number.
             let num = 1000 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
             if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
                 continue;
             }
+            // `-noreset`: by default the server resets when its last client leaves, refusing connections
+            // meanwhile; the probe below and every xdotool call are such clients, so a game starting just
+            // then could not connect ("Failed to open connection to X server", seen in two runs).
             let child = Command::new("Xvfb")
-                .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+                .args([format!(":{num}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp", "-noreset"])
                 .stdout(Stdio::null())
                 .stderr(Stdio::null())
                 .spawn();
