@@ -170,8 +170,7 @@ pub(crate) struct FastPathRule {
     pub(crate) filter: Filter,
     /// The texture mode of the frame.
     pub(crate) mode: TextureMode,
-    /// Where mip levels are chosen: the fast paths take one level per polygon or choose it per pixel, so
-    /// not per span.
+    /// Where mip levels are chosen (the fast paths take every choice; small triangles one level).
     pub(crate) mip: MipMode,
 }
 
@@ -182,17 +181,18 @@ impl FastPathRule {
     /// small triangles up for the fast fill.
     #[inline]
     pub(crate) fn applies(&self, textured: bool, constant_color: bool, alpha_cutoff: bool, screen_door: bool) -> bool {
-        let perspective = self.mode == TextureMode::Perspective && self.mip != MipMode::Span;
+        let perspective = self.mode == TextureMode::Perspective;
         !screen_door && constant_color && if textured { perspective } else { !alpha_cutoff }
     }
 
     /// Whether set-up makes such a polygon's small triangles for the fast fill: when it takes a fast path
-    /// with nearest texels (or none) from one level for it. A level chosen per pixel needs the polygon's
-    /// gradients, which a small triangle's record does not carry, and the small fill samples nearest only,
-    /// so such triangles stay polygons.
+    /// with nearest texels (or none) from one level for it. A level chosen per span or pixel needs the
+    /// polygon's gradients, which a small triangle's record does not carry, and the small fill samples
+    /// nearest only, so such triangles stay polygons.
     #[inline]
     pub(crate) fn small_triangles(&self, textured: bool, constant: bool, cutoff: bool, screen_door: bool) -> bool {
-        let one_nearest_level = self.mip != MipMode::Pixel && self.filter == Filter::Nearest;
+        let one_level = matches!(self.mip, MipMode::Off | MipMode::Polygon);
+        let one_nearest_level = one_level && self.filter == Filter::Nearest;
         self.applies(textured, constant, cutoff, screen_door) && (!textured || one_nearest_level)
     }
 }

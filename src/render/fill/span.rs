@@ -124,8 +124,10 @@ impl<'a> Shading<'a> {
         // The rule gives a textured polygon a fast path with one level for it, its level's texture (texture
         // coordinates are normalised, so the same ones address every level), or with the level chosen per
         // pixel, the whole chain and the polygon's gradients.
+        // With levels per span, the chain and gradients too: `draw_prepared` picks each span's level (and
+        // the anti-aliased fill, whose pixels are not spans, measures at each pixel).
         let tex = |t: &'a Texture| match self.mip {
-            MipMode::Pixel => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
+            MipMode::Pixel | MipMode::Span => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
             _ => Tex::polygon(t, self.sampler, self.filter, self.lod_at([1.0, 0.0, 0.0])),
         };
         // Which fast path, for a polygon the rule gives one.
@@ -154,6 +156,11 @@ pub fn draw_span(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts
 /// Draws one span with the path chosen by [`Shading::prepare`] (`prepared` must come from `sh`).
 pub fn draw_prepared(span: &Span, sh: &Shading<'_>, prepared: &Prepared<'_>, row: &mut Row<'_>) -> SpanCounts {
     match prepared.fast {
+        Some((source, alpha)) if sh.mip == MipMode::Span => {
+            // The span's level, measured at its middle pixel as the general span measures it.
+            let lod = sh.lod_at(qst_at(&span.a0, &span.da, ((span.x1 - span.x0) / 2) as f32));
+            span_lanes::draw(span, source.at_lod(lod), alpha, sh.visibility, row)
+        }
         Some((source, alpha)) => span_lanes::draw(span, source, alpha, sh.visibility, row),
         None => draw_general(span, sh, row),
     }
@@ -238,10 +245,8 @@ mod tests {
     fn prepare_gives_a_fast_path_exactly_to_flat_polygons_and_perspective_textures() {
         let texture = Texture::from_rgba8(2, 2, &[255; 16]).unwrap();
         for mip in MipMode::ALL {
-            // A textured polygon takes a fast path with one level (or two) for the whole polygon or a level
-            // per pixel, under every filter.
-            let levels = mip != MipMode::Span;
-            assert_eq!(fast_paths(&texture, mip), 8 + if levels { 8 } else { 0 }, "{mip}");
+            // A textured polygon takes a fast path under every filter and mip choice.
+            assert_eq!(fast_paths(&texture, mip), 16, "{mip}");
         }
     }
 
@@ -272,7 +277,8 @@ mod tests {
             let expected = sh.prepare().fast().is_some();
             assert_eq!(rule.applies(bit(2), bit(4), bit(3), bit(6)), expected, "combination {bits:07b}");
             // Set-up makes small triangles for a fast path with one nearest level for the polygon only.
-            let small = expected && !(bit(2) && (mip == MipMode::Pixel || bit(0)));
+            let one_level = matches!(mip, MipMode::Off | MipMode::Polygon);
+            let small = expected && !(bit(2) && (!one_level || bit(0)));
             assert_eq!(rule.small_triangles(bit(2), bit(4), bit(3), bit(6)), small, "combination {bits:07b}");
             fast += usize::from(expected);
         }
@@ -282,20 +288,20 @@ mod tests {
     }
 
     #[test]
-    fn a_level_chosen_per_pixel_draws_what_the_general_span_draws() {
+    fn levels_chosen_per_span_or_pixel_draw_what_the_general_span_draws() {
         use crate::render::core::test_rng::Lcg;
         let mut rng = Lcg(3);
         // 64x16 down to 1x1: seven levels, each texel random.
         let texture = Texture::new(64, 16, (0..64 * 16).map(|_| rng.next() | 0xff00_0000).collect()).unwrap();
         let mut unit = |scale: f32| (rng.unit() - 0.5) * scale;
-        for case in 0..400 {
+        for case in 0..1200 {
             let gradients =
                 TexGradients { dx: [unit(0.01), unit(0.5), unit(0.5)], dy: [unit(0.01), unit(0.5), unit(0.5)] };
             let sh = Shading {
                 texture: Some(&texture),
                 sampler: Sampler::default(),
-                filter: Filter::Nearest,
-                mip: MipMode::Pixel,
+                filter: Filter::ALL[case % 3],
+                mip: if case % 2 == 0 { MipMode::Pixel } else { MipMode::Span },
                 lod: 0.0,
                 gradients,
                 mode: TextureMode::Perspective,
@@ -305,14 +311,14 @@ mod tests {
                 screen_door: false,
             };
             let prepared = sh.prepare();
-            assert!(prepared.fast().is_some(), "a white nearest texture with levels per pixel has a fast path");
+            assert!(prepared.fast().is_some(), "a white texture with levels per span or pixel has a fast path");
             let mut a0 = [0.0; ATTRS];
             let mut da = [0.0; ATTRS];
             (a0[slot::DEPTH], da[slot::DEPTH]) = (unit(2.0), unit(0.1));
             (a0[slot::Q], da[slot::Q]) = (0.2 + unit(0.3).abs(), gradients.dx[0]);
             (a0[slot::S], da[slot::S]) = (unit(8.0), gradients.dx[1]);
             (a0[slot::T], da[slot::T]) = (unit(8.0), gradients.dx[2]);
-            let span = Span { y: 0, x0: 3, x1: 3 + 1 + (case % 40), a0, da };
+            let span = Span { y: 0, x0: 3, x1: 3 + 1 + (case % 40) as i32, a0, da };
             let depth: Vec<f32> = (0..48).map(|_| unit(2.0)).collect();
             let draw = |general: bool| {
                 let (mut color, mut depth) = (vec![0u32; 48], depth.clone());
@@ -321,7 +327,7 @@ mod tests {
                     if general { draw_general(&span, &sh, row) } else { draw_prepared(&span, &sh, &prepared, row) };
                 (color, depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>(), counts)
             };
-            assert_eq!(draw(false), draw(true), "case {case}: {gradients:?}");
+            assert_eq!(draw(false), draw(true), "case {case}: {} {} {gradients:?}", sh.filter, sh.mip);
         }
     }
 

@@ -32,7 +32,19 @@ pub(crate) enum Source<'a> {
     Tinted(Tex<'a>, [u32; 3]),
 }
 
-impl Source<'_> {
+impl<'a> Source<'a> {
+    /// The same source with a chain's texture (a per-pixel [`Tex`]) filtered at level of detail `lod`
+    /// for every pixel (the level of a span, chosen at its middle).
+    #[inline]
+    pub(crate) fn at_lod(self, lod: f32) -> Self {
+        let fixed = |t: Tex<'a>| Tex::polygon(t.texture, t.sampler, t.filter, lod);
+        match self {
+            Source::Flat(c) => Source::Flat(c),
+            Source::Texel(t) => Source::Texel(fixed(t)),
+            Source::Tinted(t, tint) => Source::Tinted(fixed(t), tint),
+        }
+    }
+
     /// Whether a pixel's colour costs more than a nearest texel from one level: worth shading eight pixels
     /// at once even where fewer are wanted.
     #[inline]
