@@ -127,7 +127,8 @@ struct Paint<'a, const N: usize> {
     dz: &'a [f32; N],
 }
 
-/// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre, and adds what
+/// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre (or taking `pre`,
+/// its colour shaded ahead, `Some(None)` where the alpha mask dropped it), and adds what
 /// it did to `total` (by reference: a returned record comes back through memory, where the caller's wide
 /// read of the callee's narrow writes stalls store forwarding).
 #[inline]

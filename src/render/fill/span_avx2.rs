@@ -1,11 +1,13 @@
-//! The span fast paths' full chunks with AVX2: eight pixels per instruction, written out by hand because
+//! The span fast paths' chunks with AVX2: eight pixels per instruction, written out by hand because
 //! the compiler keeps the saturating float-to-integer conversions scalar.
 //!
 //! Each step repeats the portable loop in [`crate::render::fill::span_lanes`] operation for operation (the same IEEE
 //! operations in the same order, no fused multiply-add; `floor_i32`'s saturation and NaN rule are rebuilt
 //! with compares and blends), so the two produce bit-identical frames; a unit test compares them on
-//! random and hostile spans. A mip level chosen per pixel is measured on all eight lanes too, and the
-//! texels fetched from one level at once when the drawn lanes share it.
+//! random and hostile spans. The texels follow [`crate::render::fill::texel`]'s reference: nearest, or
+//! bilinear and trilinear blended in integers (two channels per 16-bit pair of lanes); a mip level chosen
+//! per pixel is measured on all eight lanes too, and the texels fetched from one level at once when the
+//! drawn lanes share it.
 
 use std::arch::x86_64::{
     __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi16, _mm256_add_epi32,
@@ -70,7 +72,8 @@ macro_rules! wrap_x8 {
     }};
 }
 
-/// `1/w` (the reciprocal of `1/w`) and the texture coordinates `u`, `v` of eight pixels at offsets `k`.
+/// `w` (the reciprocal of the interpolated `1/w`) and the texture coordinates `u`, `v` of eight pixels at
+/// offsets `k`.
 macro_rules! coordinates_x8 {
     ($s:expr, $k:expr) => {{
         let (s, k): (&Setup, __m256) = ($s, $k);
@@ -114,8 +117,8 @@ macro_rules! texels_x8 {
 
 /// The mip level nearest the level of detail at eight pixels, as `Tex::texel_at` chooses it for one:
 /// `TexGradients::lod_at`, `lod_from_squares` (with `f32::max`'s NaN rule and `log2_approx`'s quartic)
-/// and `nearest_level`, operation for operation. `q` is `1/w` (already the reciprocal), `u`, `v` the
-/// texture coordinates, `size` level 0's.
+/// and `nearest_level`, operation for operation. `q` is `w` (the reciprocal of `1/w`, as
+/// [`coordinates_x8`] gives it), `u`, `v` the texture coordinates, `size` level 0's.
 macro_rules! lod_x8 {
     ($q:expr, $u:expr, $v:expr, $g:expr, $size:expr) => {{
         let (q, u, v, g, (tw, th)): (__m256, __m256, __m256, &TexGradients, (u32, u32)) = ($q, $u, $v, $g, $size);
@@ -361,7 +364,10 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let width = row.color.len();
     let in_range = SRC != FLAT && texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
     let mut x = x0;
-    while x < x1 {
+    // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
+    // be moved back to end inside the row again and again.
+    let end = x1.min(width);
+    while x < end {
         // `bucket-near`: skip the rest of a coverage word at once when all of it is drawn (on deep scenes
         // most of a late polygon's pixels are).
         if VIS == COVERAGE {

@@ -2,9 +2,9 @@
 //! level chosen at each pixel), under every visibility rule, one monomorphised pixel loop for each
 //! combination.
 //!
-//! [`walk`] draws a run of pixels: where the CPU has AVX2 the run's whole chunks of [`LANES`] pixels go
-//! through the vector loop (`span_avx2`), and the rest (or, without AVX2, all of it) through the per-pixel
-//! loop here, which is the reference the vector loop matches bit for bit: the same IEEE operations in the
+//! [`walk`] draws a run of pixels: where the CPU has AVX2 the run's whole chunks of [`LANES`] pixels (and
+//! a short run whole, when its texel is costly: filtered, or a level per pixel) go through the vector loop
+//! (`span_avx2`), and the rest (or, without AVX2, all of it) through the per-pixel loop here, which is the reference the vector loop matches bit for bit: the same IEEE operations in the
 //! same order, no fused multiply-add; a level chosen per pixel is measured there the same way (the
 //! `log2_approx` quartic on eight lanes). Writes are selects (the old value where the visibility test
 //! failed), so a rejected pixel keeps its colour and depth bit for bit. [`dispatch`] picks the loop for a
@@ -24,9 +24,9 @@ use crate::render::simd;
 pub(crate) enum Source<'a> {
     /// One packed colour for the whole span.
     Flat(u32),
-    /// The nearest texel, perspective-correct, used as is.
+    /// The texel (nearest or filtered, see [`Tex`]), perspective-correct, used as is.
     Texel(Tex<'a>),
-    /// The nearest texel times the polygon's one colour, in `Fx16` (65536 is 1.0) per channel; the product
+    /// The texel times the polygon's one colour, in `Fx16` (65536 is 1.0) per channel; the product
     /// is rounded to the nearest 1/255 in integers, which equals the general path's float rounding except
     /// within 1/500 of a level's boundary, where it may be one level off.
     Tinted(Tex<'a>, [u32; 3]),
@@ -387,6 +387,34 @@ mod tests {
         // Depths 1.75, 2.0, 2.25 fail against 2.5 on pixels 0..3; 2.5 fails (not nearer); 2.75, 3.0 pass.
         assert_eq!(color, [0, 0, 0, 0, 7, 7, 0, 0]);
         assert_eq!(counts, SpanCounts { shaded: 2, written: 2, rejected: 4 });
+    }
+
+    #[test]
+    fn a_span_passing_the_row_end_stops_there_under_every_source() {
+        let Ok(tex) = Texture::new(8, 8, (1..=64).map(|i| 0xff00_0000 | (i * 0x0001_0101)).collect()) else {
+            panic!("texture")
+        };
+        let g = TexGradients { dx: [0.0, 0.01, 0.0], dy: [0.0, 0.0, 0.01] };
+        let mut a0 = [0.0; ATTRS];
+        a0[slot::Q] = 1.0;
+        let span = Span { y: 0, x0: 14, x1: 18, a0, da: [0.0; ATTRS] };
+        for t in [
+            Tex::polygon(&tex, Sampler::default(), Filter::Nearest, 0.0),
+            Tex::per_pixel(&tex, Sampler::default(), Filter::Trilinear, g),
+        ] {
+            // A short span with a costly texel enters the chunk loop, whose last chunk is moved back inside
+            // the row: it must not be moved back for ever, and must draw what the per-pixel loop draws.
+            let draw = |portable| {
+                run(&span, Source::Texel(t), None, Visibility::Overwrite, (&[0; 16], &[0.0; 16], &[0]), portable)
+            };
+            let (color, _, _, counts) = draw(false);
+            assert_eq!(color[..14], [0; 14]);
+            assert!(color[14..].iter().all(|&c| c != 0), "{color:?}");
+            assert_eq!((color, counts), {
+                let (c, _, _, n) = draw(true);
+                (c, n)
+            });
+        }
     }
 
     #[test]

@@ -3,8 +3,8 @@
 //!
 //! Nearest takes the texel under `(u·W, v·H)`, floored; bilinear and trilinear follow the integer rule
 //! of [`Texture::bilinear`] (sample at `u·W − ½` in `Fx24_8`, blends rounded in 1/256). Both are exactly
-//! what the general span computes, so a white polygon's texels are the same on either path. The per-pixel
-//! loop here is the reference the AVX2 chunk loop matches bit for bit.
+//! what the general span computes, so a white polygon's texels are the same on either path. They are the
+//! reference the AVX2 chunk loop's texels match bit for bit (through `span_lanes`' per-pixel loop).
 
 use super::row::Setup;
 use crate::render::core::mip::{TexGradients, nearest_level};
@@ -19,7 +19,9 @@ pub(crate) struct Tex<'a> {
     pub(crate) texture: &'a Texture,
     /// Trilinear with one level for the polygon: the coarser level and its weight in 1/256 (1..=255).
     pub(crate) coarser: Option<(&'a Texture, u32)>,
+    /// The wrap modes.
     pub(crate) sampler: Sampler,
+    /// Nearest, bilinear or trilinear.
     pub(crate) filter: Filter,
     /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel.
     pub(crate) per_pixel: Option<TexGradients>,
