@@ -22,7 +22,7 @@ use std::arch::x86_64::{
 use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
 use super::span_lanes::Tex;
 use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
-use crate::render::core::texture::{Filter, Sampler, Texture, Wrap, floor_i32};
+use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
 use crate::render::simd::Avx2;
 use crate::render::simd::x86::{load8, store8};
 
@@ -236,6 +236,30 @@ macro_rules! bilinear_x8 {
     }};
 }
 
+/// The level every drawn lane (`pass`) of `levels` shares, if they share one (they mostly do: the level
+/// changes slowly along a span).
+macro_rules! shared_level {
+    ($levels:expr, $pass:expr) => {{
+        let (levels, pass): (__m256i, __m256i) = ($levels, $pass);
+        let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
+        let first: [i32; LANES] = bytemuck::cast(levels);
+        let first = first[drawn.trailing_zeros() as usize % LANES];
+        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(levels, _mm256_set1_epi32(first))));
+        (drawn & !(same as u32) == 0).then_some(first as usize)
+    }};
+}
+
+/// The texels of eight lanes one at a time (`Tex::at_lod` on each lane's `u`, `v` and `λ`), for lanes
+/// whose levels differ.
+macro_rules! lane_by_lane {
+    ($tex:expr, $u:expr, $v:expr, $lod:expr) => {{
+        let (us, vs, lods): ([f32; LANES], [f32; LANES], [f32; LANES]) =
+            (bytemuck::cast($u), bytemuck::cast($v), bytemuck::cast($lod));
+        let out: [u32; LANES] = std::array::from_fn(|l| $tex.at_lod(us[l], vs[l], lods[l]));
+        bytemuck::cast::<[u32; LANES], __m256i>(out)
+    }};
+}
+
 /// The bilinear or trilinear texels of eight pixels at offsets `k` (`Tex::texel_at`): from the polygon's
 /// level (or two), or from the levels chosen at each pixel, fetched a level at a time when the drawn lanes
 /// (`pass`) share it, else one lane at a time.
@@ -259,25 +283,17 @@ macro_rules! filtered_texels_x8 {
                     Filter::Trilinear => trilinear_x8!(lod, last),
                     _ => (nearest_x8!(lod, last), _mm256_setzero_si256()),
                 };
-                let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
-                let first: [i32; LANES] = bytemuck::cast(levels);
-                let first = first[drawn.trailing_zeros() as usize % LANES];
-                let same =
-                    _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(levels, _mm256_set1_epi32(first))));
-                if drawn & !(same as u32) == 0 {
-                    let fine = bilinear_x8!(u, v, t.level(first as usize), tex.sampler);
-                    let blends =
-                        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(weight, _mm256_setzero_si256())));
-                    if drawn & blends as u32 == 0 {
-                        fine
-                    } else {
-                        blend_x8!(fine, bilinear_x8!(u, v, t.level(first as usize + 1), tex.sampler), weight)
+                match shared_level!(levels, pass) {
+                    Some(k) => {
+                        let fine = bilinear_x8!(u, v, t.level(k), tex.sampler);
+                        let blends = _mm256_cmpgt_epi32(weight, _mm256_setzero_si256());
+                        if _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(pass, blends))) == 0 {
+                            fine
+                        } else {
+                            blend_x8!(fine, bilinear_x8!(u, v, t.level(k + 1), tex.sampler), weight)
+                        }
                     }
-                } else {
-                    let (us, vs, lods): ([f32; LANES], [f32; LANES], [f32; LANES]) =
-                        (bytemuck::cast(u), bytemuck::cast(v), bytemuck::cast(lod));
-                    let out: [u32; LANES] = std::array::from_fn(|l| tex.at_lod(us[l], vs[l], lods[l]));
-                    bytemuck::cast::<[u32; LANES], __m256i>(out)
+                    None => lane_by_lane!(tex, u, v, lod),
                 }
             }
         }
@@ -292,22 +308,10 @@ macro_rules! per_pixel_texels_x8 {
         let (s, k, tex, g, pass): (&Setup, __m256, Tex<'_>, &TexGradients, __m256i) = ($s, $k, $tex, $g, $pass);
         let (q, u, v) = coordinates_x8!(s, k);
         let t = tex.texture;
-        let levels = nearest_x8!(lod_x8!(q, u, v, g, (t.width(), t.height())), t.last_level());
-        let drawn = _mm256_movemask_ps(_mm256_castsi256_ps(pass)) as u32;
-        let first: [i32; LANES] = bytemuck::cast(levels);
-        let first = first[drawn.trailing_zeros() as usize % LANES];
-        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(levels, _mm256_set1_epi32(first))));
-        if drawn & !(same as u32) == 0 {
-            texels_x8!(u, v, t.level(first as usize), tex.sampler, $in_range)
-        } else {
-            let (us, vs, ls): ([f32; LANES], [f32; LANES], [i32; LANES]) =
-                (bytemuck::cast(u), bytemuck::cast(v), bytemuck::cast(levels));
-            let out: [u32; LANES] = std::array::from_fn(|l| {
-                let level = t.level(ls[l] as usize);
-                let (x, y) = (us[l] * level.width() as f32, vs[l] * level.height() as f32);
-                level.texel(floor_i32(x), floor_i32(y), tex.sampler)
-            });
-            bytemuck::cast::<[u32; LANES], __m256i>(out)
+        let lod = lod_x8!(q, u, v, g, (t.width(), t.height()));
+        match shared_level!(nearest_x8!(lod, t.last_level()), pass) {
+            Some(k) => texels_x8!(u, v, t.level(k), tex.sampler, $in_range),
+            None => lane_by_lane!(tex, u, v, lod),
         }
     }};
 }
