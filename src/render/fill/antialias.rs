@@ -5,14 +5,16 @@
 //! pixels an edge crosses. A polygon with a fast path draws its inner run with the same span loops as the
 //! plain fill (SIMD where the CPU has it), then visits the row's expanded pixels there, if the row has any;
 //! the crossed pixels, and every pixel of a polygon without a fast path, go one at a time, shaded at the
-//! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)); where the fast path's
-//! colour is costly (a filter, or a level per pixel), a run of crossed pixels is shaded ahead by the fast
-//! loops instead, eight lanes at a time, stepping from the run's first pixel. Every value comes from the
-//! polygon and the row alone, so a band's pixels do not depend on which thread draws it.
+//! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)). Where the fast path's
+//! colour is costly (a filter, or a level per pixel), those pixels (crossed, and expanded inside the inner
+//! runs) are gathered from all the polygon's rows in the band and shaded eight at a time, a lane each, by
+//! the same vector code as the inner runs ([`span_lanes::colours_at`]), then drawn: each is the colour it
+//! would get alone, bit for bit, and a pixel drawn once by one polygon does not care when. Every value
+//! comes from the polygon and the pixel alone, so a band's pixels do not depend on which thread draws it.
 
-use super::coverage::{RowCoverage, for_each_row};
+use super::coverage::for_each_row;
 use super::plane::Planes;
-use super::row::{BandPixels, LANES, Row, SpanCounts, Visibility};
+use super::row::{BandPixels, DROPPED, LANES, SpanCounts, Visibility};
 use super::samples::{Pixel, SampleStore};
 use super::scanline::Span;
 use super::span::{Prepared, Shading, exact_at, shade_surface};
@@ -52,16 +54,15 @@ pub(crate) fn fill_polygon<const N: usize>(
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
-    // A costly colour is shaded for a run of crossed pixels at once, eight lanes at a time.
-    let ahead = fast.filter(|(source, _)| source.costly());
-    let mut colours = [UNSHADED; AHEAD];
-    for_each_row::<N>(v, &pattern, t.band, width, |cov| {
+    // A costly colour is shaded eight pixels at a time, gathered from any rows.
+    let batched = fast.filter(|(source, _)| source.costly());
+    let mut pending = Pending { at: [(0, 0, 0); BATCH], n: 0 };
+    let band = t.band;
+    for_each_row::<N>(v, &pattern, band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
         for (x0, x1) in [(cov.lo, inner.0), (inner.1, cov.hi)] {
-            let shaded = ahead.is_some_and(|(s, alpha)| shade_ahead(s, alpha, &planes, (cov.y, x0, x1), &mut colours));
             for x in x0..x1 {
-                let pre = colours.get((x - x0) as usize).filter(|_| shaded).map(|&c| (c != UNSHADED).then_some(c));
-                pixel(t, cov, (x, cov.mask(x)), (&paint, pre), &mut total);
+                pending.visit(batched.is_some(), t, (x, cov.y, cov.mask(x)), &paint, &mut total);
             }
         }
         let Some((source, alpha)) = fast.filter(|_| inner.0 < inner.1) else { return };
@@ -74,47 +75,70 @@ pub(crate) fn fill_polygon<const N: usize>(
             let mut x = inner.0;
             while let Some(found) = t.store.next_expanded(start + x as usize..start + inner.1 as usize) {
                 x = (found - start) as i32;
-                pixel(t, cov, (x, full), (&paint, None), &mut total);
+                pending.visit(batched.is_some(), t, (x, cov.y, full), &paint, &mut total);
                 x += 1;
             }
         }
     });
+    pending.flush(t, &paint, &mut total);
     total
 }
 
-/// The longest run of crossed pixels shaded ahead (longer runs, from edges close to horizontal, are shaded
-/// a pixel at a time as they are visited).
-const AHEAD: usize = 64;
+/// The most pixels gathered before they are shaded and drawn.
+const BATCH: usize = 8 * LANES;
 
-/// Marks a pixel shaded ahead that the alpha mask drops (a colour is `0x00RRGGBB`, so never this).
-const UNSHADED: u32 = u32::MAX;
+/// A polygon's pixels waiting to be shaded eight at a time: each one's column, row and samples.
+struct Pending {
+    at: [(i32, i32, u16); BATCH],
+    n: usize,
+}
 
-/// Shades pixels `x0..x1` of row `y` into `out` (from its start) with the fast loops, stepping the
-/// attributes from `x0` as an inner run does, and marks those the alpha mask drops [`UNSHADED`]; false (and
-/// nothing shaded) when the run is empty or longer than `out`. Only the run's chunks of `out` are written.
-fn shade_ahead(
-    source: Source<'_>,
-    alpha: Option<(f32, f32)>,
-    planes: &Planes,
-    (y, x0, x1): (i32, i32, i32),
-    out: &mut [u32; AHEAD],
-) -> bool {
-    let n = (x1 - x0).max(0) as usize;
-    // A chunk's worth of row at least, so the chunk loop takes even a short run.
-    let Some(row) = out.get_mut(..n.next_multiple_of(LANES).max(LANES)) else { return false };
-    if n == 0 {
-        return false;
+impl Pending {
+    /// Draws samples `mask` of pixel `(x, y)` now, or when `batched` gathers it to be shaded with others
+    /// (shading and drawing the list when it is full).
+    #[inline]
+    fn visit<const N: usize>(
+        &mut self,
+        batched: bool,
+        t: &mut Target<'_, '_>,
+        (x, y, mask): (i32, i32, u16),
+        paint: &Paint<'_, N>,
+        total: &mut SpanCounts,
+    ) {
+        if !batched || mask == 0 {
+            return pixel(t, y, (x, mask), (paint, None), total);
+        }
+        if let Some(slot) = self.at.get_mut(self.n) {
+            *slot = (x, y, mask);
+            self.n += 1;
+        }
+        if self.n >= BATCH {
+            self.flush(t, paint, total);
+        }
     }
-    row.fill(UNSHADED);
-    let span = Span { y, x0: 0, x1: n as i32, a0: planes.at(x0, y), da: planes.dx };
-    span_lanes::draw(
-        &span,
-        source,
-        alpha,
-        Visibility::Overwrite,
-        &mut Row { color: row, depth: &mut [], coverage: &mut [] },
-    );
-    true
+
+    /// Shades the pixels gathered, eight at a time ([`span_lanes::colours_at`]), draws them and empties the
+    /// list. Each pixel is drawn once and by one polygon here, so drawing them after the polygon's inner
+    /// runs of later rows changes nothing.
+    fn flush<const N: usize>(&mut self, t: &mut Target<'_, '_>, paint: &Paint<'_, N>, total: &mut SpanCounts) {
+        let Some((source, alpha)) = paint.fast else { return };
+        for chunk in self.at[..self.n].chunks(LANES) {
+            let mut a = [[0.0f32; 4]; LANES];
+            for (l, &(x, y, _)) in chunk.iter().enumerate() {
+                let p = paint.planes.at(x, y);
+                a[l] = [p[0], p[1], p[2], p[3]];
+            }
+            // Lanes past the last pixel repeat the first (valid values, and the same mip level).
+            for l in chunk.len()..LANES {
+                a[l] = a[0];
+            }
+            let colours = span_lanes::colours_at(source, alpha, &a);
+            for (&(x, y, mask), &c) in chunk.iter().zip(&colours) {
+                pixel(t, y, (x, mask), (paint, Some((c != DROPPED).then_some(c))), total);
+            }
+        }
+        self.n = 0;
+    }
 }
 
 /// How one polygon's pixels are shaded and where its `N` samples' depths lie.
@@ -127,26 +151,26 @@ struct Paint<'a, const N: usize> {
     dz: &'a [f32; N],
 }
 
-/// Draws samples `mask` of pixel `x` of the row `cov` describes, shading it at its centre (or taking `pre`,
-/// its colour shaded ahead, `Some(None)` where the alpha mask dropped it), and adds what
-/// it did to `total` (by reference: a returned record comes back through memory, where the caller's wide
-/// read of the callee's narrow writes stalls store forwarding).
+/// Draws samples `mask` of pixel `x` of row `y`, shading it at its centre (or taking `pre`, its colour
+/// shaded with others, `Some(None)` where the alpha mask dropped it), and adds what it did to `total` (by
+/// reference: a returned record comes back through memory, where the caller's wide read of the callee's
+/// narrow writes stalls store forwarding).
 #[inline]
 fn pixel<const N: usize>(
     t: &mut Target<'_, '_>,
-    cov: &RowCoverage<N>,
+    y: i32,
     (x, mask): (i32, u16),
     (paint, pre): (&Paint<'_, N>, Option<Option<u32>>),
     total: &mut SpanCounts,
 ) {
     let Paint { shading: sh, fast, planes, dz } = *paint;
-    if mask == 0 || sh.screen_door && (x + cov.y) & 1 != 0 {
+    if mask == 0 || sh.screen_door && (x + y) & 1 != 0 {
         return;
     }
-    let a = planes.at(x, cov.y);
+    let a = planes.at(x, y);
     let centre = a[slot::DEPTH];
     let px = &mut *t.pixels;
-    let r = (cov.y as usize).wrapping_sub(px.y0);
+    let r = (y as usize).wrapping_sub(px.y0);
     let index = r * px.width + x as usize;
     let words = px.words;
     let Some(color) = px.color.get_mut(index) else { return };
@@ -186,54 +210,42 @@ mod tests {
     use crate::render::core::mip::TexGradients;
     use crate::render::core::test_rng::Lcg;
     use crate::render::core::texture::{Filter, Sampler, Texture};
-    use crate::render::core::vertex::ATTRS;
+    use crate::render::fill::span_lanes::colours_at;
     use crate::render::fill::texel::Tex;
-    use crate::render::simd::force_portable;
 
     #[test]
-    fn crossed_pixels_shaded_ahead_are_the_pixels_shaded_alone() {
+    fn pixels_shaded_eight_at_a_time_are_the_pixels_shaded_alone() {
         let mut rng = Lcg(21);
-        let texels = (0..64 * 32).map(|_| rng.next()).collect();
+        let texels = (0..64 * 32).map(|_| rng.next() & 0x00ff_ffff | rng.below(256) << 24).collect();
         let Ok(chain) = Texture::new(64, 32, texels) else { panic!("texture") };
         let g = TexGradients { dx: [0.001, 0.02, -0.01], dy: [0.0, 0.01, 0.03] };
-        // Attributes and steps in 1/64ths, so stepping along a run and evaluating the plane at each pixel give
-        // the same values exactly, and so the same colours.
-        let dyadic = |rng: &mut Lcg, scale: f32| (rng.below(129) as f32 - 64.0) / 64.0 * scale;
-        for case in 0..600 {
-            let mut a0 = [0.0; ATTRS];
-            let (mut dx, mut dy) = ([0.0; ATTRS], [0.0; ATTRS]);
-            a0[slot::Q] = 1.0 + dyadic(&mut rng, 0.5);
-            for k in [slot::S, slot::T] {
-                (a0[k], dx[k], dy[k]) = (dyadic(&mut rng, 4.0), dyadic(&mut rng, 0.25), dyadic(&mut rng, 0.25));
-            }
-            let planes = Planes::new((0.5, 0.5), a0, dx, dy);
+        let hostile = [f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0, -0.0, 1e-30, -1e30, 3e9];
+        let mut kept = 0;
+        for case in 0..3000 {
             let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][case % 3];
-            let tex = if case % 2 == 0 {
-                Tex::per_pixel(&chain, Sampler::default(), filter, g)
-            } else {
-                Tex::polygon(&chain, Sampler::default(), filter, 1.25)
+            let tex = match case % 4 {
+                0 | 1 => Tex::per_pixel(&chain, Sampler::default(), filter, g),
+                _ => Tex::polygon(&chain, Sampler::default(), filter, (case % 7) as f32 * 0.4),
             };
-            let source = if case % 4 < 2 { Source::Texel(tex) } else { Source::Tinted(tex, [40_000, 65_536, 9_000]) };
-            // An alpha mask that drops about half the texels.
-            let alpha = (case % 5 != 0).then_some((1.0, 0.5));
-            let (y, x0) = (rng.below(40) as i32, rng.below(40) as i32);
-            let n = 1 + (case % 70) as i32;
-            for portable in [false, true] {
-                force_portable(portable);
-                let mut out = [0u32; AHEAD];
-                let shaded = shade_ahead(source, alpha, &planes, (y, x0, x0 + n), &mut out);
-                force_portable(false);
-                assert_eq!(shaded, n as usize <= AHEAD, "case {case}: a run of {n}");
-                if !shaded {
-                    continue;
+            let source = if case % 5 < 3 { Source::Texel(tex) } else { Source::Tinted(tex, [40_000, 65_536, 9_000]) };
+            // Every other case an alpha mask that drops some of the (filtered: averaged) texels.
+            let alpha = ((case / 3) % 2 == 0).then_some((1.0, 0.45));
+            let mut a = [[0.0f32; 4]; LANES];
+            for lane in &mut a {
+                let unit = |rng: &mut Lcg| (rng.below(20_001) as f32 - 10_000.0) / 10_000.0;
+                *lane = [unit(&mut rng), 0.05 + unit(&mut rng).abs() * 2.0, unit(&mut rng) * 3.0, unit(&mut rng) * 3.0];
+                // Now and then a value no frame should hold.
+                if rng.below(10) == 0 {
+                    lane[1 + rng.below(3) as usize] = hostile[rng.below(8) as usize];
                 }
-                for i in 0..n {
-                    let a = planes.at(x0 + i, y);
-                    let alone = colour_at(source, alpha, [a[0], a[1], a[2], a[3]]);
-                    let ahead = out[i as usize];
-                    assert_eq!((ahead != UNSHADED).then_some(ahead), alone, "case {case}, pixel {i} of {n}");
-                }
+            }
+            let together = colours_at(source, alpha, &a);
+            kept += together.iter().filter(|&&c| c != DROPPED).count();
+            for (l, lane) in a.iter().enumerate() {
+                let alone = colour_at(source, alpha, *lane);
+                assert_eq!((together[l] != DROPPED).then_some(together[l]), alone, "case {case}, lane {l}: {lane:?}");
             }
         }
+        assert!(kept > 3000 * LANES * 3 / 5, "only {kept} pixels kept");
     }
 }

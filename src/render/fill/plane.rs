@@ -52,12 +52,6 @@ impl Planes {
         Some(planes)
     }
 
-    /// Planes with attributes `a0` at point `(x0, y0)` changing by `dx` and `dy` a pixel (for tests).
-    #[cfg(test)]
-    pub(crate) fn new((x0, y0): (f32, f32), a0: [f32; ATTRS], dx: [f32; ATTRS], dy: [f32; ATTRS]) -> Self {
-        Self { x0, y0, a0, dx, dy }
-    }
-
     /// The attributes at the centre of pixel `(x, y)`.
     #[inline]
     pub(crate) fn at(&self, x: i32, y: i32) -> [f32; ATTRS] {

@@ -136,6 +136,10 @@ pub(crate) const TEXEL: u8 = 1;
 /// The nearest texel times the polygon's colour.
 pub(crate) const TINTED: u8 = 2;
 
+/// Marks a pixel whose colour was not given, the alpha mask having dropped it (a colour is `0x00RRGGBB`,
+/// so never this).
+pub(crate) const DROPPED: u32 = u32::MAX;
+
 /// Attribute values of one span, hoisted out of the loops.
 #[derive(Clone, Copy)]
 pub(crate) struct Setup {

@@ -265,8 +265,16 @@ macro_rules! lane_by_lane {
 /// (`pass`) share it, else one lane at a time.
 macro_rules! filtered_texels_x8 {
     ($s:expr, $k:expr, $tex:expr, $pass:expr) => {{
-        let (s, k, tex, pass): (&Setup, __m256, Tex<'_>, __m256i) = ($s, $k, $tex, $pass);
+        let (s, k): (&Setup, __m256) = ($s, $k);
         let (q, u, v) = coordinates_x8!(s, k);
+        filtered_texels_at_x8!(q, u, v, $tex, $pass)
+    }};
+}
+
+/// [`filtered_texels_x8`] at pixels whose `w`, `u` and `v` are given (as [`coordinates_x8`] gives them).
+macro_rules! filtered_texels_at_x8 {
+    ($q:expr, $u:expr, $v:expr, $tex:expr, $pass:expr) => {{
+        let (q, u, v, tex, pass): (__m256, __m256, __m256, Tex<'_>, __m256i) = ($q, $u, $v, $tex, $pass);
         let t = tex.texture;
         match &tex.per_pixel {
             None => {
@@ -305,8 +313,17 @@ macro_rules! filtered_texels_x8 {
 /// span), else one lane at a time.
 macro_rules! per_pixel_texels_x8 {
     ($s:expr, $k:expr, $tex:expr, $g:expr, $pass:expr, $in_range:expr) => {{
-        let (s, k, tex, g, pass): (&Setup, __m256, Tex<'_>, &TexGradients, __m256i) = ($s, $k, $tex, $g, $pass);
+        let (s, k): (&Setup, __m256) = ($s, $k);
         let (q, u, v) = coordinates_x8!(s, k);
+        per_pixel_texels_at_x8!(q, u, v, $tex, $g, $pass, $in_range)
+    }};
+}
+
+/// [`per_pixel_texels_x8`] at pixels whose `w`, `u` and `v` are given (as [`coordinates_x8`] gives them).
+macro_rules! per_pixel_texels_at_x8 {
+    ($q:expr, $u:expr, $v:expr, $tex:expr, $g:expr, $pass:expr, $in_range:expr) => {{
+        let (q, u, v, tex, g, pass): (__m256, __m256, __m256, Tex<'_>, &TexGradients, __m256i) =
+            ($q, $u, $v, $tex, $g, $pass);
         let t = tex.texture;
         let lod = lod_x8!(q, u, v, g, (t.width(), t.height()));
         match shared_level!(nearest_x8!(lod, t.last_level()), pass) {
@@ -477,3 +494,6 @@ fn texel_coordinates_in_range(s: &Setup, last: usize) -> bool {
     };
     at(0.0) && at(last as f32)
 }
+
+/// Eight pixels from anywhere in a band shaded by the macros above.
+pub(crate) mod points;
