@@ -6,8 +6,7 @@
 //! plain fill (SIMD where the CPU has it), then visits the row's expanded pixels there, if the row has any;
 //! the crossed pixels, and every pixel of a polygon without a fast path, go one at a time, shaded at the
 //! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)). Where the fast path's
-//! colour is costly (a filter, or a level per pixel), those pixels (crossed, and expanded inside the inner
-//! runs) are gathered from all the polygon's rows in the band and shaded eight at a time, a lane each, by
+//! colour comes from a texture, those pixels (crossed, and expanded inside the inner runs) are gathered from all the polygon's rows in the band and shaded eight at a time, a lane each, by
 //! the same vector code as the inner runs ([`span_lanes::colours_at`]), then drawn: each is the colour it
 //! would get alone, bit for bit, and a pixel drawn once by one polygon does not care when. Every value
 //! comes from the polygon and the pixel alone, so a band's pixels do not depend on which thread draws it.
@@ -54,8 +53,8 @@ pub(crate) fn fill_polygon<const N: usize>(
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
-    // A costly colour is shaded eight pixels at a time, gathered from any rows.
-    let batched = fast.filter(|(source, _)| source.costly());
+    // A texel's colour is shaded eight pixels at a time, gathered from any rows (a flat one costs nothing).
+    let batched = fast.filter(|(source, _)| !matches!(source, Source::Flat(_)));
     let mut pending = Pending { at: [(0, 0, 0); BATCH], n: 0 };
     let band = t.band;
     for_each_row::<N>(v, &pattern, band, width, |cov| {

@@ -44,16 +44,6 @@ impl<'a> Source<'a> {
             Source::Tinted(t, tint) => Source::Tinted(fixed(t), tint),
         }
     }
-
-    /// Whether a pixel's colour costs more than a nearest texel from one level: worth shading eight pixels
-    /// at once even where fewer are wanted.
-    #[inline]
-    pub(crate) fn costly(&self) -> bool {
-        match self {
-            Source::Flat(_) => false,
-            Source::Texel(t) | Source::Tinted(t, _) => t.costly(),
-        }
-    }
 }
 
 /// Draws a span with a fast-path source under a visibility rule.
