@@ -105,7 +105,7 @@ impl Pending {
         total: &mut SpanCounts,
     ) {
         if !batched || mask == 0 {
-            return pixel(t, y, (x, mask), (paint, None), total);
+            return pixel(t, paint, x, y, mask, SHADE_HERE, total);
         }
         if let Some(slot) = self.at.get_mut(self.n) {
             *slot = (x, y, mask);
@@ -133,7 +133,7 @@ impl Pending {
             }
             let colours = span_lanes::colours_at(source, alpha, &a);
             for (&(x, y, mask), &c) in chunk.iter().zip(&colours) {
-                pixel(t, y, (x, mask), (paint, Some((c != DROPPED).then_some(c))), total);
+                pixel(t, paint, x, y, mask, c, total);
             }
         }
         self.n = 0;
@@ -150,16 +150,23 @@ struct Paint<'a, const N: usize> {
     dz: &'a [f32; N],
 }
 
-/// Draws samples `mask` of pixel `x` of row `y`, shading it at its centre (or taking `pre`, its colour
-/// shaded with others, `Some(None)` where the alpha mask dropped it), and adds what it did to `total` (by
-/// reference: a returned record comes back through memory, where the caller's wide read of the callee's
-/// narrow writes stalls store forwarding).
+/// [`pixel`]'s `pre` when the pixel is to be shaded there, at its centre (a colour is `0x00RRGGBB`, so
+/// never this, nor [`DROPPED`]).
+const SHADE_HERE: u32 = u32::MAX - 1;
+
+/// Draws samples `mask` of pixel `x` of row `y`, shading it at its centre, or taking `pre`, its colour
+/// shaded with others ([`DROPPED`] where the alpha mask dropped it; [`SHADE_HERE`] for neither), and adds
+/// what it did to `total`. Every argument is a scalar or a pointer: a tuple would be passed through memory,
+/// written a field at a time and read back a word at a time, which stalls store forwarding on every call
+/// (as a returned record would, hence `total` by reference).
 #[inline]
 fn pixel<const N: usize>(
     t: &mut Target<'_, '_>,
+    paint: &Paint<'_, N>,
+    x: i32,
     y: i32,
-    (x, mask): (i32, u16),
-    (paint, pre): (&Paint<'_, N>, Option<Option<u32>>),
+    mask: u16,
+    pre: u32,
     total: &mut SpanCounts,
 ) {
     let Paint { shading: sh, fast, planes, dz } = *paint;
@@ -186,9 +193,10 @@ fn pixel<const N: usize>(
     };
     let perspective = sh.mode != TextureMode::Affine;
     *total += t.store.draw(pixel, mask, sh.visibility, (centre, dz), || match (pre, fast) {
-        (Some(colour), _) => colour,
-        (None, Some((source, alpha))) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
-        (None, None) => {
+        (DROPPED, _) => None,
+        (SHADE_HERE, Some((source, alpha))) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
+        (colour, _) if colour != SHADE_HERE => Some(colour),
+        _ => {
             let lod = sh.lod_at([a[slot::Q], a[slot::S], a[slot::T]]);
             shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), lod)
         }
