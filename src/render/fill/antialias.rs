@@ -3,13 +3,15 @@
 //!
 //! A pixel row of a polygon splits in two: the pixels whose every sample it covers (the inner run) and the
 //! pixels an edge crosses. A polygon with a fast path draws its inner run with the same span loops as the
-//! plain fill (SIMD where the CPU has it), then visits the row's expanded pixels there, if the row has any;
-//! the crossed pixels, and every pixel of a polygon without a fast path, go one at a time, shaded at the
-//! pixel's centre from the polygon's attribute planes ([`plane`](super::plane)). Where the fast path's
-//! colour comes from a texture, those pixels (crossed, and expanded inside the inner runs) are gathered from all the polygon's rows in the band and shaded eight at a time, a lane each, by
-//! the same vector code as the inner runs ([`span_lanes::colours_at`]), then drawn: each is the colour it
-//! would get alone, bit for bit, and a pixel drawn once by one polygon does not care when. Every value
-//! comes from the polygon and the pixel alone, so a band's pixels do not depend on which thread draws it.
+//! plain fill (SIMD where the CPU has it), then visits the row's expanded pixels there, if the row has any.
+//! The crossed pixels, those expanded pixels, and every pixel of a polygon without a fast path are drawn
+//! one at a time, each with its own samples, shaded at the pixel's centre from the polygon's attribute
+//! planes ([`plane`](super::plane)). Where the colour comes from a texture, the fill first gathers such
+//! pixels from all the polygon's rows in the band (up to [`BATCH`]) and shades their texels eight at a
+//! time, a lane each, by the inner runs' own vector code ([`span_lanes::colours_at`]); each colour is the
+//! one the pixel gets alone, bit for bit, and a pixel drawn once by one polygon does not care when. Every
+//! value comes from the polygon and the pixel alone, so a band's pixels do not depend on which thread draws
+//! it.
 
 use super::coverage::for_each_row;
 use super::plane::Planes;
@@ -56,8 +58,7 @@ pub(crate) fn fill_polygon<const N: usize>(
     // A texel's colour is shaded eight pixels at a time, gathered from any rows (a flat one costs nothing).
     let batched = fast.filter(|(source, _)| !matches!(source, Source::Flat(_)));
     let mut pending = Pending { at: [(0, 0, 0); BATCH], n: 0 };
-    let band = t.band;
-    for_each_row::<N>(v, &pattern, band, width, |cov| {
+    for_each_row::<N>(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
         for (x0, x1) in [(cov.lo, inner.0), (inner.1, cov.hi)] {
             for x in x0..x1 {
@@ -120,7 +121,15 @@ impl Pending {
     /// list. Each pixel is drawn once and by one polygon here, so drawing them after the polygon's inner
     /// runs of later rows changes nothing.
     fn flush<const N: usize>(&mut self, t: &mut Target<'_, '_>, paint: &Paint<'_, N>, total: &mut SpanCounts) {
-        let Some((source, alpha)) = paint.fast else { return };
+        let Some((source, alpha)) = paint.fast else {
+            // Only a polygon with a fast path gathers pixels; any others are drawn shaded there.
+            debug_assert_eq!(self.n, 0, "pixels gathered for a polygon without a fast path");
+            for &(x, y, mask) in &self.at[..self.n] {
+                pixel(t, paint, x, y, mask, SHADE_HERE, total);
+            }
+            self.n = 0;
+            return;
+        };
         for chunk in self.at[..self.n].chunks(LANES) {
             let mut a = [[0.0f32; 4]; LANES];
             for (l, &(x, y, _)) in chunk.iter().enumerate() {
@@ -227,6 +236,8 @@ mod tests {
         let Ok(chain) = Texture::new(64, 32, texels) else { panic!("texture") };
         let g = TexGradients { dx: [0.001, 0.02, -0.01], dy: [0.0, 0.01, 0.03] };
         let hostile = [f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0, -0.0, 1e-30, -1e30, 3e9];
+        // On a CPU with AVX2 the vector path is the one under test.
+        assert_eq!(crate::render::simd::avx2().is_some(), crate::render::simd::has_avx2());
         let mut kept = 0;
         for case in 0..3000 {
             let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][case % 3];
@@ -238,11 +249,19 @@ mod tests {
             // Every other case an alpha mask that drops some of the (filtered: averaged) texels.
             let alpha = ((case / 3) % 2 == 0).then_some((1.0, 0.45));
             let mut a = [[0.0f32; 4]; LANES];
+            let unit = |rng: &mut Lcg| (rng.below(20_001) as f32 - 10_000.0) / 10_000.0;
+            // Half the cases: pixels near one another, as a polygon's edge pixels are (so their levels are
+            // mostly shared, and the vector fetch from one level is taken); half: unrelated pixels.
+            let near = case % 2 == 0;
+            let base = [unit(&mut rng), 0.05 + unit(&mut rng).abs() * 2.0, unit(&mut rng) * 3.0, unit(&mut rng) * 3.0];
             for lane in &mut a {
-                let unit = |rng: &mut Lcg| (rng.below(20_001) as f32 - 10_000.0) / 10_000.0;
-                *lane = [unit(&mut rng), 0.05 + unit(&mut rng).abs() * 2.0, unit(&mut rng) * 3.0, unit(&mut rng) * 3.0];
+                *lane = if near {
+                    base.map(|b| b + unit(&mut rng) * 1e-3 * b.abs().max(1.0))
+                } else {
+                    [unit(&mut rng), 0.05 + unit(&mut rng).abs() * 2.0, unit(&mut rng) * 3.0, unit(&mut rng) * 3.0]
+                };
                 // Now and then a value no frame should hold.
-                if rng.below(10) == 0 {
+                if rng.below(if near { 40 } else { 10 }) == 0 {
                     lane[1 + rng.below(3) as usize] = hostile[rng.below(8) as usize];
                 }
             }

@@ -178,8 +178,8 @@ pub(crate) fn colours_at(source: Source<'_>, alpha: Option<(f32, f32)>, a: &[[f3
         use crate::render::fill::span_avx2::points::shade_points;
         return match source {
             Source::Flat(c) => [c; LANES],
-            Source::Texel(t) => shade_points::<TEXEL>(avx2, a, Some(t), (0, [0; 3], alpha)),
-            Source::Tinted(t, tint) => shade_points::<TINTED>(avx2, a, Some(t), (0, tint, alpha)),
+            Source::Texel(t) => shade_points::<TEXEL>(avx2, a, t, ([0; 3], alpha)),
+            Source::Tinted(t, tint) => shade_points::<TINTED>(avx2, a, t, (tint, alpha)),
         };
     }
     std::array::from_fn(|l| colour_at(source, alpha, a[l]).unwrap_or(DROPPED))

@@ -1,10 +1,11 @@
 //! Eight pixels of one polygon anywhere in a band shaded at once with AVX2: the colour the chunk loop
 //! gives a pixel, from each pixel's own `1/w`, `s/w` and `t/w` instead of a span's steps.
 //!
-//! The anti-aliased fill shades the pixels an edge crosses (and those another polygon's edge split inside
-//! an inner run) one at a time; a costly texel (a filter, or a level measured per pixel) is worth gathering
-//! eight of them, from any rows, into lanes. Each lane is the chunk loop at offset 0 of a span starting at
-//! its pixel (`q0 + 0·dq` and so on, operation for operation), so the colour is `colour_at`'s bit for bit.
+//! The anti-aliased fill draws the pixels an edge crosses (and those another polygon's edge split inside an
+//! inner run) one at a time, each with its own samples; their texels are worth shading together, so the
+//! fill gathers them from all of a polygon's rows in the band and shades eight at once, a lane each. Each
+//! lane is the chunk loop at offset 0 of a span starting at its pixel (`q0 + 0·dq` and so on, operation for
+//! operation), so the colour is `colour_at`'s bit for bit.
 
 use std::arch::x86_64::{
     __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi16, _mm256_add_epi32,
@@ -18,23 +19,23 @@ use std::arch::x86_64::{
 
 use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
 use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
-use crate::render::fill::row::{DROPPED, FLAT, LANES, TINTED};
+use crate::render::fill::row::{DROPPED, LANES, TINTED};
 use crate::render::fill::texel::Tex;
 use crate::render::simd::Avx2;
 
-/// The colours of eight pixels whose depth, `1/w`, `s/w` and `t/w` are `a[l]`, for source `SRC` (the
-/// chunk loop's code) with texture `tex` and `(flat colour, tint, alpha mask)` `colors`;
+/// The colours of eight pixels whose depth, `1/w`, `s/w` and `t/w` are `a[l]`, for a texel source `SRC`
+/// (the chunk loop's `TEXEL` or `TINTED`) with texture `tex`, tint `tint` and alpha mask `alpha`;
 /// [`DROPPED`] where the alpha mask drops a pixel.
 pub(crate) fn shade_points<const SRC: u8>(
     _: Avx2,
     a: &[[f32; 4]; LANES],
-    tex: Option<Tex<'_>>,
-    colors: (u32, [u32; 3], Option<(f32, f32)>),
+    tex: Tex<'_>,
+    (tint, alpha): ([u32; 3], Option<(f32, f32)>),
 ) -> [u32; LANES] {
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all the body needs.
     #[allow(unsafe_code)]
     unsafe {
-        shade_points_avx2::<SRC>(a, tex, colors)
+        shade_points_avx2::<SRC>(a, tex, (tint, alpha))
     }
 }
 
@@ -42,8 +43,8 @@ pub(crate) fn shade_points<const SRC: u8>(
 #[target_feature(enable = "avx2")]
 fn shade_points_avx2<const SRC: u8>(
     a: &[[f32; 4]; LANES],
-    tex: Option<Tex<'_>>,
-    (flat, tint, alpha): (u32, [u32; 3], Option<(f32, f32)>),
+    t: Tex<'_>,
+    (tint, alpha): ([u32; 3], Option<(f32, f32)>),
 ) -> [u32; LANES] {
     let lanes = |i: usize| _mm256_setr_ps(a[0][i], a[1][i], a[2][i], a[3][i], a[4][i], a[5][i], a[6][i], a[7][i]);
     // `coordinates_x8` at offset 0: each attribute plus `0·step`, which turns `-0.0` into `0.0` as it does.
@@ -52,17 +53,14 @@ fn shade_points_avx2<const SRC: u8>(
     let u = _mm256_mul_ps(_mm256_add_ps(lanes(2), nothing), q);
     let v = _mm256_mul_ps(_mm256_add_ps(lanes(3), nothing), q);
     let pass = _mm256_set1_epi32(-1);
-    let texels = match (SRC, tex) {
-        (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
-        (_, Some(t)) => match (&t.per_pixel, t.filter) {
-            (None, Filter::Nearest) => texels_x8!(u, v, t.texture, t.sampler, false),
-            (Some(g), Filter::Nearest) => per_pixel_texels_at_x8!(q, u, v, t, g, pass, false),
-            _ => filtered_texels_at_x8!(q, u, v, t, pass),
-        },
+    let texels = match (&t.per_pixel, t.filter) {
+        (None, Filter::Nearest) => texels_x8!(u, v, t.texture, t.sampler, false),
+        (Some(g), Filter::Nearest) => per_pixel_texels_at_x8!(q, u, v, t, g, pass, false),
+        _ => filtered_texels_at_x8!(q, u, v, t, pass),
     };
     // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
     let kept = match alpha {
-        Some((a, cutoff)) if SRC != FLAT => {
+        Some((a, cutoff)) => {
             let ta = _mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(texels));
             let ta = _mm256_mul_ps(_mm256_mul_ps(ta, _mm256_set1_ps(1.0 / 255.0)), _mm256_set1_ps(a));
             _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(ta, _mm256_set1_ps(cutoff)))
@@ -70,7 +68,6 @@ fn shade_points_avx2<const SRC: u8>(
         _ => pass,
     };
     let color = match SRC {
-        FLAT => texels,
         TINTED => tint_x8!(texels, tint),
         _ => _mm256_and_si256(texels, _mm256_set1_epi32(0x00ff_ffff)),
     };
