@@ -36,8 +36,8 @@ pub struct PlayArgs {
     /// it). Default: the settings file's, else 1.
     #[arg(long, value_parser = values::scale())]
     pub scale: Option<u32>,
-    /// The settings file (keys, gamepad, scale), read at start and written when Settings change. Default:
-    /// $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
+    /// The settings file (keys, gamepad, scale, sound, picture), read at start and written when Settings
+    /// change. Default: $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
     #[arg(long)]
     pub settings: Option<PathBuf>,
     /// Visibility method (keys 1-5 switch: zbuffer, sort, bucket-far, bucket-near, view-lists).
@@ -105,8 +105,7 @@ impl Default for PlayArgs {
 
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
-    let options =
-        args.picture.apply(RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() });
+    let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
     let window = WindowConfig {
         size: (args.width, args.height),
         fullscreen: args.fullscreen,
@@ -121,7 +120,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         None => None,
     };
     match scene {
-        Some(scene) => run(window, &mut Viewer::new(scene, options, aspect))?,
+        Some(scene) => run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?,
         None => {
             let dir = super::error::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
@@ -135,7 +134,10 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             if let Some(n) = &note {
                 eprintln!("warning: {n}");
             }
-            let mut race = Race::new(scene, options, args.laps, !args.no_menu)
+            // The race's picture is the settings file's, unless the command line says otherwise for this run.
+            let saved =
+                RenderOptions { antialias: settings.antialias, filter: settings.filter, mip: settings.mip, ..options };
+            let mut race = Race::new(scene, args.picture.apply(saved), args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
                 .with_settings(settings, file, args.scale, note)
                 .with_sound();

@@ -144,7 +144,9 @@ impl Race {
     }
 
     /// Applies `settings` (keys, gamepad deadzone and curve, scale unless `scale` overrides it) and saves
-    /// changes made in Settings to `file`; `note` (a problem reading the file) is shown in the menu.
+    /// changes made in Settings to `file`; `note` (a problem reading the file) is shown in the menu. The
+    /// picture choices in `settings` are the caller's to put in the options given to [`Race::new`] (the
+    /// command line may override them for the run); a change made to them in Settings is saved.
     #[must_use]
     pub fn with_settings(
         mut self,
@@ -153,7 +155,7 @@ impl Race {
         scale: Option<u32>,
         note: Option<String>,
     ) -> Self {
-        self.prefs.apply(settings, file, scale, &mut self.control.pads);
+        self.prefs.apply(settings, file, scale, &self.drawing.options, &mut self.control.pads);
         if note.is_some() {
             self.notice = note;
         }
@@ -261,7 +263,7 @@ impl Race {
 
     /// Saves the settings if they changed since the last save (a failure is shown in the notice).
     fn save_settings(&mut self) {
-        self.prefs.save(&self.control.pads, &mut self.notice);
+        self.prefs.save(&self.control.pads, &self.drawing.options, &mut self.notice);
     }
 
     /// A key went down or up: a key Settings waits for is bound; any other is what the player's controls

@@ -1,7 +1,7 @@
 //! The settings as the race holds them (key bindings, the pixel scale, the ghost car shown, the sound's
-//! volumes and mute; the gamepad's
-//! deadzone and curve live in the gamepads themselves), the Settings window that edits them, and saving
-//! them to the settings file when they change. What the Settings window edits beyond these (the drawing,
+//! volumes and mute; the picture choices live in the drawing options, and the gamepad's deadzone and curve
+//! in the gamepads themselves), the Settings window that edits them, and saving them to the settings file
+//! when they change. What the Settings window edits beyond these (the drawing,
 //! the gamepads) and the race's notice, where a problem is said, are passed in.
 
 use winit::keyboard::KeyCode;
@@ -10,7 +10,7 @@ use super::screen::Drawing;
 use crate::game::rules::format_ticks;
 use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
-use crate::render::{Antialias, Filter, Method, MipMode, TextureMode};
+use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions, TextureMode};
 use crate::shell::race_scene::View;
 use crate::shell::settings::{Settings, SettingsFile, VOLUME_RANGE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
@@ -67,12 +67,15 @@ impl Default for Prefs {
 
 impl Prefs {
     /// Takes `settings` (keys, the ghost, and into `pads` the deadzone and curve; the scale unless `scale`
-    /// overrides it) and saves changes made in Settings to `file`.
+    /// overrides it) and saves changes made in Settings to `file`; `options` are the race's drawing options,
+    /// whose picture choices (anti-aliasing, filter, mip levels) the caller took from `settings` unless the
+    /// command line gave them.
     pub(super) fn apply(
         &mut self,
         settings: Settings,
         file: Option<SettingsFile>,
         scale: Option<u32>,
+        options: &RenderOptions,
         pads: &mut Gamepads,
     ) {
         self.bindings = settings.keys.clone();
@@ -80,17 +83,24 @@ impl Prefs {
         self.sound = SoundLevels { volume: settings.volume, effects: settings.effects_volume, muted: settings.muted };
         pads.deadzone = settings.deadzone;
         pads.curve = settings.curve;
-        // A scale from the command line is for this run: it is saved only with a change made in Settings.
+        // A scale or picture choice from the command line is for this run: it is saved only with a change
+        // made in Settings.
         let scale = scale.unwrap_or(settings.scale);
         self.scale = (scale, Some(scale));
         self.file = file.map(|mut f| {
-            f.assume_saved(Settings { scale, ..settings });
+            f.assume_saved(Settings {
+                scale,
+                antialias: options.antialias,
+                filter: options.filter,
+                mip: options.mip,
+                ..settings
+            });
             f
         });
     }
 
-    /// The settings as they stand now, the gamepad's from `pads`.
-    fn current(&self, pads: &Gamepads) -> Settings {
+    /// The settings as they stand now, the gamepad's from `pads`, the picture choices from `options`.
+    fn current(&self, pads: &Gamepads, options: &RenderOptions) -> Settings {
         Settings {
             keys: self.bindings.clone(),
             deadzone: pads.deadzone,
@@ -100,14 +110,17 @@ impl Prefs {
             volume: self.sound.volume,
             effects_volume: self.sound.effects,
             muted: self.sound.muted,
+            antialias: options.antialias,
+            filter: options.filter,
+            mip: options.mip,
         }
     }
 
-    /// Saves the settings (the gamepad's from `pads`) if they changed since the last save; a failure is
-    /// not fatal: it is shown in `notice` and said in one warning line (once: a change that failed counts
-    /// as saved, and a file that no longer parses is not written again).
-    pub(super) fn save(&mut self, pads: &Gamepads, notice: &mut Option<String>) {
-        let now = self.current(pads);
+    /// Saves the settings (the gamepad's from `pads`, the picture choices from `options`) if they changed
+    /// since the last save; a failure is not fatal: it is shown in `notice` and said in one warning line
+    /// (once: a change that failed counts as saved, and a file that no longer parses is not written again).
+    pub(super) fn save(&mut self, pads: &Gamepads, options: &RenderOptions, notice: &mut Option<String>) {
+        let now = self.current(pads, options);
         if let Some(file) = &mut self.file
             && let Err(e) = file.save(&now)
         {
@@ -206,8 +219,9 @@ impl Prefs {
     }
 }
 
-/// Settings' renderer choices in `drawing` (not saved): visibility method, anti-aliasing, texture filter and
-/// mip levels, buckets, LOD bias, texture mapping, view.
+/// Settings' renderer choices in `drawing`: anti-aliasing, texture filter and mip levels (saved: the picture
+/// the player chose), and visibility method, buckets, LOD bias, texture mapping and view (for this run:
+/// choices for measuring, which a later race should not inherit unawares).
 fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
     let options = &mut drawing.options;
     egui::ComboBox::from_label("visibility method").selected_text(options.method.name()).show_ui(ui, |ui| {

@@ -1,6 +1,7 @@
 //! The race session's own tests: pausing, restarting, settings and recording as the window drives them.
 
 use super::*;
+use crate::render::{Antialias, Filter, MipMode};
 use crate::shell::settings::SettingsFile;
 
 /// A race on the main menu with the shipped assets.
@@ -37,6 +38,50 @@ fn settings_saved_by_the_game_keep_a_hand_edit_made_meanwhile() {
     race.control.pads.curve = 2.5;
     race.save_settings();
     assert_eq!((race.notice.as_deref(), std::fs::read_to_string(&p).unwrap().as_str()), (None, "{\"theme\": "));
+}
+
+/// The picture chosen in Settings (anti-aliasing, filter, mip levels) is saved by name; one given on the
+/// command line for the run (options that differ from the file's) is not saved unless changed in Settings,
+/// and the file's own choice stays.
+#[test]
+fn picture_choices_made_in_settings_are_saved_and_command_line_ones_are_not() {
+    let dir = std::env::temp_dir().join(format!("scanline-racer-race-picture-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("settings.json");
+    std::fs::write(&p, "{\"antialias\": \"ssaa\", \"filter\": \"bilinear\"}").unwrap();
+    let (file, settings, note) = SettingsFile::load(&p);
+    assert_eq!(
+        (settings.antialias, settings.filter, settings.mip, note),
+        (Antialias::Supersample2x2, Filter::Bilinear, MipMode::Polygon, None)
+    );
+    // As `play --aa 4x` starts the race: the file's filter, the command line's anti-aliasing.
+    let options = RenderOptions { antialias: Antialias::Samples4, filter: settings.filter, ..RenderOptions::default() };
+    let dir_assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let mut race = Race::new(RaceScene::load(&dir_assets).unwrap(), options, 1, true).with_settings(
+        settings,
+        Some(file),
+        None,
+        None,
+    );
+    race.save_settings();
+    race.prefs.show_ghost = false;
+    race.save_settings();
+    let want = "{\n  \"antialias\": \"ssaa\",\n  \"filter\": \"bilinear\",\n  \"ghost\": false\n}\n";
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), want, "the run's 4x is not saved");
+    race.drawing.options.mip = MipMode::Pixel;
+    race.drawing.options.filter = Filter::Trilinear;
+    race.save_settings();
+    let want =
+        "{\n  \"antialias\": \"ssaa\",\n  \"filter\": \"trilinear\",\n  \"ghost\": false,\n  \"mip\": \"pixel\"\n}\n";
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), want);
+    race.drawing.options.antialias = Antialias::Samples16;
+    race.save_settings();
+    let (_, back, note) = SettingsFile::load(&p);
+    assert_eq!(
+        (back.antialias, back.filter, back.mip, note),
+        (Antialias::Samples16, Filter::Trilinear, MipMode::Pixel, None)
+    );
+    assert_eq!(race.notice, None);
 }
 
 /// P, the pad's Start button and Esc toggle between racing and the pause menu through one function,

@@ -135,6 +135,52 @@ mod tests {
     }
 
     #[test]
+    fn picture_choices_load_back_by_name_and_bad_ones_are_refused_field_by_field() {
+        use crate::render::{Antialias, Filter, MipMode};
+        let p = tmp("picture.json");
+        let _ = std::fs::remove_file(&p);
+        let (mut file, s, _) = SettingsFile::load(&p);
+        assert_eq!((s.antialias, s.filter, s.mip), (Antialias::Off, Filter::Nearest, MipMode::Polygon));
+        let s = Settings { antialias: Antialias::Samples8, filter: Filter::Trilinear, mip: MipMode::Span, ..s };
+        assert!(file.save(&s).unwrap());
+        assert_eq!(
+            std::fs::read_to_string(&p).unwrap(),
+            "{\n  \"antialias\": \"8x\",\n  \"filter\": \"trilinear\",\n  \"mip\": \"span\"\n}\n"
+        );
+        let (_, back, note) = SettingsFile::load(&p);
+        assert_eq!((back, note), (s, None));
+        for (text, want, said) in [
+            (
+                r#"{"antialias": "6x", "filter": "bilinear"}"#,
+                (Antialias::Off, Filter::Bilinear, MipMode::Polygon),
+                "antialias \"6x\" is not off, 4x, 8x, 16x or ssaa: off used",
+            ),
+            (
+                r#"{"antialias": 4, "mip": "pixel"}"#,
+                (Antialias::Off, Filter::Nearest, MipMode::Pixel),
+                "antialias 4 is not off, 4x, 8x, 16x or ssaa: off used",
+            ),
+            (
+                r#"{"antialias": "ssaa", "filter": ["trilinear"]}"#,
+                (Antialias::Supersample2x2, Filter::Nearest, MipMode::Polygon),
+                "filter [\"trilinear\"] is not nearest, bilinear or trilinear: nearest used",
+            ),
+            (
+                r#"{"mip": "Pixel", "filter": "trilinear"}"#,
+                (Antialias::Off, Filter::Trilinear, MipMode::Polygon),
+                "mip \"Pixel\" is not",
+            ),
+        ] {
+            std::fs::write(&p, text).unwrap();
+            let (file, s, note) = SettingsFile::load(&p);
+            assert_eq!((s.antialias, s.filter, s.mip), want, "{text}");
+            let note = note.unwrap_or_default();
+            assert!(note.contains(said) && !note.contains('\n'), "{text}: {note}");
+            assert!(file.writable(), "{text}: a repaired file is still saved");
+        }
+    }
+
+    #[test]
     fn an_empty_file_is_no_settings_yet() {
         let p = tmp("empty.json");
         std::fs::write(&p, "").unwrap();

@@ -3,6 +3,7 @@
 //! note naming it). Saving reads the object again, with [`read_object`], before it sets what changed.
 
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use serde::Deserialize;
 use serde::de::DeserializeOwned;
@@ -12,6 +13,7 @@ use thiserror::Error;
 use super::file::SettingsFile;
 use super::values::Settings;
 use crate::input::bindings::Bindings;
+use crate::render::UnknownName;
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 use crate::userfile::UserFileError;
 
@@ -85,6 +87,23 @@ fn field<T: DeserializeOwned + std::fmt::Display>(
     }
 }
 
+/// Sets `slot` from the field `name` of `doc` when it is there and is one of the choice's command-line
+/// names (`"4x"`); else leaves the default in `slot` and says so in `notes`, naming the choices.
+fn named<T: FromStr<Err = UnknownName> + std::fmt::Display>(
+    doc: &Map<String, Value>,
+    name: &str,
+    slot: &mut T,
+    notes: &mut Vec<String>,
+) {
+    if let Some(v) = doc.get(name) {
+        // A value that is not a string is refused as an unknown name is: no choice is named "".
+        match T::from_str(v.as_str().unwrap_or("")) {
+            Ok(x) => *slot = x,
+            Err(e) => notes.push(format!("{name} {} is not {}: {slot} used", shown(v), e.expected)),
+        }
+    }
+}
+
 /// The key bindings of the `keys` field, action by action: an entry that is not a known action with a list
 /// of key names is dropped and said (the action then gets its default keys, see [`Bindings::repaired`]).
 fn keys_of(v: &Value, notes: &mut Vec<String>) -> Bindings {
@@ -125,6 +144,9 @@ impl Settings {
         field(doc, "volume", &mut s.volume, "a number", &mut notes);
         field(doc, "effects_volume", &mut s.effects_volume, "a number", &mut notes);
         field(doc, "muted", &mut s.muted, "true or false", &mut notes);
+        named(doc, "antialias", &mut s.antialias, &mut notes);
+        named(doc, "filter", &mut s.filter, &mut notes);
+        named(doc, "mip", &mut s.mip, &mut notes);
         (s, notes)
     }
 }

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::input::bindings::Bindings;
 use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
+use crate::render::{Antialias, Filter, MipMode, RenderOptions};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
 /// The master volume a new settings file starts at: the mixer's full level, so that the window plays what
@@ -35,6 +36,15 @@ pub struct Settings {
     pub effects_volume: f32,
     /// Whether the sound is muted (the M key); the volumes are kept for when it is not.
     pub muted: bool,
+    /// The race's anti-aliasing, by its command-line name (`"4x"`).
+    #[serde(with = "by_name")]
+    pub antialias: Antialias,
+    /// The race's texture filter, by its command-line name (`"trilinear"`).
+    #[serde(with = "by_name")]
+    pub filter: Filter,
+    /// Where the race's mip levels are chosen, by its command-line name (`"pixel"`).
+    #[serde(with = "by_name")]
+    pub mip: MipMode,
 }
 
 impl Default for Settings {
@@ -48,7 +58,34 @@ impl Default for Settings {
             volume: DEFAULT_VOLUME,
             effects_volume: 1.0,
             muted: false,
+            antialias: RenderOptions::default().antialias,
+            filter: RenderOptions::default().filter,
+            mip: RenderOptions::default().mip,
         }
+    }
+}
+
+/// A picture choice in the file as the name the command line takes (`"ssaa"`, `"bilinear"`), so that a
+/// hand edit uses the words of `--help` and the file does not change when a variant is renamed in code.
+mod by_name {
+    use std::fmt::Display;
+    use std::str::FromStr;
+
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// Writes the choice's name.
+    pub(super) fn serialize<T: Display, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(value)
+    }
+
+    /// Reads a name (an unknown one is an error naming the choices).
+    pub(super) fn deserialize<'de, T, D>(d: D) -> Result<T, D::Error>
+    where
+        T: FromStr<Err: Display>,
+        D: Deserializer<'de>,
+    {
+        let name = String::deserialize(d)?;
+        name.parse().map_err(serde::de::Error::custom)
     }
 }
 
