@@ -60,10 +60,17 @@ pub(super) fn hud(
         );
     });
     egui::Area::new(egui::Id::unique("hud-debug")).anchor(egui::Align2::LEFT_BOTTOM, [12.0, -8.0]).show(ctx, |ui| {
+        // One line however long (egui wraps an area's text at a width of its own otherwise).
+        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
         ui.label(
             egui::RichText::new(format!(
-                "{:?} view — {} — {:.1} ms/frame",
-                drawing.view, drawing.options.method, drawing.frame_ms
+                "{:?} view — {}, aa {}, {}, mip {} — {:.1} ms/frame",
+                drawing.view,
+                drawing.options.method,
+                drawing.options.antialias,
+                drawing.options.filter,
+                drawing.options.mip,
+                drawing.frame_ms
             ))
             .size(12.0)
             .color(egui::Color32::from_gray(230)),
