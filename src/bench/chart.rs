@@ -1,5 +1,6 @@
 //! The bench charts: time per frame (x, log scale) against an error (y), one point per configuration,
-//! coloured by sweep, with the Pareto front drawn as a line and labelled. Written as SVG and as PNG.
+//! coloured by sweep, with the Pareto front drawn as a line and labelled (placed by `labels`, clear of each
+//! other). Written as SVG and as PNG.
 //! [`Panel::Accuracy`] plots every configuration's FLIP against the reference; [`Panel::Visibility`] plots
 //! the visibility configurations' own error (pixels differing from the z-buffer at the same settings);
 //! [`Panel::Stability`] plots every configuration's shimmer RMS over the stability sequence.
@@ -8,6 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::Row;
+use super::labels;
 
 /// Chart size in pixels.
 pub const SIZE: (u32, u32) = (1200, 760);
@@ -144,12 +146,14 @@ fn draw<DB: DrawingBackend>(
         .label("Pareto front")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
     chart
-        .draw_series(front.iter().map(|r| {
-            EmptyElement::at((r.ms, panel.y(r)))
-                + Circle::new((0, 0), 8, BLACK.stroke_width(1))
-                + Text::new(r.config.label.clone(), (8, -16), ("sans-serif", 13))
-        }))
+        .draw_series(
+            front.iter().map(|r| EmptyElement::at((r.ms, panel.y(r))) + Circle::new((0, 0), 8, BLACK.stroke_width(1))),
+        )
         .map_err(e)?;
+    let points: Vec<(i32, i32)> = front.iter().map(|r| chart.backend_coord(&(r.ms, panel.y(r)))).collect();
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let names: Vec<&str> = front.iter().map(|r| r.config.label.as_str()).collect();
+    front_labels(root, &names, &points, (xs.start, ys.start, xs.end, ys.end), e)?;
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -159,6 +163,29 @@ fn draw<DB: DrawingBackend>(
         .draw()
         .map_err(e)?;
     root.present().map_err(e)
+}
+
+/// Writes each front point's label (`names`, the points at `points` in backend pixels) where [`labels::place`]
+/// finds room inside `area`, with a leader line when it is not beside its point.
+fn front_labels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    names: &[&str],
+    points: &[(i32, i32)],
+    area: labels::Box2,
+    e: fn(DrawingAreaErrorKind<DB::ErrorType>) -> ChartError,
+) -> Result<(), ChartError> {
+    let font: TextStyle = ("sans-serif", 13).into();
+    let sizes = names.iter().map(|n| root.estimate_text_size(n, &font).map_err(e)).collect::<Result<Vec<_>, _>>()?;
+    for ((name, &(x, y)), b) in names.iter().zip(points).zip(labels::place(points, &sizes, area)) {
+        let Some((l, t, r, bottom)) = b else { continue };
+        root.draw(&Text::new(name.to_string(), (l, t), font.clone())).map_err(e)?;
+        // A label moved away from its point gets a leader line to the nearest point of its box.
+        let near = (x.clamp(l, r), y.clamp(t, bottom));
+        if (near.0 - x).pow(2) + (near.1 - y).pow(2) > 14 * 14 {
+            root.draw(&PathElement::new(vec![(x, y), near], RGBColor(120, 120, 120).stroke_width(1))).map_err(e)?;
+        }
+    }
+    Ok(())
 }
 
 /// The chart as an SVG document.

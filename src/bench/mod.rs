@@ -16,6 +16,7 @@
 pub mod chart;
 pub mod configs;
 pub mod frames;
+pub mod labels;
 pub mod stability;
 
 use std::collections::BTreeMap;
