@@ -23,6 +23,7 @@ pub mod order;
 pub mod overlay;
 pub mod renderer;
 mod simd;
+mod supersample;
 
 pub use self::core::camera::{Camera, Projection};
 pub use self::core::draw_list::{DrawList, Instance, LodSet, MeshLists, ViewLists};

@@ -19,6 +19,7 @@ use super::fill::row::SpanCounts;
 use super::fill::{Fill, Polygons};
 use super::geometry::Geometry;
 use super::order::Order;
+use super::supersample;
 
 /// The largest frame side: screen positions are [`Fx28_4`](super::core::fixed::Fx28_4) with room for the
 /// guard band.
@@ -104,29 +105,17 @@ impl Renderer {
     ) -> Result<Stats, RenderError> {
         let (bw, bh) = (width * 2, height * 2);
         let mut big = std::mem::take(&mut self.big);
-        big.clear();
+        // Not cleared: the drawing fills every pixel with the background, or the expansion writes them all.
         big.resize(bw * bh, 0);
         if options.background.is_none() {
             // Drawing over what is there: each pixel becomes its four.
-            for (y, row) in frame.chunks_exact(width).enumerate() {
-                for (x, &c) in row.iter().enumerate() {
-                    for (dy, dx) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                        big[(2 * y + dy) * bw + 2 * x + dx] = c;
-                    }
-                }
-            }
+            supersample::expand(frame, width, &mut big);
         }
         let inner = RenderOptions { antialias: Antialias::Off, lod_bias: options.lod_bias - 1.0, ..*options };
         let stats = self.render(&mut big, bw, bh, camera, list, &inner);
         if stats.is_ok() {
-            for (y, row) in frame.chunks_exact_mut(width).enumerate() {
-                let (top, bottom) = (&big[2 * y * bw..(2 * y + 1) * bw], &big[(2 * y + 1) * bw..(2 * y + 2) * bw]);
-                for (x, out) in row.iter_mut().enumerate() {
-                    let quad = [top[2 * x], top[2 * x + 1], bottom[2 * x], bottom[2 * x + 1]];
-                    let ch = |shift: u32| (quad.iter().map(|&c| (c >> shift) & 0xff).sum::<u32>() + 2) / 4;
-                    *out = (ch(16) << 16) | (ch(8) << 8) | ch(0);
-                }
-            }
+            // On the pool the drawing used, if it used one.
+            supersample::box_filter(&big, frame, width, self.pool.as_ref().map(|(_, p)| p));
         }
         self.big = big;
         stats

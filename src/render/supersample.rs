@@ -1,0 +1,120 @@
+//! 2x2 supersampling's two passes around the drawing at twice the size: each pixel of the frame becomes its
+//! four when the frame is drawn over what is there, and each 2x2 block of the big frame becomes one pixel, the
+//! rounded mean of its four colours channel by channel (`(sum + 2) / 4`).
+//!
+//! The mean adds red and blue in one word (each sum of four fits in ten bits, sixteen bits apart) and green
+//! in another, so a pixel costs a few integer operations; the rows are shared among the renderer's threads,
+//! each output pixel depending only on its own block, so the frame is the same for every thread count.
+
+use rayon::prelude::*;
+
+/// Output rows per task when the box filter is shared among threads.
+const ROWS_PER_TASK: usize = 16;
+
+/// Copies each pixel of `frame` (`width` pixels a row) into its 2x2 block of `big`, which is twice the width
+/// and height.
+pub(crate) fn expand(frame: &[u32], width: usize, big: &mut [u32]) {
+    let bw = 2 * width;
+    for (row, pair) in frame.chunks_exact(width).zip(big.chunks_exact_mut(2 * bw)) {
+        let (top, bottom) = pair.split_at_mut(bw);
+        for (two, &c) in top.chunks_exact_mut(2).zip(row) {
+            two.fill(c);
+        }
+        bottom.copy_from_slice(top);
+    }
+}
+
+/// The rounded mean, channel by channel, of four `0x00RRGGBB` colours (the top byte is ignored).
+#[inline]
+fn mean4(a: u32, b: u32, c: u32, d: u32) -> u32 {
+    const RB: u32 = 0x00ff_00ff;
+    const G: u32 = 0x0000_ff00;
+    let rb = (a & RB) + (b & RB) + (c & RB) + (d & RB) + 0x0002_0002;
+    let g = (a & G) + (b & G) + (c & G) + (d & G) + 0x0000_0200;
+    ((rb >> 2) & RB) | ((g >> 2) & G)
+}
+
+/// Box-filters rows of `big` (twice the width, two rows for each of `out`'s) into `out` (`width` a row).
+fn filter_rows(big: &[u32], out: &mut [u32], width: usize) {
+    let bw = 2 * width;
+    for (row, pair) in out.chunks_exact_mut(width).zip(big.chunks_exact(2 * bw)) {
+        let (top, bottom) = pair.split_at(bw);
+        for ((o, t), b) in row.iter_mut().zip(top.chunks_exact(2)).zip(bottom.chunks_exact(2)) {
+            *o = mean4(t[0], t[1], b[0], b[1]);
+        }
+    }
+}
+
+/// Box-filters `big` (twice `frame`'s width and height) into `frame` (`width` pixels a row), the rows shared
+/// among `pool`'s threads when there is a pool.
+pub(crate) fn box_filter(big: &[u32], frame: &mut [u32], width: usize, pool: Option<&rayon::ThreadPool>) {
+    if width == 0 {
+        return;
+    }
+    match pool {
+        Some(pool) => pool.install(|| {
+            frame
+                .par_chunks_mut(width * ROWS_PER_TASK)
+                .zip(big.par_chunks(4 * width * ROWS_PER_TASK))
+                .for_each(|(out, big)| filter_rows(big, out, width));
+        }),
+        None => filter_rows(big, frame, width),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::core::test_rng::Lcg;
+
+    /// 32 random bits.
+    fn word(r: &mut Lcg) -> u32 {
+        (r.next() << 1) ^ r.next()
+    }
+
+    /// The mean as it was first written: each channel on its own.
+    fn mean4_per_channel(q: [u32; 4]) -> u32 {
+        let ch = |shift: u32| (q.iter().map(|&c| (c >> shift) & 0xff).sum::<u32>() + 2) / 4;
+        (ch(16) << 16) | (ch(8) << 8) | ch(0)
+    }
+
+    #[test]
+    fn the_packed_mean_is_the_per_channel_mean() {
+        let mut rng = Lcg(7);
+        let edges = [0, 1, 2, 3, 0xff, 0xfe, 0x80, 0x7f];
+        for i in 0..200_000u32 {
+            let q: [u32; 4] = if i < 4096 {
+                // Every channel at the values where rounding and carries turn, in every corner.
+                std::array::from_fn(|k| {
+                    let e = |s: u32| edges[((i >> (3 * k as u32 + s)) & 7) as usize];
+                    (e(0) << 16) | (e(1) << 8) | e(2) | 0xff00_0000
+                })
+            } else {
+                std::array::from_fn(|_| word(&mut rng))
+            };
+            assert_eq!(mean4(q[0], q[1], q[2], q[3]), mean4_per_channel(q), "{q:08x?}");
+        }
+    }
+
+    #[test]
+    fn expanded_then_filtered_is_the_frame_and_threads_change_nothing() {
+        let (w, h) = (37, 41);
+        let mut rng = Lcg(11);
+        let frame: Vec<u32> = (0..w * h).map(|_| word(&mut rng) & 0x00ff_ffff).collect();
+        let mut big = vec![0u32; 4 * w * h];
+        expand(&frame, w, &mut big);
+        assert_eq!(big[(2 * 5 + 1) * 2 * w + 2 * 7 + 1], frame[5 * w + 7]);
+        let mut back = vec![0u32; w * h];
+        box_filter(&big, &mut back, w, None);
+        assert_eq!(back, frame);
+        // A big frame of noise, filtered on one thread and on a pool of three: the same pixels.
+        let big: Vec<u32> = (0..4 * w * h).map(|_| word(&mut rng)).collect();
+        let (mut one, mut three) = (vec![0u32; w * h], vec![1u32; w * h]);
+        box_filter(&big, &mut one, w, None);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        box_filter(&big, &mut three, w, Some(&pool));
+        assert_eq!(one, three);
+        let q = |x: usize, y: usize| big[y * 2 * w + x];
+        assert_eq!(one[3 * w + 4], mean4_per_channel([q(8, 6), q(9, 6), q(8, 7), q(9, 7)]));
+    }
+}
