@@ -6,7 +6,8 @@
 //! beside the point, the later ones further up and down (drawn with a leader line back to the point). A
 //! label that fits nowhere is left out rather than drawn over another; the point keeps its ring.
 
-/// A label's box in backend pixels: left, top, right, bottom (right and bottom excluded).
+/// A box in backend pixels (a label's, a point's ring, the plotting area): left, top, right, bottom (right
+/// and bottom excluded).
 pub type Box2 = (i32, i32, i32, i32);
 
 /// How far the ring around a front point reaches, in pixels: labels keep clear of it.
@@ -22,6 +23,11 @@ fn candidates(w: i32, h: i32) -> Vec<(i32, i32)> {
     v
 }
 
+/// The box a front point's ring keeps clear around `(x, y)`.
+fn ring(x: i32, y: i32) -> Box2 {
+    (x - RING, y - RING, x + RING, y + RING)
+}
+
 /// Whether two boxes overlap.
 fn overlaps(a: Box2, b: Box2) -> bool {
     a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
@@ -31,7 +37,7 @@ fn overlaps(a: Box2, b: Box2) -> bool {
 /// `area`; `None` for a label that fits nowhere.
 #[must_use]
 pub fn place(points: &[(i32, i32)], sizes: &[(u32, u32)], area: Box2) -> Vec<Option<Box2>> {
-    let rings: Vec<Box2> = points.iter().map(|&(x, y)| (x - RING, y - RING, x + RING + 1, y + RING + 1)).collect();
+    let rings: Vec<Box2> = points.iter().map(|&(x, y)| ring(x, y)).collect();
     let mut placed: Vec<Box2> = vec![];
     let mut out = Vec::with_capacity(points.len());
     for (&(x, y), &(w, h)) in points.iter().zip(sizes) {
@@ -73,11 +79,19 @@ mod tests {
                 assert!(!overlaps(*a, *b), "{a:?} and {b:?}");
             }
             for &(x, y) in &points {
-                assert!(!overlaps(*a, (x - RING, y - RING, x + RING + 1, y + RING + 1)), "{a:?} covers ({x}, {y})");
+                assert!(!overlaps(*a, ring(x, y)), "{a:?} covers ({x}, {y})");
             }
         }
         // The lone point's label sits at the first place: right of it, above.
         assert_eq!(got[5], (400 + RING, 100 - RING - 14, 400 + RING + 60, 100 - RING));
+    }
+
+    #[test]
+    fn a_label_goes_below_its_point_when_there_is_no_room_above() {
+        // A point near the top of the area: the label cannot go above it, so it takes the second place,
+        // right of the point and below, beside it (no leader line needed).
+        let boxes = place(&[(100, 12)], &[(60, 14)], (0, 0, 600, 400));
+        assert_eq!(boxes, vec![Some((100 + RING, 12 + RING - 2, 100 + RING + 60, 12 + RING - 2 + 14))]);
     }
 
     #[test]

@@ -6,22 +6,22 @@ use clap::Args;
 use crate::render::{Antialias, Filter, MipMode, RenderOptions};
 
 /// `--filter`, `--mip` and `--aa`: each, when not given, the renderer's own default (for `play`'s race,
-/// the settings file's choice, which Settings saves).
+/// not `--scene` or `--demo`, the settings file's choice, which Settings saves).
 ///
 /// A flag given to `play` is for that run: the settings file keeps its own choice unless it is changed in
 /// Settings.
 #[derive(Clone, Copy, Debug, Default, Args)]
 pub struct PictureArgs {
     /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
-    /// detail, blended; bilinear with --mip off). Default: nearest (play: the settings file's, else nearest).
+    /// detail, blended; bilinear with --mip off). Default: nearest (play's race: the settings file's, else nearest).
     #[arg(long)]
     pub filter: Option<Filter>,
     /// Where mip levels are chosen: off (level 0 only), polygon (once per polygon), span (at each span's
-    /// middle pixel) or pixel (at every pixel). Default: polygon (play: the settings file's, else polygon).
+    /// middle pixel) or pixel (at every pixel). Default: polygon (play's race: the settings file's, else polygon).
     #[arg(long)]
     pub mip: Option<MipMode>,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling). Default:
-    /// off (play: the settings file's, else off).
+    /// off (play's race: the settings file's, else off).
     #[arg(long)]
     pub aa: Option<Antialias>,
 }

@@ -103,6 +103,17 @@ impl Default for PlayArgs {
     }
 }
 
+/// The race's drawing options: `options` with the settings file's picture, unless the command line's
+/// `picture` says otherwise for this run.
+fn race_options(options: RenderOptions, settings: &Settings, picture: &PictureArgs) -> RenderOptions {
+    picture.apply(RenderOptions {
+        antialias: settings.antialias,
+        filter: settings.filter,
+        mip: settings.mip,
+        ..options
+    })
+}
+
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
@@ -134,10 +145,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             if let Some(n) = &note {
                 eprintln!("warning: {n}");
             }
-            // The race's picture is the settings file's, unless the command line says otherwise for this run.
-            let saved =
-                RenderOptions { antialias: settings.antialias, filter: settings.filter, mip: settings.mip, ..options };
-            let mut race = Race::new(scene, args.picture.apply(saved), args.laps, !args.no_menu)
+            let mut race = Race::new(scene, race_options(options, &settings, &args.picture), args.laps, !args.no_menu)
                 .autopilot(args.autopilot)
                 .with_settings(settings, file, args.scale, note)
                 .with_sound();
@@ -168,4 +176,27 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{Antialias, Filter, MipMode};
+
+    #[test]
+    fn the_race_takes_the_settings_file_s_picture_and_a_flag_wins_for_the_run() {
+        let settings = Settings {
+            antialias: Antialias::Supersample2x2,
+            filter: Filter::Bilinear,
+            mip: MipMode::Span,
+            ..Settings::default()
+        };
+        let base = RenderOptions { method: Method::BucketNear, threads: 3, ..RenderOptions::default() };
+        let got = race_options(base, &settings, &PictureArgs::default());
+        assert_eq!((got.antialias, got.filter, got.mip), (Antialias::Supersample2x2, Filter::Bilinear, MipMode::Span));
+        assert_eq!((got.method, got.threads), (Method::BucketNear, 3), "the rest is the command line's");
+        let flags = PictureArgs { aa: Some(Antialias::Off), mip: Some(MipMode::Pixel), ..PictureArgs::default() };
+        let got = race_options(base, &settings, &flags);
+        assert_eq!((got.antialias, got.filter, got.mip), (Antialias::Off, Filter::Bilinear, MipMode::Pixel));
+    }
 }

@@ -333,6 +333,39 @@ fn anti_aliased_frames_are_bit_identical_for_every_thread_count() {
     }
 }
 
+/// 2x2 supersampling keeps its big frame from frame to frame without clearing it: a renderer reused across
+/// sizes, thread counts and backgrounds (drawn over noise when there is none) draws what a fresh one draws.
+#[test]
+fn a_supersampling_renderer_reused_across_sizes_and_backgrounds_draws_what_a_fresh_one_draws() {
+    let scene = scanline_racer::asset::load(&samples().join("Duck/Duck.gltf")).expect("Duck loads");
+    let mut reused = Renderer::new();
+    let mut seed = 1u32;
+    for (w, h, background, threads) in
+        [(64usize, 48usize, true, 1usize), (40, 30, false, 2), (80, 60, true, 3), (64, 48, false, 1), (33, 17, true, 2)]
+    {
+        let camera = scene.framing_camera(w as f32 / h as f32);
+        let o = RenderOptions {
+            antialias: Antialias::Supersample2x2,
+            threads,
+            background: if background { RenderOptions::default().background } else { None },
+            ..RenderOptions::default()
+        };
+        // What is there before the drawing: noise, which shows where nothing is drawn without a background.
+        let noise: Vec<u32> = (0..w * h)
+            .map(|_| {
+                seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+                seed >> 8
+            })
+            .collect();
+        let (mut a, mut b) = (noise.clone(), noise.clone());
+        reused.render(&mut a, w, h, &camera, &scene.draw_list(), &o).unwrap();
+        Renderer::new().render(&mut b, w, h, &camera, &scene.draw_list(), &o).unwrap();
+        assert!(a == b, "{w}x{h}, background {background}, {threads} threads: the reused renderer differs");
+        let kept = a.iter().zip(&noise).filter(|(p, q)| p == q).count();
+        assert_eq!(kept > w * h / 4, !background, "{w}x{h}: {kept} pixels of the noise kept");
+    }
+}
+
 /// Several big objects in one frame each set up in pieces on the pool, their screen vertices left in their
 /// own set-up batches: frames must not depend on the thread count, and a renderer reused across frames
 /// with different object counts must draw the same as a fresh one.

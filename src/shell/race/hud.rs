@@ -7,7 +7,7 @@ use crate::game::rules::{Phase, format_ticks};
 use crate::game::{TICK_HZ, World};
 
 /// Speed, position, lap, times and the countdown of the player in `world`; the race's `notice`, else the
-/// replay's keys at `replay_speed` when replaying; the view, method and frame time of `drawing`.
+/// replay's keys at `replay_speed` when replaying; the view, method, picture and frame time of `drawing`.
 pub(super) fn hud(
     ctx: &egui::Context,
     world: &World,

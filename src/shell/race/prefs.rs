@@ -67,9 +67,9 @@ impl Default for Prefs {
 
 impl Prefs {
     /// Takes `settings` (keys, the ghost, and into `pads` the deadzone and curve; the scale unless `scale`
-    /// overrides it) and saves changes made in Settings to `file`; `options` are the race's drawing options,
-    /// whose picture choices (anti-aliasing, filter, mip levels) the caller took from `settings` unless the
-    /// command line gave them.
+    /// overrides it) and saves changes made in Settings to `file`; `options` are the race's drawing options
+    /// as the caller chose them, whose picture (anti-aliasing, filter, mip levels) counts as saved, so that
+    /// only a change made in Settings is written.
     pub(super) fn apply(
         &mut self,
         settings: Settings,

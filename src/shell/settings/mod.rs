@@ -178,6 +178,11 @@ mod tests {
             assert!(note.contains(said) && !note.contains('\n'), "{text}: {note}");
             assert!(file.writable(), "{text}: a repaired file is still saved");
         }
+        // A refused name stays in the file when another setting is saved: the user's text is theirs to fix.
+        std::fs::write(&p, r#"{"antialias": "6x"}"#).unwrap();
+        let (mut file, s, _) = SettingsFile::load(&p);
+        assert!(file.save(&Settings { ghost: false, ..s }).unwrap());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\n  \"antialias\": \"6x\",\n  \"ghost\": false\n}\n");
     }
 
     #[test]
