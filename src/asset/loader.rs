@@ -58,7 +58,9 @@ pub fn load_with_budget(path: &Path, budget: &LoadBudget) -> Result<LoadedScene,
         problem => AssetError::Read { file: file.clone(), problem },
     })?;
     let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    load_from_slice_with_budget(&bytes, base, &file, budget)
+    let mut scene = load_from_slice_with_budget(&bytes, base, &file, budget)?;
+    scene.files.insert(0, path.to_path_buf());
+    Ok(scene)
 }
 
 /// Loads glTF or GLB bytes within the default [`LoadBudget`]; external files are resolved inside
@@ -96,7 +98,9 @@ pub fn load_from_slice_with_budget(
         local_bounds: vec![],
     };
     loader.load_scene()?;
-    Ok(loader.out)
+    let mut out = loader.out;
+    out.files = buffers.files().chain(loader.images.files()).cloned().collect();
+    Ok(out)
 }
 
 /// Vertex transforms the scene's bounds may spend per load on exact boxes (4 Mi, tens of milliseconds):

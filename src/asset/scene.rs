@@ -35,6 +35,9 @@ pub struct LoadedScene {
     pub bounds: Option<(Vec3, Vec3)>,
     /// Drawing orders made in advance for `view-lists` ([`LoadedScene::prepare_view_lists`]).
     pub view_lists: Option<ViewLists>,
+    /// The files read to make the scene: the glTF file itself (when loaded from a file), then the buffers
+    /// and images it names, each once; a command refuses to write its output over any of them.
+    pub files: Vec<std::path::PathBuf>,
 }
 
 impl LoadedScene {
@@ -94,6 +97,7 @@ impl LoadedScene {
             i
         }));
         self.cameras.extend(other.cameras);
+        self.files.extend(other.files);
         self.skipped_primitives += other.skipped_primitives;
         self.bounds = match (self.bounds, other.bounds) {
             (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),

@@ -49,8 +49,29 @@ pub fn parse(bytes: &[u8]) -> Result<Parsed<'_>, ParseError> {
     let root: gltf::json::Root =
         gltf::json::deserialize::from_slice(&json).map_err(|e| ParseError::Gltf(gltf::Error::Deserialize(e)))?;
     super::validate::check_before_validation(&root)?;
-    let doc = gltf::Document::from_json(root).map_err(ParseError::Gltf)?;
+    let doc = validated(root).map_err(ParseError::Gltf)?;
     Ok(Parsed { doc, blob })
+}
+
+/// The `gltf` crate's validation of `root`, less its one error that the specification contradicts: an
+/// accessor with neither `bufferView` nor `sparse` is valid glTF 2.0 ("When bufferView is undefined, the
+/// accessor MUST be initialized with zeros"), and [`super::accessor`] reads it as zeros.
+fn validated(root: gltf::json::Root) -> Result<gltf::Document, gltf::Error> {
+    use gltf::json::validation::{Error, Validate};
+    let mut errors = vec![];
+    root.validate(&root, gltf::json::Path::new, &mut |path, error| {
+        let path = path();
+        let zeros = matches!(error, Error::Missing)
+            && path.as_str().strip_prefix("accessors[").and_then(|rest| rest.strip_suffix("].bufferView")).is_some();
+        if !zeros {
+            errors.push((path, error));
+        }
+    });
+    if errors.is_empty() {
+        Ok(gltf::Document::from_json_without_validation(root))
+    } else {
+        Err(gltf::Error::Validation(errors))
+    }
 }
 
 /// What a buffer or image resolves to, so that two names of one source share it.
@@ -68,6 +89,8 @@ pub struct Buffers<'a> {
     data: Vec<Cow<'a, [u8]>>,
     /// glTF buffer index -> index into `data`.
     slot: Vec<usize>,
+    /// The files read (canonical paths), each once.
+    files: Vec<PathBuf>,
 }
 
 impl Buffers<'_> {
@@ -75,6 +98,11 @@ impl Buffers<'_> {
     #[must_use]
     pub fn slices(&self) -> Vec<&[u8]> {
         self.slot.iter().map(|&s| self.data.get(s).map_or(&[][..], |d| &d[..])).collect()
+    }
+
+    /// The files read for the buffers (canonical paths), each once.
+    pub fn files(&self) -> impl Iterator<Item = &PathBuf> {
+        self.files.iter()
     }
 }
 
@@ -125,7 +153,11 @@ pub fn load_buffers<'a>(
     }
     let mut blob = blob;
     let mut data = Vec::with_capacity(pending.len());
+    let mut files = vec![];
     for (index, located) in pending {
+        if let Some(Located::File { path, .. }) = &located {
+            files.push(path.clone());
+        }
         let bytes = match located {
             Some(l) => Cow::Owned(l.read().map_err(|e| err(index, e.into()))?),
             None => blob.take().ok_or_else(|| err(index, BufferProblem::NoBinaryChunk))?,
@@ -138,7 +170,7 @@ pub fn load_buffers<'a>(
             return Err(err(b.index(), BufferProblem::Short { holds: len as u64, declared: b.length() }));
         }
     }
-    Ok(Buffers { data, slot })
+    Ok(Buffers { data, slot, files })
 }
 
 /// Textures decoded so far, by glTF image index and by source.
@@ -149,6 +181,14 @@ pub struct Images<'d> {
 }
 
 impl<'d> Images<'d> {
+    /// The files decoded (canonical paths), each once.
+    pub fn files(&self) -> impl Iterator<Item = &PathBuf> {
+        self.by_key.keys().filter_map(|k| match k {
+            Key::File(path) => Some(path),
+            _ => None,
+        })
+    }
+
     /// The texture index for glTF image `index`, decoding it into `textures` the first time its source is
     /// seen. Reads the image's fields from the raw JSON (see [`super::validate`]).
     pub fn texture(

@@ -1,8 +1,9 @@
 //! Resolving the URIs a glTF file names, confined to the asset's own folder.
 //!
-//! `data:` URIs are decoded in memory. Any other scheme, an absolute path, or a path with a `..` component is
-//! refused, so a file cannot make the loader read outside its folder; symbolic links that lead out of the
-//! folder are refused too. Files are only located first ([`locate`]: canonical path and size, nothing
+//! `data:` URIs are decoded in memory. Any other scheme, an absolute path, or a path whose `..` components
+//! climb above the folder is refused (`sub/../tri.bin` stays inside and is read), so a file cannot make the
+//! loader read outside its folder; symbolic links that lead out of the folder are refused too. Each refusal
+//! says what the URI breaks: a NUL byte is not an empty path, and a folder is not a file. Files are only located first ([`locate`]: canonical path and size, nothing
 //! read), so that the loader can read a file named twice once and refuse one over its budget before
 //! reading it; reading goes through [`crate::userfile`] (regular files only: a FIFO or a device is refused
 //! without blocking).
@@ -44,22 +45,28 @@ pub enum UriError {
 }
 
 /// Why a URI that is not a `data:` URI was refused.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum Refusal {
     /// It has a scheme other than `data:`.
-    #[error("only data: URIs and relative paths are allowed")]
-    Scheme,
+    #[error("the scheme '{0}:' is not read: only data: URIs and relative paths are")]
+    Scheme(String),
     /// A `%` not followed by two hexadecimal digits, or bytes that are not UTF-8.
     #[error("bad percent-encoding")]
     PercentEncoding,
-    /// Nothing, or a NUL byte.
-    #[error("empty path")]
+    /// Nothing at all.
+    #[error("the URI is empty")]
     Empty,
+    /// A NUL byte (`%00`), which no file name may hold.
+    #[error("it holds a NUL byte (%00), which no file name may hold")]
+    Nul,
+    /// It ends in `/`: a folder, not a file.
+    #[error("it names a folder, not a file")]
+    Folder,
     /// An absolute path.
     #[error("absolute paths are not allowed")]
     Absolute,
-    /// A `..` or a root or prefix component.
-    #[error("paths may not leave the asset's folder")]
+    /// Its `..` components climb above the asset's folder (or it has a root or drive prefix).
+    #[error("its '..' parts climb above the asset's folder")]
     LeavesFolder,
     /// A path inside the folder that a symbolic link leads out of it.
     #[error("the path leads out of the asset's folder through a link")]
@@ -174,21 +181,29 @@ pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError
     let refused = |why| UriError::Refused { uri: short(uri), why };
     let scheme_len = uri.find(':').unwrap_or(0);
     if scheme_len > 0 && uri[..scheme_len].chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)) {
-        return Err(refused(Refusal::Scheme));
+        return Err(refused(Refusal::Scheme(short(&uri[..scheme_len]))));
     }
     let decoded = percent_decode(uri).ok_or_else(|| refused(Refusal::PercentEncoding))?;
-    if decoded.is_empty() || decoded.contains('\0') {
+    if decoded.is_empty() {
         return Err(refused(Refusal::Empty));
+    }
+    if decoded.contains('\0') {
+        return Err(refused(Refusal::Nul));
     }
     let rel = Path::new(&decoded);
     if decoded.starts_with('/') || decoded.starts_with('\\') || rel.is_absolute() {
         return Err(refused(Refusal::Absolute));
     }
-    if decoded.split(['/', '\\']).any(|c| c == "..")
-        || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
+    if decoded.ends_with(['/', '\\']) {
+        return Err(refused(Refusal::Folder));
+    }
+    if climbs_out(&decoded)
+        || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir | Component::ParentDir))
     {
         return Err(refused(Refusal::LeavesFolder));
     }
+    // The folder's own path joined with the URI's: the system resolves the `..` parts (through links, as
+    // it will when reading), and the canonical path must still be inside the folder.
     let path = base_dir.join(rel);
     let read_err = |source: std::io::Error| UriError::Read { path: path.clone(), source };
     let canon = path.canonicalize().map_err(read_err)?;
@@ -198,6 +213,23 @@ pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError
     }
     let size = check_regular(&canon, MAX_BYTES, WHAT)?;
     Ok(Located::File { path: canon, size })
+}
+
+/// Whether a relative path's `..` parts, taken in order, climb above its start (`a/../../b` does,
+/// `sub/../tri.bin` does not). Both separators count, as a file written on Windows may use `\`.
+fn climbs_out(decoded: &str) -> bool {
+    let mut depth = 0usize;
+    for part in decoded.split(['/', '\\']) {
+        match part {
+            "" | "." => {}
+            ".." => match depth.checked_sub(1) {
+                Some(d) => depth = d,
+                None => return true,
+            },
+            _ => depth += 1,
+        }
+    }
+    false
 }
 
 /// Returns the bytes a URI names, reading files only from inside `base_dir` ([`locate`], then
@@ -218,6 +250,33 @@ mod tests {
             assert!(matches!(resolve(uri, base), Err(UriError::Refused { .. })), "{uri}");
         }
         assert!(matches!(resolve("missing-file.bin", base), Err(UriError::Read { .. })));
+    }
+
+    #[test]
+    fn a_path_that_stays_inside_is_read_and_each_refusal_says_why() {
+        let d = std::env::temp_dir().join(format!("uri-inside-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        std::fs::write(d.join("tri.bin"), [1u8, 2, 3]).unwrap();
+        for inside in ["sub/../tri.bin", "./sub/./../tri.bin", "sub%2F..%2Ftri.bin"] {
+            assert_eq!(resolve(inside, &d).unwrap(), [1, 2, 3], "{inside}");
+        }
+        let why = |uri: &str| match locate(uri, &d) {
+            Err(UriError::Refused { why, .. }) => why.to_string(),
+            other => panic!("{uri}: {other:?}"),
+        };
+        assert_eq!(why("tri%00.bin"), "it holds a NUL byte (%00), which no file name may hold");
+        assert_eq!(why(""), "the URI is empty");
+        assert_eq!(why("sub/../../tri.bin"), "its '..' parts climb above the asset's folder");
+        assert_eq!(why("sub/"), "it names a folder, not a file");
+        assert_eq!(
+            why("https://example.com/tri.bin"),
+            "the scheme 'https:' is not read: only data: URIs and relative paths are"
+        );
+        assert_eq!(
+            locate("tri%00.bin", &d).unwrap_err().to_string(),
+            "URI 'tri%00.bin' refused: it holds a NUL byte (%00), which no file name may hold"
+        );
     }
 
     #[test]

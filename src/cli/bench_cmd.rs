@@ -11,7 +11,7 @@ use crate::bench::chart::Panel;
 use crate::bench::{Row, chart, collect_frames, collect_sequence, configs, csv, lod_pops_per_min, run};
 use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
 use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
-use crate::shell::png::write_png;
+use crate::shell::image_file::write_image;
 use crate::shell::race_scene::RaceScene;
 
 /// Arguments of `bench`.
@@ -34,8 +34,9 @@ pub struct BenchArgs {
     /// Times each frame is drawn per configuration; the best counts (1 to 1000).
     #[arg(long, default_value_t = 3, value_parser = values::count(1000))]
     pub repeats: usize,
-    /// Renderer threads for every configuration (1 by default: per-core speed, the steadiest figure).
-    #[arg(long, default_value_t = 1)]
+    /// Renderer threads for every configuration, 0 (the cores available) to 256 (1 by default: per-core
+    /// speed, the steadiest figure).
+    #[arg(long, default_value_t = 1, value_parser = values::threads())]
     pub threads: usize,
     /// Frame width of the main sweep (1 to 8192).
     #[arg(long, default_value_t = 640, value_parser = values::side(values::MAX_BENCH_SIDE))]
@@ -56,6 +57,12 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
+    let mut inputs = crate::userfile::Inputs::new();
+    inputs.add(&trace, "the trace");
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    for name in OUTPUTS {
+        super::error::not_an_input("--out", &args.out.join(name), &inputs)?;
+    }
     let (frames, sequence, repeats, main, buckets, resolutions): (usize, usize, usize, _, Vec<usize>, Vec<_>) =
         if args.quick {
             (2, 4, 1, (160, 120), vec![8, DEFAULT_BUCKETS, 65536], vec![(160, 120), (320, 240)])
@@ -128,6 +135,10 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The files `bench` writes into `--out`.
+const OUTPUTS: [&str; 7] =
+    ["bench.csv", "bench.svg", "bench.png", "visibility.svg", "visibility.png", "stability.svg", "stability.png"];
+
 /// Writes the CSV and, for each panel, the chart as SVG and PNG into `--out`; `title` heads the charts.
 fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliError> {
     let write = |name: &str, bytes: &[u8]| {
@@ -144,7 +155,7 @@ fn write_outputs(args: &BenchArgs, rows: &[Row], title: &str) -> Result<(), CliE
         let chart_error = |source| CliError::Chart { name: name.to_string(), source };
         write(&format!("{name}.svg"), chart::svg(rows, &title, panel).map_err(chart_error)?.as_bytes())?;
         let px = chart::pixels(rows, &title, panel).map_err(chart_error)?;
-        write_png(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
+        write_image(&args.out.join(format!("{name}.png")), &px, chart::SIZE.0 as usize, chart::SIZE.1 as usize)?;
     }
     Ok(())
 }

@@ -41,14 +41,15 @@ pub enum CliError {
         what: &'static str,
     },
     /// An output folder cannot be created or written into.
-    #[error("{flag} {path}: cannot write into this folder: {source}")]
+    #[error("{flag} {path}: cannot write into this folder: {problem}")]
     FolderNotWritable {
         /// The flag that named it.
         flag: &'static str,
         /// The path.
         path: String,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// What stands in the way.
+        #[source]
+        problem: crate::userfile::WriteProblem,
     },
     /// The shipped assets folder was not found where the game looks for it.
     #[error("cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)")]
@@ -89,9 +90,9 @@ pub enum CliError {
     /// A trace could not be opened or replayed.
     #[error(transparent)]
     Trace(#[from] crate::input::replay::ReplayError),
-    /// A PNG could not be written.
+    /// An image could not be written.
     #[error(transparent)]
-    Png(#[from] crate::shell::png::PngError),
+    Image(#[from] crate::shell::image_file::ImageFileError),
     /// A soundtrack longer than a WAV file can hold.
     #[error("--audio: the race's sound would exceed the WAV format's 4 GiB (about {hours:.1} hours of racing)")]
     AudioTooLong {
@@ -114,6 +115,19 @@ pub(super) fn assets_dir() -> Result<std::path::PathBuf, CliError> {
     crate::shell::race_scene::find_assets().ok_or(CliError::NoAssets)
 }
 
+/// Refuses the output `out`, named by `flag`, when it leads to one of the command's `inputs` (checked
+/// before anything is drawn or written).
+pub(super) fn not_an_input(
+    flag: &'static str,
+    out: &std::path::Path,
+    inputs: &crate::userfile::Inputs,
+) -> Result<(), CliError> {
+    inputs.check_output(out).map_err(|source| CliError::Output { flag, source })
+}
+
+/// What a race's assets are to the command, in messages.
+pub(super) const ASSET_FILE: &str = "a file of the game's assets";
+
 /// Makes `dir` (named by `flag`, to hold `what`) a folder the command can write into, before any long work:
 /// creates it if missing and writes and removes a probe file, so a bad path fails at once in one line.
 pub(super) fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'static str) -> Result<(), CliError> {
@@ -121,9 +135,13 @@ pub(super) fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'s
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::NotAFolder { flag, path, what });
     }
-    let fail = |source: std::io::Error| CliError::FolderNotWritable { flag, path: path.clone(), source };
-    std::fs::create_dir_all(dir).map_err(fail)?;
+    let fail = |file: &std::path::Path, e: std::io::Error| CliError::FolderNotWritable {
+        flag,
+        path: path.clone(),
+        problem: crate::userfile::WriteProblem::of(e, file),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
     let probe = crate::userfile::temp_sibling(&dir.join("write-probe"));
-    std::fs::write(&probe, b"").map_err(fail)?;
-    std::fs::remove_file(&probe).map_err(fail)
+    std::fs::write(&probe, b"").map_err(|e| fail(&probe, e))?;
+    std::fs::remove_file(&probe).map_err(|e| fail(&probe, e))
 }

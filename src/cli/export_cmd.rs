@@ -19,8 +19,8 @@ pub struct ExportArgs {
     /// The tick whose frame is exported.
     #[arg(long)]
     pub tick: u64,
-    /// The GLB file to write.
-    #[arg(long)]
+    /// The GLB file to write (its name ends in .glb).
+    #[arg(long, value_parser = values::glb_path)]
     pub out: PathBuf,
     /// Frame width (sets the camera's aspect and the LOD choice), 1 to 16384.
     #[arg(long, default_value_t = 1280, value_parser = values::side(values::MAX_SIDE))]
@@ -35,6 +35,10 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     crate::userfile::check_output(&args.out).map_err(|source| CliError::Output { flag: "--out", source })?;
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
+    let mut inputs = crate::userfile::Inputs::new();
+    inputs.add(&args.trace, "the trace");
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    super::error::not_an_input("--out", &args.out, &inputs)?;
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     while replay.world.tick < args.tick {
         if !replay.advance()? {

@@ -1,6 +1,6 @@
 //! `scanline-racer play`: the window.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
@@ -16,6 +16,7 @@ use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{WindowConfig, run};
+use crate::userfile::Inputs;
 
 /// The scene shown when no `--scene` is given: the hand-made test courtyard (self-contained, data URIs only).
 const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
@@ -46,8 +47,8 @@ pub struct PlayArgs {
     /// Texture filter, mip levels and anti-aliasing.
     #[command(flatten)]
     pub picture: PictureArgs,
-    /// Renderer worker threads (default: the cores available).
-    #[arg(long, default_value_t = 0)]
+    /// Renderer worker threads, 0 to 256 (0, the default: the cores available).
+    #[arg(long, default_value_t = 0, value_parser = values::threads())]
     pub threads: usize,
     /// Fly a camera around this glTF scene instead of racing.
     #[arg(long)]
@@ -74,8 +75,8 @@ pub struct PlayArgs {
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
-    /// Write the last frame to this PNG when quitting.
-    #[arg(long)]
+    /// Write the last frame to this image when quitting, PNG or JPEG by its extension (.png, .jpg, .jpeg).
+    #[arg(long, value_parser = values::image_path)]
     pub screenshot: Option<PathBuf>,
 }
 
@@ -114,6 +115,27 @@ fn race_options(options: RenderOptions, settings: &Settings, picture: &PictureAr
     })
 }
 
+/// Refuses a screenshot or a recording that would be written over one of `inputs` or over each other,
+/// and a screenshot over the `ghost` trace. A recording may replace the ghost's trace: the race is
+/// written beside it and renamed over it only at the end, while the search reads the file it opened.
+fn outputs_not_inputs(args: &PlayArgs, inputs: &Inputs, ghost: Option<&Path>) -> Result<(), CliError> {
+    if let Some(record) = &args.record {
+        super::error::not_an_input("--record", record, inputs)?;
+    }
+    if let Some(shot) = &args.screenshot {
+        let mut inputs = inputs.clone();
+        if let Some(g) = ghost {
+            inputs.add(g, "the ghost's trace");
+        }
+        super::error::not_an_input("--screenshot", shot, &inputs)?;
+        if let Some(record) = &args.record {
+            crate::userfile::check_distinct(shot, record, "--record")
+                .map_err(|source| CliError::Output { flag: "--screenshot", source })?;
+        }
+    }
+    Ok(())
+}
+
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
@@ -124,6 +146,9 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         exit_after_frames: args.exit_after_frames,
         screenshot: args.screenshot.clone(),
     };
+    if let Some(shot) = &args.screenshot {
+        crate::userfile::check_output(shot).map_err(|source| CliError::Output { flag: "--screenshot", source })?;
+    }
     let aspect = args.width as f32 / args.height as f32;
     let scene: Option<LoadedScene> = match &args.scene {
         Some(path) => Some(load(path)?),
@@ -131,13 +156,24 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         None => None,
     };
     match scene {
-        Some(scene) => run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?,
+        Some(scene) => {
+            let mut inputs = Inputs::new();
+            inputs.add_all(&scene.files, "a file of the scene");
+            outputs_not_inputs(&args, &inputs, None)?;
+            run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?;
+        }
         None => {
             let dir = super::error::assets_dir()?;
             let scene = RaceScene::load(&dir)?;
+            let path = args.settings.clone().or_else(settings::default_path);
+            let mut inputs = Inputs::new();
+            inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+            if let Some(p) = &path {
+                inputs.add(p, "the settings file");
+            }
+            outputs_not_inputs(&args, &inputs, args.ghost.as_deref())?;
             // The trace is checked now; its laps are searched on a background thread while the race runs.
             let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
-            let path = args.settings.clone().or_else(settings::default_path);
             let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
                 Some((file, settings, note)) => (Some(file), settings, note),
                 None => (None, Settings::default(), None),

@@ -74,14 +74,16 @@ pub struct RenderArgs {
     /// -16 to 16.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = values::parse_lod_bias)]
     pub lod_bias: f32,
-    /// Worker threads for the fill (default: the cores available); frames are identical for every count.
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads for the fill, 0 to 256 (0, the default: the cores available); frames are identical
+    /// for every count.
+    #[arg(long, default_value_t = 0, value_parser = values::threads())]
     pub threads: usize,
     /// Background colour as R,G,B (0-255 each).
     #[arg(long, default_value = "135,206,235", value_parser = values::parse_rgb)]
     pub background: u32,
-    /// Output PNG (default: the scene's file name with .png, in the current directory).
-    #[arg(long)]
+    /// Output image, PNG or JPEG by its extension (.png, .jpg, .jpeg); default: the scene's file name with
+    /// .png, in the current directory.
+    #[arg(long, value_parser = values::image_path)]
     pub out: Option<PathBuf>,
     /// Draw the frame N times and report the median time (1 to 100000).
     #[arg(long, default_value_t = 1, value_parser = values::count(values::MAX_REPEAT))]
@@ -174,6 +176,11 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     let t_load = Instant::now();
     let mut scene = load(&args.scene)?;
     let ms_load = t_load.elapsed().as_secs_f64() * 1e3;
+    // The scene, its buffers and its images are read; none of them may be what the frame is written over.
+    let mut inputs = crate::userfile::Inputs::new();
+    inputs.add(&args.scene, "the glTF scene");
+    inputs.add_all(scene.files.iter().skip(1), "a file the glTF scene names");
+    super::error::not_an_input("--out", &out, &inputs)?;
     if options.method == Method::ViewLists {
         scene.prepare_view_lists(DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS);
     }
@@ -190,7 +197,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
     }
     let ms_min = times.iter().copied().fold(f64::INFINITY, f64::min);
     let ms_median = median(&mut times);
-    crate::shell::png::write_png(&out, &frame, args.width, args.height)?;
+    crate::shell::image_file::write_image(&out, &frame, args.width, args.height)?;
     if scene.skipped_primitives > 0 {
         eprintln!("note: {} point/line primitive(s) skipped (only triangles are drawn)", scene.skipped_primitives);
     }

@@ -11,7 +11,7 @@ use super::values;
 use crate::audio::{CHANNELS, Mixer, wav};
 use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
-use crate::shell::png::write_png;
+use crate::shell::image_file::write_image;
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene, View};
 use crate::shell::settings::{self, Settings, SettingsFile};
@@ -30,7 +30,7 @@ pub struct ReplayArgs {
     pub frames: Option<PathBuf>,
     /// Headless: write the race's soundtrack to this WAV file (48 kHz stereo, 16-bit PCM), the same bits on
     /// every run.
-    #[arg(long, requires = "headless")]
+    #[arg(long, requires = "headless", value_parser = values::wav_path)]
     pub audio: Option<PathBuf>,
     /// Write every Nth tick's frame (1 to 10^9).
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
@@ -44,8 +44,9 @@ pub struct ReplayArgs {
     /// Visibility method.
     #[arg(long, default_value = "zbuffer")]
     pub method: Method,
-    /// Renderer worker threads (default: the cores available); frames are identical for every count.
-    #[arg(long, default_value_t = 0)]
+    /// Renderer worker threads, 0 to 256 (0, the default: the cores available); frames are identical for
+    /// every count.
+    #[arg(long, default_value_t = 0, value_parser = values::threads())]
     pub threads: usize,
     /// Level of detail: auto, or close, mid or long for every car and tree.
     #[arg(long, default_value = "auto")]
@@ -97,6 +98,15 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     }
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
+    let mut inputs = crate::userfile::Inputs::new();
+    inputs.add(&args.trace, "the trace");
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    if let Some(a) = &args.audio {
+        super::error::not_an_input("--audio", a, &inputs)?;
+    }
+    if let Some(d) = &args.frames {
+        frames_not_inputs(d, &inputs)?;
+    }
     let mut sound = args.audio.as_ref().map(|_| Soundtrack::new());
     let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
     let options = args.options();
@@ -116,7 +126,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
             && world.tick.is_multiple_of(args.every.max(1))
         {
             scene.render(&mut renderer, world, View::ChaseNear, &options, (&mut frame, args.width, args.height))?;
-            write_png(&d.join(format!("frame_{:06}.png", world.tick)), &frame, args.width, args.height)?;
+            write_image(&d.join(format!("frame_{:06}.png", world.tick)), &frame, args.width, args.height)?;
             frames += 1;
         }
     }
@@ -125,6 +135,25 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
         _ => 0,
     };
     Ok(ReplaySummary { ticks: replay.world.tick, verified: replay.source.verified, frames, audio_frames })
+}
+
+/// Whether `name` is one a headless replay writes its frames under (`frame_TICK.png`, six digits or more).
+fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|rest| rest.strip_suffix(".png"))
+        .is_some_and(|tick| tick.len() >= 6 && tick.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Refuses a frames folder in which a frame the replay may write is one of its `inputs` (the trace
+/// renamed `frame_000060.png`, or a link to it under that name).
+fn frames_not_inputs(dir: &std::path::Path, inputs: &crate::userfile::Inputs) -> Result<(), CliError> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+    for entry in entries.flatten() {
+        if is_frame_name(&entry.file_name().to_string_lossy()) {
+            super::error::not_an_input("--frames", &entry.path(), inputs)?;
+        }
+    }
+    Ok(())
 }
 
 /// A race's soundtrack as it is rendered: the mixer, and the WAV file's bytes so far (2 bytes a sample, so

@@ -4,6 +4,8 @@
 //! Why here: the ranges were checked inside each command and reported with exit status 1, contrary to the
 //! documented contract (bad usage exits 2), and each command had its own copy.
 
+use std::path::PathBuf;
+
 use clap::builder::{RangedI64ValueParser, RangedU64ValueParser};
 use thiserror::Error;
 
@@ -19,6 +21,8 @@ pub const MAX_BUCKETS: u64 = 1 << 20;
 pub const MAX_REPEAT: u64 = 100_000;
 /// Largest LOD bias either way.
 pub const MAX_LOD_BIAS: f32 = 16.0;
+/// Most renderer worker threads `--threads` may ask for (the renderer's own ceiling).
+pub const MAX_THREADS: u64 = crate::render::MAX_THREADS as u64;
 
 /// A frame or window side in pixels (1 to `max`).
 #[must_use]
@@ -38,6 +42,12 @@ pub fn count(max: u64) -> RangedU64ValueParser<usize> {
     RangedU64ValueParser::new().range(1..=max)
 }
 
+/// A worker thread count: 0 (the cores available) to [`MAX_THREADS`].
+#[must_use]
+pub fn threads() -> RangedU64ValueParser<usize> {
+    RangedU64ValueParser::new().range(0..=MAX_THREADS)
+}
+
 /// The window's pixel scale, in the one range the `-`/`=` keys, Settings and the settings file share.
 #[must_use]
 pub fn scale() -> RangedI64ValueParser<u32> {
@@ -54,6 +64,44 @@ pub enum ValueError {
     /// `--lod-bias` is not a finite number within the bound.
     #[error("expected a number from -16 to 16")]
     LodBias,
+    /// An output file's extension names no format the flag writes.
+    #[error("{} (accepted: {accepted})", match found {
+        Some(e) => format!("unknown extension '.{e}'"),
+        None => "no extension to choose the format by".to_string(),
+    })]
+    Extension {
+        /// The extension given, if any.
+        found: Option<String>,
+        /// The extensions accepted, as the message lists them.
+        accepted: &'static str,
+    },
+}
+
+/// `s` as a path whose extension (any letter case) is one of `allowed`.
+fn with_extension(s: &str, allowed: &[&str], accepted: &'static str) -> Result<PathBuf, ValueError> {
+    let path = PathBuf::from(s);
+    let found = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match &found {
+        Some(e) if allowed.contains(&e.as_str()) => Ok(path),
+        _ => Err(ValueError::Extension { found, accepted }),
+    }
+}
+
+/// An image output (`render --out`, `play --screenshot`): PNG or JPEG, by its extension.
+pub fn image_path(s: &str) -> Result<PathBuf, ValueError> {
+    let path = with_extension(s, &["png", "jpg", "jpeg"], crate::shell::image_file::ACCEPTED)?;
+    debug_assert!(crate::shell::image_file::ImageFormat::of(&path).is_ok(), "the writer takes what is accepted");
+    Ok(path)
+}
+
+/// A GLB output (`export-frame --out`).
+pub fn glb_path(s: &str) -> Result<PathBuf, ValueError> {
+    with_extension(s, &["glb"], ".glb")
+}
+
+/// A WAV output (`replay --audio`).
+pub fn wav_path(s: &str) -> Result<PathBuf, ValueError> {
+    with_extension(s, &["wav"], ".wav")
 }
 
 /// Parses `R,G,B` (each 0-255) into `0x00RRGGBB`.
@@ -90,5 +138,21 @@ mod tests {
         for bad in ["16.5", "NaN", "inf", "x"] {
             assert_eq!(parse_lod_bias(bad), Err(ValueError::LodBias), "{bad}");
         }
+    }
+
+    #[test]
+    fn outputs_are_named_by_an_extension_their_writer_knows() {
+        assert_eq!(image_path("a/b.PNG"), Ok(PathBuf::from("a/b.PNG")));
+        assert_eq!(image_path("shot.jpeg"), Ok(PathBuf::from("shot.jpeg")));
+        assert_eq!(
+            image_path("x.gif").unwrap_err().to_string(),
+            "unknown extension '.gif' (accepted: .png, .jpg or .jpeg)"
+        );
+        assert_eq!(
+            image_path("frame").unwrap_err().to_string(),
+            "no extension to choose the format by (accepted: .png, .jpg or .jpeg)"
+        );
+        assert!(glb_path("f.glb").is_ok() && glb_path("f.gltf").is_err());
+        assert!(wav_path("r.WAV").is_ok() && wav_path("r.mp3").is_err());
     }
 }

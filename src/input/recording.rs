@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::trace::{Header, TraceError, TraceWriter};
-use crate::userfile::{UserFileError, temp_sibling, write_target};
+use crate::userfile::{UserFileError, WriteProblem, temp_sibling, write_target};
 
 /// Why a race could not be recorded or kept.
 #[derive(Debug, Error)]
@@ -23,14 +23,13 @@ pub enum RecordError {
     #[error("cannot record to {0}")]
     Target(#[from] UserFileError),
     /// The temporary file beside the target could not be created.
-    #[error("cannot record to {target}: cannot create {tmp}: {source}")]
+    #[error("cannot record to {}: {problem}", target.display())]
     Create {
         /// The file the race was to be recorded to.
         target: PathBuf,
-        /// The temporary file.
-        tmp: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// What stands in the way of a new file beside it.
+        #[source]
+        problem: WriteProblem,
     },
     /// Writing the trace failed.
     #[error("recording stopped: {0}")]
@@ -117,7 +116,7 @@ impl Recording {
             .write(true)
             .create_new(true)
             .open(&tmp)
-            .map_err(|source| RecordError::Create { target: target.to_path_buf(), tmp: tmp.clone(), source })?;
+            .map_err(|e| RecordError::Create { target: target.to_path_buf(), problem: WriteProblem::of(e, &tmp) })?;
         match TraceWriter::new(file, &tmp.display().to_string(), header) {
             Ok(w) => Ok(Self { target: target.to_path_buf(), dest, tmp, writer: Some(w) }),
             Err(e) => {

@@ -30,8 +30,8 @@ pub use self::core::draw_list::{DrawList, Instance, LodSet, MeshLists, ViewLists
 pub use self::core::error::RenderError;
 pub use self::core::mesh::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Vertex};
 pub use self::core::options::{
-    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Level, LodMode, Method, MipMode, RenderOptions, SKY_BLUE,
-    TextureMode, UnknownName,
+    Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Level, LodMode, MAX_THREADS, Method, MipMode, RenderOptions,
+    SKY_BLUE, TextureMode, UnknownName,
 };
 pub use self::core::stats::Stats;
 pub use self::core::texture::{Filter, Sampler, Texture, Wrap};

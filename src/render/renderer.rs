@@ -76,7 +76,8 @@ impl Renderer {
         let threads = match options.threads {
             0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
             n => n,
-        };
+        }
+        .min(super::MAX_THREADS);
         let layout = FrameLayout::new(width, height, threads);
         let pool = self.take_pool(layout.threads)?;
         let frame = &mut frame[..needed];

@@ -2,8 +2,8 @@
 //! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
 
 pub mod debug_overlay;
+pub mod image_file;
 pub mod keys;
-pub mod png;
 pub mod race;
 pub mod race_scene;
 pub mod settings;

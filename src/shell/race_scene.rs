@@ -126,6 +126,7 @@ impl RaceScene {
         let track = Track::from_json(&text)
             .map_err(|source| RaceSceneError::CentreLine { file: line.display().to_string(), source })?;
         scene.instances.truncate(statics);
+        scene.files.push(line);
         Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
     }
 

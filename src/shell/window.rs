@@ -49,7 +49,7 @@ pub enum ShellError {
     Render(#[from] crate::render::RenderError),
     /// A screenshot could not be written.
     #[error(transparent)]
-    Png(#[from] super::png::PngError),
+    Image(#[from] super::image_file::ImageFileError),
 }
 
 /// What the window was doing with its presentation surface when it failed.
@@ -216,7 +216,7 @@ impl App<'_> {
         if self.quit || self.config.exit_after_frames.is_some_and(|n| self.frames >= n) {
             if let Some(path) = self.config.screenshot.clone() {
                 let (fw, fh) = self.frame_size;
-                if let Err(e) = super::png::write_png(&path, &self.frame, fw, fh) {
+                if let Err(e) = super::image_file::write_image(&path, &self.frame, fw, fh) {
                     return self.fail(event_loop, e.into());
                 }
             }

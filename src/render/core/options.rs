@@ -166,6 +166,10 @@ impl FromStr for DepthKey {
 /// Default number of ordering-table buckets; see the README for why.
 pub const DEFAULT_BUCKETS: usize = 1024;
 
+/// Most worker threads a frame is drawn with: more only cut the frame into bands too thin to pay for
+/// their start, and thousands took a minute to start before failing.
+pub const MAX_THREADS: usize = 256;
+
 /// Settings for one frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
@@ -183,7 +187,8 @@ pub struct RenderOptions {
     pub filter: Filter,
     /// Where mip levels are chosen (off: level 0 only).
     pub mip: MipMode,
-    /// Worker threads for the fill (0 = the cores available). Frames are identical for every count.
+    /// Worker threads for the fill (0 = the cores available), at most [`MAX_THREADS`] (more are taken as
+    /// that many). Frames are identical for every count.
     pub threads: usize,
     /// Colour the frame is cleared to first, `0x00RRGGBB`; `None` draws over what is there.
     pub background: Option<u32>,

@@ -11,7 +11,7 @@ use serde_json::{Map, Value};
 use thiserror::Error;
 
 use super::file::SettingsFile;
-use super::values::Settings;
+use super::values::{CURVE_RANGE, DEADZONE_RANGE, Settings, VOLUME_RANGE, shown_range};
 use crate::input::bindings::Bindings;
 use crate::render::UnknownName;
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
@@ -87,6 +87,41 @@ fn field<T: DeserializeOwned + std::fmt::Display>(
     }
 }
 
+/// Sets the number `slot` from the field `name` of `doc` like [`field`], when it is within `range`; a
+/// number out of it, or too large for an `f32` (`1e308` is a JSON number, but infinity as an `f32`), keeps
+/// the default, and the note names the number as the file writes it, not as the `f32` it became.
+fn number(
+    doc: &Map<String, Value>,
+    name: &str,
+    slot: &mut f32,
+    range: std::ops::RangeInclusive<f32>,
+    notes: &mut Vec<String>,
+) {
+    if let Some(Value::Number(n)) = doc.get(name)
+        && let Some(x) = n.as_f64()
+    {
+        if x.is_finite() && !(x as f32).is_finite() {
+            notes.push(format!("{name} {} is too large: {slot} used", written(n)));
+        } else if !range.contains(&(x as f32)) {
+            notes.push(format!("{name} {} out of {}: {slot} used", written(n), shown_range(&range)));
+        } else {
+            *slot = x as f32;
+        }
+        return;
+    }
+    field(doc, name, slot, "a number", notes);
+}
+
+/// A JSON number as a person writes it: whole numbers in full, very large or very small ones with an
+/// exponent (`1e308`, not serde_json's `1e+308` nor a 309-digit expansion), others in decimal (`0.35`).
+fn written(n: &serde_json::Number) -> String {
+    if n.is_i64() || n.is_u64() {
+        return n.to_string();
+    }
+    let x = n.as_f64().unwrap_or(f64::NAN);
+    if x != 0.0 && !(1e-4..1e16).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
+}
+
 /// Sets `slot` from the field `name` of `doc` when it is there and is one of the choice's command-line
 /// names (`"4x"`); else leaves the default in `slot` and says so in `notes`, naming the choices.
 fn named<T: FromStr<Err = UnknownName> + std::fmt::Display>(
@@ -126,9 +161,10 @@ fn keys_of(v: &Value, notes: &mut Vec<String>) -> Bindings {
 }
 
 impl Settings {
-    /// The settings in a settings file's object, field by field: a field that is not of its type gets its
-    /// default and a note naming it, and the others are used (keys this build does not know are ignored).
-    /// Ranges are checked after, by [`Settings::sanitized`].
+    /// The settings in a settings file's object, field by field: a field that is not of its type, or a
+    /// number out of its range, gets its default and a note naming it as written, and the others are used;
+    /// a key this build does not know gets a note naming the nearest known key (it stays in the file).
+    /// The scale and the keys are checked after, by [`Settings::sanitized`].
     #[must_use]
     pub fn from_object(doc: &Map<String, Value>) -> (Self, Vec<String>) {
         let mut s = Settings::default();
@@ -136,19 +172,105 @@ impl Settings {
         if let Some(v) = doc.get("keys") {
             s.keys = keys_of(v, &mut notes);
         }
-        field(doc, "deadzone", &mut s.deadzone, "a number", &mut notes);
-        field(doc, "curve", &mut s.curve, "a number", &mut notes);
+        number(doc, "deadzone", &mut s.deadzone, DEADZONE_RANGE, &mut notes);
+        number(doc, "curve", &mut s.curve, CURVE_RANGE, &mut notes);
         let whole = format!("a whole number from {MIN_SCALE} to {MAX_SCALE}");
         field(doc, "scale", &mut s.scale, &whole, &mut notes);
         field(doc, "ghost", &mut s.ghost, "true or false", &mut notes);
-        field(doc, "volume", &mut s.volume, "a number", &mut notes);
-        field(doc, "effects_volume", &mut s.effects_volume, "a number", &mut notes);
+        number(doc, "volume", &mut s.volume, VOLUME_RANGE, &mut notes);
+        number(doc, "effects_volume", &mut s.effects_volume, VOLUME_RANGE, &mut notes);
         field(doc, "muted", &mut s.muted, "true or false", &mut notes);
         named(doc, "antialias", &mut s.antialias, &mut notes);
         named(doc, "filter", &mut s.filter, &mut notes);
         named(doc, "mip", &mut s.mip, &mut notes);
+        notes.extend(unknown_keys(doc));
         (s, notes)
     }
+}
+
+/// The names the settings file's top level may have: the fields of [`Settings`], as it writes them.
+fn known_keys() -> Vec<String> {
+    match serde_json::to_value(Settings::default()) {
+        Ok(Value::Object(map)) => map.keys().cloned().collect(),
+        _ => vec![],
+    }
+}
+
+/// A note for each top-level key this build does not know (a typo such as `deadzon` would otherwise go
+/// unnoticed), naming the nearest known key when one is close; such keys stay in the file.
+fn unknown_keys(doc: &Map<String, Value>) -> Vec<String> {
+    let known = known_keys();
+    doc.keys()
+        .filter(|k| !known.contains(k))
+        .map(|k| {
+            let name = shown(&Value::String(k.clone()));
+            match nearest(k, &known) {
+                Some(near) => format!("unknown key {name} (did you mean \"{near}\"?) is not used"),
+                None => format!("unknown key {name} is not used"),
+            }
+        })
+        .collect()
+}
+
+/// The known name closest to `word` by edit distance, when it is close enough to be a typo of it (at most
+/// a third of the longer name's letters differ, and at most 3).
+fn nearest<'k>(word: &str, known: &'k [String]) -> Option<&'k str> {
+    if word.len() > 64 {
+        return None;
+    }
+    known
+        .iter()
+        .map(|k| (edit_distance(word, k), k))
+        .filter(|(d, k)| *d <= 3 && *d * 3 <= word.chars().count().max(k.chars().count()))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, k)| k.as_str())
+}
+
+/// Edit distance between two short strings, by characters: insertions, deletions, substitutions and
+/// swaps of two neighbours (`scael` is one edit from `scale`), each counting one.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut best = (d[i - 1][j] + 1).min(d[i][j - 1] + 1).min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                best = best.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = best;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// Most notes the warning line names one by one; the rest are counted.
+const MAX_NOTES: usize = 6;
+/// Most characters of one note (a key name may be as long as the file).
+const MAX_NOTE_CHARS: usize = 200;
+
+/// The notes as one line of bounded length: the first [`MAX_NOTES`], each cut at [`MAX_NOTE_CHARS`], and
+/// how many more there are. A file of thousands of bad key names made a warning of half a megabyte, which
+/// the menu then laid out (300 MB at peak); the line now stays the same size whatever the file holds.
+fn summarised(notes: &[String]) -> String {
+    let mut parts: Vec<String> = notes
+        .iter()
+        .take(MAX_NOTES)
+        .map(|n| match n.char_indices().nth(MAX_NOTE_CHARS) {
+            Some((end, _)) => format!("{}...", &n[..end]),
+            None => n.clone(),
+        })
+        .collect();
+    if notes.len() > MAX_NOTES {
+        parts.push(format!("and {} more", notes.len() - MAX_NOTES));
+    }
+    parts.join("; ")
 }
 
 impl SettingsFile {
@@ -172,7 +294,7 @@ impl SettingsFile {
         let (settings, mut notes) = Settings::from_object(&doc);
         let (settings, range_notes) = settings.sanitized();
         notes.extend(range_notes);
-        let note = (!notes.is_empty()).then(|| format!("settings {}: {}", path.display(), notes.join("; ")));
+        let note = (!notes.is_empty()).then(|| format!("settings {}: {}", path.display(), summarised(&notes)));
         file.saved = settings.clone();
         file.writable = true;
         (file, settings, note)
@@ -192,7 +314,10 @@ mod tests {
             std::fs::write(&p, format!("{{\"theme\": \"dark\", \"scale\": {scale}, \"deadzone\": 0.2}}")).unwrap();
             let (mut file, s, note) = SettingsFile::load(&p);
             assert_eq!((s.scale, s.deadzone, file.writable()), (1, 0.2, true), "{scale}");
-            let want = format!("settings {}: scale {written} is not a whole number from 1 to 8: 1 used", p.display());
+            let want = format!(
+                "settings {}: scale {written} is not a whole number from 1 to 8: 1 used; unknown key \"theme\" is not used",
+                p.display()
+            );
             assert_eq!(note.as_deref(), Some(want.as_str()));
             // Saved like any file: the unknown key stays, and so does the scale no change touched.
             assert!(file.save(&Settings { ghost: false, ..s }).unwrap());
@@ -218,5 +343,47 @@ mod tests {
             assert!(note.contains(part), "{part} in {note}");
         }
         assert!(!note.contains('\n'), "{note}");
+    }
+
+    #[test]
+    fn numbers_are_named_as_written_and_unknown_keys_by_their_nearest_name() {
+        let p = tmp("typos.json");
+        let text = r#"{"deadzon": 0.2, "keyz": {}, "deadzone": 1e308, "curve": 1e30, "volume": -2, "effects_volume": 0.5, "colour": 1}"#;
+        std::fs::write(&p, text).unwrap();
+        let (mut file, s, note) = SettingsFile::load(&p);
+        assert_eq!((s.deadzone, s.curve, s.volume, s.effects_volume), (DEFAULT_DEADZONE, 1.6, 1.0, 0.5));
+        let want = format!(
+            "settings {}: deadzone 1e308 is too large: {DEFAULT_DEADZONE} used; curve 1e30 out of 1-3: 1.6 used; \
+             volume -2 out of 0-1: 1 used; unknown key \"colour\" is not used; \
+             unknown key \"deadzon\" (did you mean \"deadzone\"?) is not used; \
+             unknown key \"keyz\" (did you mean \"keys\"?) is not used",
+            p.display()
+        );
+        assert_eq!(note.as_deref(), Some(want.as_str()));
+        // The unknown keys stay in the file when a change is saved.
+        assert!(file.save(&Settings { ghost: false, ..s }).unwrap());
+        let back: Map<String, Value> = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        for k in ["deadzon", "keyz", "colour", "ghost"] {
+            assert!(back.contains_key(k), "{k} kept: {back:?}");
+        }
+        assert_eq!(nearest("scael", &known_keys()), Some("scale"));
+        assert_eq!(nearest("zzz", &known_keys()), None);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+    }
+
+    #[test]
+    fn a_file_of_thousands_of_bad_keys_makes_one_short_line() {
+        let p = tmp("many-keys.json");
+        let names: Vec<String> = (0..5000).map(|i| format!("KeyQ{i}")).collect();
+        let long = "K".repeat(10_000);
+        let doc = serde_json::json!({"keys": {"throttle": names, "brake": [long]}});
+        std::fs::write(&p, doc.to_string()).unwrap();
+        let (_, s, note) = SettingsFile::load(&p);
+        assert_eq!(s.keys.keys(Action::Throttle), Bindings::default().keys(Action::Throttle));
+        let note = note.unwrap();
+        assert!(note.len() < 2_000, "{} bytes", note.len());
+        let more: usize = note.rsplit_once("; and ").and_then(|(_, n)| n.strip_suffix(" more")?.parse().ok()).unwrap();
+        assert!(more > 4990, "{note}");
+        assert!(note.contains("key \"KeyQ0\" for throttle is not a key name"), "{note}");
     }
 }

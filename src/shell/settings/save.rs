@@ -94,7 +94,8 @@ mod tests {
         let text = "{\n  \"theme\": \"dark\",\n  \"scale\": 2,\n  \"deadzone\": 0.2\n}\n";
         std::fs::write(&p, text).unwrap();
         let (mut file, s, note) = SettingsFile::load(&p);
-        assert_eq!((s.scale, s.deadzone, note), (2, 0.2, None));
+        let unknown = format!("settings {}: unknown key \"theme\" is not used", p.display());
+        assert_eq!((s.scale, s.deadzone, note), (2, 0.2, Some(unknown)));
         assert!(file.save(&Settings { ghost: false, ..s.clone() }).unwrap());
         // Keys come out in name order; the values not changed are the file's own.
         let want = "{\n  \"deadzone\": 0.2,\n  \"ghost\": false,\n  \"scale\": 2,\n  \"theme\": \"dark\"\n}\n";

@@ -15,6 +15,16 @@ use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 pub const DEFAULT_VOLUME: f32 = 1.0;
 /// The range both volumes must be in (0 silent, 1 the mixer's full level).
 pub const VOLUME_RANGE: std::ops::RangeInclusive<f32> = 0.0..=1.0;
+/// The range the gamepad deadzone must be in.
+pub const DEADZONE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=0.3;
+/// The range the steering response exponent must be in (1 linear).
+pub const CURVE_RANGE: std::ops::RangeInclusive<f32> = 1.0..=3.0;
+
+/// A range as the warnings write it (`0-0.3`).
+#[must_use]
+pub fn shown_range(r: &std::ops::RangeInclusive<f32>) -> String {
+    format!("{}-{}", r.start(), r.end())
+}
 
 /// Everything the settings file holds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -96,21 +106,16 @@ impl Settings {
     pub fn sanitized(mut self) -> (Self, Vec<String>) {
         let d = Settings::default();
         let mut notes = vec![];
-        if !self.deadzone.is_finite() || !(0.0..=0.3).contains(&self.deadzone) {
-            notes.push(format!("deadzone {} out of 0-0.3: {} used", self.deadzone, d.deadzone));
-            self.deadzone = d.deadzone;
-        }
-        if !self.curve.is_finite() || !(1.0..=3.0).contains(&self.curve) {
-            notes.push(format!("curve {} out of 1-3: {} used", self.curve, d.curve));
-            self.curve = d.curve;
-        }
-        if !self.volume.is_finite() || !VOLUME_RANGE.contains(&self.volume) {
-            notes.push(format!("volume {} out of 0-1: {} used", self.volume, d.volume));
-            self.volume = d.volume;
-        }
-        if !self.effects_volume.is_finite() || !VOLUME_RANGE.contains(&self.effects_volume) {
-            notes.push(format!("effects_volume {} out of 0-1: {} used", self.effects_volume, d.effects_volume));
-            self.effects_volume = d.effects_volume;
+        for (name, value, default, range) in [
+            ("deadzone", &mut self.deadzone, d.deadzone, DEADZONE_RANGE),
+            ("curve", &mut self.curve, d.curve, CURVE_RANGE),
+            ("volume", &mut self.volume, d.volume, VOLUME_RANGE),
+            ("effects_volume", &mut self.effects_volume, d.effects_volume, VOLUME_RANGE),
+        ] {
+            if !value.is_finite() || !range.contains(value) {
+                notes.push(format!("{name} {value} out of {}: {default} used", shown_range(&range)));
+                *value = default;
+            }
         }
         if !(MIN_SCALE..=MAX_SCALE).contains(&self.scale) {
             notes.push(format!("scale {} out of {MIN_SCALE}-{MAX_SCALE}: {MIN_SCALE} used", self.scale));

@@ -7,6 +7,16 @@
 //! read no more than the caller's budget. Writes that replace a file go through [`replace_atomically`], which
 //! writes a sibling temporary file and renames it over the target (following a symbolic link to the file it
 //! names), so a crash or a full disk never leaves a half-written file where the user's was.
+//!
+//! A write that fails says what stands in its way ([`WriteProblem`]: the missing folder, the permission,
+//! the read-only or full device), and [`Inputs`] holds the files a command reads so that no output path,
+//! however spelt or linked, writes over one of them.
+
+mod identity;
+mod write_problem;
+
+pub use identity::{FileId, Inputs, check_distinct};
+pub use write_problem::WriteProblem;
 
 use std::fs::File;
 use std::io::{Read, Write};
@@ -31,9 +41,21 @@ pub enum FileProblem {
     /// The path does not exist or cannot be examined, opened, read or written.
     #[error("{}", io_reason(.0))]
     Io(#[source] std::io::Error),
-    /// The folder an output file would go in does not exist.
-    #[error("no such folder")]
-    NoFolder,
+    /// The file cannot be written: what stands in the way (the folder, the permission, the device).
+    #[error(transparent)]
+    Write(WriteProblem),
+    /// An output path names a file the command reads (by another name, a link or a hard link too).
+    #[error("it is {what}, which this command reads (name another file for the output)")]
+    IsInput {
+        /// Which input it is ("the glTF scene", "the trace", ...).
+        what: &'static str,
+    },
+    /// Two outputs of one command name the same file.
+    #[error("{other} names the same file")]
+    SameOutput {
+        /// The other output's flag (`--record`).
+        other: &'static str,
+    },
     /// The file is not UTF-8 text.
     #[error("not UTF-8 text ({0})")]
     NotUtf8(#[source] std::string::FromUtf8Error),
@@ -75,6 +97,17 @@ impl UserFileError {
 
 fn io(path: &Path, e: std::io::Error) -> UserFileError {
     UserFileError::new(path, FileProblem::Io(e))
+}
+
+/// A failed write of `path`, saying what stands in its way.
+fn write_failed(path: &Path, e: std::io::Error) -> UserFileError {
+    UserFileError::new(path, FileProblem::Write(WriteProblem::of(e, path)))
+}
+
+/// The folder a file named by `path` goes in (`.` for a bare name).
+#[must_use]
+pub fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."))
 }
 
 fn not_regular(path: &Path, ft: std::fs::FileType) -> UserFileError {
@@ -207,23 +240,24 @@ pub fn temp_sibling(target: &Path) -> PathBuf {
 }
 
 /// Checks, before any long work, that `path` can take an output file: it does not exist or is a regular
-/// file (not a folder, FIFO or device, which would fail or block only at the end), and its folder exists.
+/// file (not a folder, FIFO or device, which would fail or block only at the end), and its folder exists
+/// and takes a new file (a probe file is made there and removed), so a missing folder, a missing
+/// permission or a read-only device is said at once.
 pub fn check_output(path: &Path) -> Result<(), UserFileError> {
     let target = write_target(path);
     match std::fs::metadata(&target) {
-        Ok(meta) if !meta.is_file() => {
-            return Err(not_regular(&target, meta.file_type()));
-        }
-        Ok(_) => return Ok(()),
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(&target, e)),
-        Err(_) => {}
+        Ok(meta) if !meta.is_file() => return Err(not_regular(&target, meta.file_type())),
+        Ok(_) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(write_failed(&target, e)),
     }
-    let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    match std::fs::metadata(dir) {
-        Ok(meta) if meta.is_dir() => Ok(()),
-        Ok(meta) => Err(not_regular(dir, meta.file_type())),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(UserFileError::new(dir, FileProblem::NoFolder)),
-        Err(e) => Err(io(dir, e)),
+    let probe = temp_sibling(&target);
+    match std::fs::OpenOptions::new().write(true).create_new(true).open(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(write_failed(&target, e)),
     }
 }
 
@@ -251,7 +285,7 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
     })();
     result.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        io(&target, e)
+        write_failed(&target, e)
     })
 }
 
