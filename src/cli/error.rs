@@ -99,6 +99,14 @@ pub enum CliError {
         /// The most a WAV file holds, in hours of sound.
         hours: f64,
     },
+    /// A stop signal ended the window as Quit would have; what was recorded is said with it.
+    #[error("stopped by {signal}{}", kept.as_ref().map(|k| format!("; {k}")).unwrap_or_default())]
+    Stopped {
+        /// The signal.
+        signal: crate::shell::stop::StopSignal,
+        /// What became of the recording, when there was one.
+        kept: Option<crate::input::recording::Kept>,
+    },
     /// An output file named on the command line cannot be written there (checked before the work).
     #[error("cannot write {flag} {source}")]
     Output {
@@ -107,6 +115,18 @@ pub enum CliError {
         /// What is wrong with the path.
         source: crate::userfile::UserFileError,
     },
+}
+
+impl CliError {
+    /// The process's exit status for this error: 128 + the signal's number for a stop signal (the shell's
+    /// convention), else 1.
+    #[must_use]
+    pub fn exit_status(&self) -> u8 {
+        match self {
+            CliError::Stopped { signal, .. } => signal.exit_status(),
+            _ => 1,
+        }
+    }
 }
 
 /// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that

@@ -61,9 +61,21 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // A stop is no error: the user asked for it.
+        Err(e @ CliError::Stopped { .. }) => {
+            say(&format!("scanline-racer: {e}"));
+            ExitCode::from(e.exit_status())
+        }
         Err(e) => {
-            eprintln!("scanline-racer: error: {e}");
-            ExitCode::from(1)
+            say(&format!("scanline-racer: error: {e}"));
+            ExitCode::from(e.exit_status())
         }
     }
+}
+
+/// Prints one line on stderr; a stderr that is gone (the terminal closed: SIGHUP) is no reason to panic
+/// before the exit status is given, as `eprintln!` would.
+pub(crate) fn say(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
 }

@@ -15,7 +15,7 @@ use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::viewer::Viewer;
-use crate::shell::window::{WindowConfig, run};
+use crate::shell::window::{Ended, WindowConfig, run};
 use crate::userfile::Inputs;
 
 /// The scene shown when no `--scene` is given: the hand-made test courtyard (self-contained, data URIs only).
@@ -136,6 +136,14 @@ fn outputs_not_inputs(args: &PlayArgs, inputs: &Inputs, ghost: Option<&Path>) ->
     Ok(())
 }
 
+/// A window run that a stop signal ended is the [`CliError::Stopped`] that gives its exit status.
+pub(super) fn stopped(ended: Ended) -> Result<(), CliError> {
+    match ended {
+        Ended::Closed => Ok(()),
+        Ended::Signal(signal) => Err(CliError::Stopped { signal, kept: None }),
+    }
+}
+
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
@@ -160,7 +168,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             let mut inputs = Inputs::new();
             inputs.add_all(&scene.files, "a file of the scene");
             outputs_not_inputs(&args, &inputs, None)?;
-            run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?;
+            stopped(run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?)?;
         }
         None => {
             let dir = super::error::assets_dir()?;
@@ -189,23 +197,27 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                 race = race.with_ghost_search(search);
             }
             if let Some(path) = &args.record {
+                if let Some(left) = crate::input::recording::left_behind(path) {
+                    super::say(&format!("note: {left}"));
+                }
                 race = race.record_to(path)?;
             }
             let ran = run(window, &mut race);
-            // However the window closed, what was raced replaces the target (or stays in its temporary
-            // file, named in the one-line error, when the rename fails).
+            // However the window closed (a stop signal too), what was raced replaces the target (or stays
+            // in its temporary file, named in the one-line error, when the rename fails).
             match (race.finish_recording(), ran) {
+                (Ok(kept), Ok(Ended::Signal(signal))) => return Err(CliError::Stopped { signal, kept }),
                 (Ok(kept), ran) => {
                     // A race kept is always said; nothing recorded only when the window ran (not before
                     // the one-line error that it could not open).
                     if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
-                        eprintln!("{kept}");
+                        super::say(&kept.to_string());
                     }
                     ran?;
                 }
-                (Err(e), Ok(())) => return Err(e.into()),
+                (Err(e), Ok(_)) => return Err(e.into()),
                 (Err(e), Err(ran)) => {
-                    eprintln!("scanline-racer: error: {e}");
+                    super::say(&format!("scanline-racer: error: {e}"));
                     return Err(ran.into());
                 }
             }

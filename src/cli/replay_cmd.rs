@@ -244,6 +244,5 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         exit_after_frames: None,
         screenshot: None,
     };
-    run(window, &mut race)?;
-    Ok(())
+    super::play_cmd::stopped(run(window, &mut race)?)
 }

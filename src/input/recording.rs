@@ -7,7 +7,9 @@
 //! one tick replaces it (a race quit half-way is kept: its trace replays up to where it stopped, as a
 //! crash-cut trace does); with nothing raced the temporary file is removed and the target stays as it was.
 //! A process killed mid-race leaves the race in the temporary file (`.NAME.PID.N.tmp` beside `NAME`), and a
-//! rename that fails leaves it there too and says so; a recorded race is never deleted.
+//! rename that fails leaves it there too and says so; a recorded race is never deleted. The next run that
+//! records to `NAME` names such files ([`left_behind`]), so a race a SIGKILL or a power cut interrupted is
+//! not forgotten in a hidden file.
 
 use std::path::{Path, PathBuf};
 
@@ -87,6 +89,65 @@ impl std::fmt::Display for Kept {
             Kept::Nothing { path } => write!(f, "no race to record: {} not written", path.display()),
         }
     }
+}
+
+/// Races recorded to one target by runs that were killed before they could rename them into place.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LeftBehind {
+    /// The target, as named by the user.
+    pub target: PathBuf,
+    /// The temporary files holding the races, in name order.
+    pub files: Vec<PathBuf>,
+}
+
+impl std::fmt::Display for LeftBehind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<String> = self.files.iter().map(|p| p.display().to_string()).collect();
+        match names.as_slice() {
+            [one] => write!(
+                f,
+                "a race recorded to {} by a run that was killed is in {one}; rename it to keep it",
+                self.target.display()
+            ),
+            _ => write!(
+                f,
+                "{} races recorded to {} by runs that were killed are in {}; rename one to keep it",
+                names.len(),
+                self.target.display(),
+                names.join(", ")
+            ),
+        }
+    }
+}
+
+/// The temporary recordings beside `target` (`.NAME.PID.N.tmp`, see [`crate::userfile::temp_sibling`])
+/// whose process no longer runs; `None` when there are none. A file of a process that still runs (another
+/// game recording to the same name) is not named.
+#[must_use]
+pub fn left_behind(target: &Path) -> Option<LeftBehind> {
+    let dest = write_target(target);
+    let name = dest.file_name()?.to_string_lossy().into_owned();
+    let folder = crate::userfile::folder_of(&dest);
+    let prefix = format!(".{name}.");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+        .ok()?
+        .flatten()
+        .filter_map(|entry| {
+            let file = entry.file_name().to_string_lossy().into_owned();
+            let middle = file.strip_prefix(&prefix)?.strip_suffix(".tmp")?;
+            let (pid, n) = middle.split_once('.')?;
+            let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+            let pid: u32 = pid.parse().ok().filter(|_| digits(n))?;
+            (!runs(pid) && entry.file_type().is_ok_and(|t| t.is_file())).then(|| entry.path())
+        })
+        .collect();
+    files.sort();
+    (!files.is_empty()).then(|| LeftBehind { target: target.to_path_buf(), files })
+}
+
+/// Whether process `pid` runs now (this one does; others are looked up in `/proc` where there is one).
+fn runs(pid: u32) -> bool {
+    pid == std::process::id() || Path::new("/proc").join(pid.to_string()).exists()
 }
 
 /// A trace being written beside its target (see the module documentation).
@@ -243,6 +304,33 @@ mod tests {
         let msg = e.to_string();
         assert!(msg.contains(&tmp.display().to_string()) && msg.ends_with("rename it to keep it"), "{msg}");
         assert!(!msg.contains('\n'));
+    }
+
+    #[test]
+    fn a_killed_run_s_recording_is_named_and_a_running_one_s_is_not() {
+        let d = dir("left");
+        let target = d.join("race.trace");
+        assert_eq!(left_behind(&target), None);
+        // No process has a PID this high (Linux's limit is 2^22).
+        let dead = d.join(".race.trace.4294967290.0.tmp");
+        std::fs::write(&dead, b"a race").unwrap();
+        std::fs::write(d.join(format!(".race.trace.{}.7.tmp", std::process::id())), b"ours").unwrap();
+        for other in [".other.trace.4294967290.0.tmp", ".race.trace.x.0.tmp", ".race.trace.4294967290.tmp"] {
+            std::fs::write(d.join(other), b"not it").unwrap();
+        }
+        let left = left_behind(&target).unwrap();
+        assert_eq!(left.files, [dead.clone()]);
+        assert_eq!(
+            left.to_string(),
+            format!(
+                "a race recorded to {} by a run that was killed is in {}; rename it to keep it",
+                target.display(),
+                dead.display()
+            )
+        );
+        std::fs::write(d.join(".race.trace.4294967291.0.tmp"), b"another").unwrap();
+        let two = left_behind(&target).unwrap().to_string();
+        assert!(two.starts_with("2 races recorded to") && two.ends_with("; rename one to keep it"), "{two}");
     }
 
     #[test]

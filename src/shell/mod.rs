@@ -7,6 +7,7 @@ pub mod keys;
 pub mod race;
 pub mod race_scene;
 pub mod settings;
+pub mod stop;
 pub mod ui;
 pub mod viewer;
 pub mod window;

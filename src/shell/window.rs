@@ -133,8 +133,21 @@ pub struct WindowConfig {
     pub screenshot: Option<PathBuf>,
 }
 
+/// How the window's run ended without an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ended {
+    /// Closed, quit from a menu or a key, or after `exit_after_frames`.
+    Closed,
+    /// Stopped by a signal (see [`super::stop`]), as Quit would have.
+    Signal(super::stop::StopSignal),
+}
+
 struct App<'c> {
     config: WindowConfig,
+    /// The stop signals caught while the window runs.
+    signals: Option<super::stop::StopSignals>,
+    /// The stop signal that ended the run.
+    stopped_by: Option<super::stop::StopSignal>,
     content: &'c mut dyn Content,
     window: Option<Rc<Window>>,
     surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
@@ -157,13 +170,16 @@ fn plain_reason(s: &str) -> String {
     reason.trim_end_matches('.').to_string()
 }
 
-/// Opens the window and runs until it is closed.
-pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellError> {
+/// Opens the window and runs until it is closed or a stop signal arrives (SIGTERM, SIGHUP, SIGINT are
+/// caught while it runs, and end it as Quit does).
+pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<Ended, ShellError> {
     let event_loop = EventLoop::new().map_err(ShellError::NoDisplay)?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
     let mut app = App {
         config,
+        signals: super::stop::StopSignals::catch(),
+        stopped_by: None,
         content,
         window: None,
         surface: None,
@@ -186,9 +202,10 @@ pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<(), ShellE
         Ok(result) => result.map_err(ShellError::EventLoop)?,
         Err(_) => return Err(ShellError::DisplayLost),
     }
-    match app.error.take() {
-        Some(e) => Err(e),
-        None => Ok(()),
+    match (app.error.take(), app.stopped_by) {
+        (Some(e), _) => Err(e),
+        (None, Some(signal)) => Ok(Ended::Signal(signal)),
+        (None, None) => Ok(Ended::Closed),
     }
 }
 
@@ -333,7 +350,12 @@ impl ApplicationHandler for App<'_> {
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if let Some(signal) = self.signals.as_ref().and_then(super::stop::StopSignals::received) {
+            self.stopped_by = Some(signal);
+            event_loop.exit();
+            return;
+        }
         if let Some(w) = &self.window {
             w.request_redraw();
         }
