@@ -57,12 +57,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     let dir = super::error::assets_dir()?;
     let scene = RaceScene::load(&dir)?;
     let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
-    let mut inputs = crate::userfile::Inputs::new();
-    inputs.add(&trace, "the trace");
-    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
-    for name in OUTPUTS {
-        super::error::not_an_input("--out", &args.out.join(name), &inputs)?;
-    }
+    outputs_not_inputs(&args.out, &trace, &scene)?;
     let (frames, sequence, repeats, main, buckets, resolutions): (usize, usize, usize, _, Vec<usize>, Vec<_>) =
         if args.quick {
             (2, 4, 1, (160, 120), vec![8, DEFAULT_BUCKETS, 65536], vec![(160, 120), (320, 240)])
@@ -132,6 +127,17 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         "wrote {}/bench.csv, bench.svg, bench.png, visibility.svg, visibility.png, stability.svg and stability.png",
         args.out.display()
     );
+    Ok(())
+}
+
+/// Refuses an output folder in which a file the bench writes is the trace or one of the assets.
+fn outputs_not_inputs(out: &std::path::Path, trace: &std::path::Path, scene: &RaceScene) -> Result<(), CliError> {
+    let mut inputs = crate::userfile::Inputs::new();
+    inputs.add(trace, "the trace");
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    for name in OUTPUTS {
+        super::error::not_an_input("--out", &out.join(name), &inputs)?;
+    }
     Ok(())
 }
 

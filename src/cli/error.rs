@@ -117,6 +117,21 @@ pub enum CliError {
     },
 }
 
+/// Prints one line on stderr; a stderr that is gone (the terminal closed: SIGHUP) is no reason to panic
+/// before the exit status is given, as `eprintln!` would.
+pub(super) fn say(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+/// A window run that a stop signal ended is the [`CliError::Stopped`] that gives its exit status.
+pub(super) fn stopped(ended: crate::shell::window::Ended) -> Result<(), CliError> {
+    match ended {
+        crate::shell::window::Ended::Closed => Ok(()),
+        crate::shell::window::Ended::Signal(signal) => Err(CliError::Stopped { signal, kept: None }),
+    }
+}
+
 impl CliError {
     /// The process's exit status for this error: 128 + the signal's number for a stop signal (the shell's
     /// convention), else 1.

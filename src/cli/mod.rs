@@ -18,6 +18,7 @@ use clap::{Parser, Subcommand};
 
 pub use bench_cmd::{BenchArgs, bench_command};
 pub use error::CliError;
+use error::say;
 pub use export_cmd::{ExportArgs, export_command};
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
@@ -71,11 +72,4 @@ pub fn main() -> ExitCode {
             ExitCode::from(e.exit_status())
         }
     }
-}
-
-/// Prints one line on stderr; a stderr that is gone (the terminal closed: SIGHUP) is no reason to panic
-/// before the exit status is given, as `eprintln!` would.
-pub(crate) fn say(line: &str) {
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "{line}");
 }

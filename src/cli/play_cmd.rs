@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::error::CliError;
+use super::error::{CliError, say, stopped};
 use super::picture::PictureArgs;
 use super::values;
 use crate::asset::{LoadedScene, load, loader::load_from_slice};
@@ -136,14 +136,6 @@ fn outputs_not_inputs(args: &PlayArgs, inputs: &Inputs, ghost: Option<&Path>) ->
     Ok(())
 }
 
-/// A window run that a stop signal ended is the [`CliError::Stopped`] that gives its exit status.
-pub(super) fn stopped(ended: Ended) -> Result<(), CliError> {
-    match ended {
-        Ended::Closed => Ok(()),
-        Ended::Signal(signal) => Err(CliError::Stopped { signal, kept: None }),
-    }
-}
-
 /// Runs `play`.
 pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     let options = RenderOptions { method: args.method, threads: args.threads, ..RenderOptions::default() };
@@ -198,7 +190,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             }
             if let Some(path) = &args.record {
                 if let Some(left) = crate::input::recording::left_behind(path) {
-                    super::say(&format!("note: {left}"));
+                    say(&format!("note: {left}"));
                 }
                 race = race.record_to(path)?;
             }
@@ -211,13 +203,13 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
                     // A race kept is always said; nothing recorded only when the window ran (not before
                     // the one-line error that it could not open).
                     if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
-                        super::say(&kept.to_string());
+                        say(&kept.to_string());
                     }
                     ran?;
                 }
                 (Err(e), Ok(_)) => return Err(e.into()),
                 (Err(e), Err(ran)) => {
-                    super::say(&format!("scanline-racer: error: {e}"));
+                    say(&format!("scanline-racer: error: {e}"));
                     return Err(ran.into());
                 }
             }

@@ -244,5 +244,5 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         exit_after_frames: None,
         screenshot: None,
     };
-    super::play_cmd::stopped(run(window, &mut race)?)
+    super::error::stopped(run(window, &mut race)?)
 }

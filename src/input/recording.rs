@@ -319,7 +319,7 @@ mod tests {
             std::fs::write(d.join(other), b"not it").unwrap();
         }
         let left = left_behind(&target).unwrap();
-        assert_eq!(left.files, [dead.clone()]);
+        assert_eq!(left.files, std::slice::from_ref(&dead));
         assert_eq!(
             left.to_string(),
             format!(

@@ -13,87 +13,16 @@
 //! however spelt or linked, writes over one of them.
 
 mod identity;
-mod write_problem;
+mod paths;
+mod problem;
 
 pub use identity::{FileId, Inputs, check_distinct};
-pub use write_problem::WriteProblem;
+pub use paths::{folder_of, temp_sibling, write_target};
+pub use problem::{FileProblem, UserFileError, WriteProblem};
 
 use std::fs::File;
 use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
-
-use thiserror::Error;
-
-/// Why a user's file could not be read or written: the path, and what is wrong with it.
-#[derive(Debug, Error)]
-#[error("{path}: {problem}")]
-pub struct UserFileError {
-    /// The path (for a write through a link, the file the link leads to).
-    pub path: PathBuf,
-    /// What is wrong with it.
-    #[source]
-    pub problem: FileProblem,
-}
-
-/// What is wrong with a user's file.
-#[derive(Debug, Error)]
-pub enum FileProblem {
-    /// The path does not exist or cannot be examined, opened, read or written.
-    #[error("{}", io_reason(.0))]
-    Io(#[source] std::io::Error),
-    /// The file cannot be written: what stands in the way (the folder, the permission, the device).
-    #[error(transparent)]
-    Write(WriteProblem),
-    /// An output path names a file the command reads (by another name, a link or a hard link too).
-    #[error("it is {what}, which this command reads (name another file for the output)")]
-    IsInput {
-        /// Which input it is ("the glTF scene", "the trace", ...).
-        what: &'static str,
-    },
-    /// Two outputs of one command name the same file.
-    #[error("{other} names the same file")]
-    SameOutput {
-        /// The other output's flag (`--record`).
-        other: &'static str,
-    },
-    /// The file is not UTF-8 text.
-    #[error("not UTF-8 text ({0})")]
-    NotUtf8(#[source] std::string::FromUtf8Error),
-    /// The path names something that is not a regular file (a folder, a FIFO, a device, a socket).
-    #[error("is {kind}, not a regular file")]
-    NotRegular {
-        /// What it is instead ("a folder", "a FIFO", ...).
-        kind: &'static str,
-    },
-    /// The file is larger than the reader's budget.
-    #[error("{size} bytes is over the {limit}-byte limit for {what}")]
-    TooBig {
-        /// Its size in bytes (or the bytes read before the budget ran out).
-        size: u64,
-        /// The budget in bytes.
-        limit: u64,
-        /// What kind of file the budget is for ("a glTF file", "a settings file", ...).
-        what: &'static str,
-    },
-}
-
-/// An I/O error as the one-line messages say it: "no such file" for a missing path, else the operating
-/// system's words.
-fn io_reason(e: &std::io::Error) -> String {
-    if e.kind() == std::io::ErrorKind::NotFound { "no such file".to_string() } else { e.to_string() }
-}
-
-impl UserFileError {
-    fn new(path: &Path, problem: FileProblem) -> Self {
-        Self { path: path.to_path_buf(), problem }
-    }
-
-    /// Whether the error means the path does not exist.
-    #[must_use]
-    pub fn is_not_found(&self) -> bool {
-        matches!(&self.problem, FileProblem::Io(e) if e.kind() == std::io::ErrorKind::NotFound)
-    }
-}
+use std::path::Path;
 
 fn io(path: &Path, e: std::io::Error) -> UserFileError {
     UserFileError::new(path, FileProblem::Io(e))
@@ -102,12 +31,6 @@ fn io(path: &Path, e: std::io::Error) -> UserFileError {
 /// A failed write of `path`, saying what stands in its way.
 fn write_failed(path: &Path, e: std::io::Error) -> UserFileError {
     UserFileError::new(path, FileProblem::Write(WriteProblem::of(e, path)))
-}
-
-/// The folder a file named by `path` goes in (`.` for a bare name).
-#[must_use]
-pub fn folder_of(path: &Path) -> &Path {
-    path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."))
 }
 
 fn not_regular(path: &Path, ft: std::fs::FileType) -> UserFileError {
@@ -204,41 +127,6 @@ pub fn read_regular_text(path: &Path, limit: u64, what: &'static str) -> Result<
     String::from_utf8(bytes).map_err(|e| UserFileError::new(path, FileProblem::NotUtf8(e)))
 }
 
-/// Most symbolic links followed to find the file a write replaces (Linux's own limit is 40).
-const MAX_LINK_HOPS: usize = 40;
-
-/// The file a write to `path` should replace: the end of its chain of symbolic links (so that a linked
-/// settings file stays a link, and a link to a link too), else `path` itself. Relative link targets are
-/// resolved against the folder of the link that names them. A chain longer than [`MAX_LINK_HOPS`] (a
-/// loop) stops where it is, and the write then fails or replaces that link, never anything outside it.
-#[must_use]
-pub fn write_target(path: &Path) -> PathBuf {
-    let mut current = path.to_path_buf();
-    for _ in 0..MAX_LINK_HOPS {
-        match std::fs::read_link(&current) {
-            Ok(target) if target.is_absolute() => current = target,
-            Ok(target) => {
-                let dir = current.parent().map(Path::to_path_buf).unwrap_or_default();
-                current = dir.join(target);
-            }
-            Err(_) => break,
-        }
-    }
-    current
-}
-
-/// A sibling of `target` that no other writer uses: `.NAME.PID.N.tmp` in the same folder, so that the
-/// final rename stays within one file system.
-#[must_use]
-pub fn temp_sibling(target: &Path) -> PathBuf {
-    use std::sync::atomic::{AtomicU32, Ordering};
-    static NEXT: AtomicU32 = AtomicU32::new(0);
-    let name = target.file_name().map_or_else(|| "file".into(), |n| n.to_string_lossy().into_owned());
-    let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    let tmp = format!(".{name}.{}.{n}.tmp", std::process::id());
-    target.parent().filter(|d| !d.as_os_str().is_empty()).map_or_else(|| PathBuf::from(&tmp), |d| d.join(&tmp))
-}
-
 /// Checks, before any long work, that `path` can take an output file: it does not exist or is a regular
 /// file (not a folder, FIFO or device, which would fail or block only at the end), and its folder exists
 /// and takes a new file (a probe file is made there and removed), so a missing folder, a missing
@@ -292,6 +180,7 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("userfile-{name}-{}", std::process::id()));

@@ -73,12 +73,23 @@ fn an_output_that_is_not_a_file_is_refused_before_the_work_and_an_old_file_is_re
     let dir = tmp("outputs");
     let duck = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/samples/Duck/Duck.gltf");
     let duck = duck.to_str().unwrap();
-    for (path, words) in not_files(&dir) {
-        let p = path.to_str().unwrap();
-        let r = run(&dir, &["render", duck, "--out", p]);
-        assert_one_line(&r, &["--out", p, words]);
-        let r = run(&dir, &["export-frame", &demo(), "--tick", "10", "--out", p]);
-        assert_one_line(&r, &["--out", p, words]);
+    for ext in ["png", "glb"] {
+        // Outputs named with the extension their command writes (a device through a link named so).
+        let fifo = dir.join(format!("pipe.{ext}"));
+        mkfifo(&fifo);
+        let folder = dir.join(format!("folder.{ext}"));
+        std::fs::create_dir_all(&folder).unwrap();
+        let zero = dir.join(format!("zero.{ext}"));
+        let _ = std::fs::remove_file(&zero);
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        for (path, words) in [(fifo, "is a FIFO"), (zero, "is a device"), (folder, "is a folder")] {
+            let p = path.to_str().unwrap();
+            let r = match ext {
+                "png" => run(&dir, &["render", duck, "--out", p]),
+                _ => run(&dir, &["export-frame", &demo(), "--tick", "10", "--out", p]),
+            };
+            assert_one_line(&r, &["--out", words]);
+        }
     }
     let missing = dir.join("no-such-folder/frame.png");
     let r = run(&dir, &["render", duck, "--out", missing.to_str().unwrap()]);

@@ -1,13 +1,84 @@
-//! What stands in the way of a write: the operating system's error turned into the thing the user has to
-//! fix (the folder that is missing, the permission, the device that is read-only or full).
+//! Why a user's file could not be read or written: the path and the problem, down to what stands in the
+//! way of a write (the folder that is missing, the permission, the device that is read-only or full).
 //!
-//! Why: `std::io::Error`'s own words name the symptom of the call that failed ("No such file or directory"
-//! for a new file whose folder is missing), not the thing that is wrong, and the path they come with is
-//! the file's, not the folder's.
+//! Why the write problems: `std::io::Error`'s own words name the symptom of the call that failed ("No such
+//! file or directory" for a new file whose folder is missing), not the thing that is wrong, and the path
+//! they come with is the file's, not the folder's.
 
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+
+/// Why a user's file could not be read or written: the path, and what is wrong with it.
+#[derive(Debug, Error)]
+#[error("{path}: {problem}")]
+pub struct UserFileError {
+    /// The path (for a write through a link, the file the link leads to).
+    pub path: PathBuf,
+    /// What is wrong with it.
+    #[source]
+    pub problem: FileProblem,
+}
+
+/// What is wrong with a user's file.
+#[derive(Debug, Error)]
+pub enum FileProblem {
+    /// The path does not exist or cannot be examined, opened, read or written.
+    #[error("{}", io_reason(.0))]
+    Io(#[source] std::io::Error),
+    /// The file cannot be written: what stands in the way (the folder, the permission, the device).
+    #[error(transparent)]
+    Write(WriteProblem),
+    /// An output path names a file the command reads (by another name, a link or a hard link too).
+    #[error("it is {what}, which this command reads (name another file for the output)")]
+    IsInput {
+        /// Which input it is ("the glTF scene", "the trace", ...).
+        what: &'static str,
+    },
+    /// Two outputs of one command name the same file.
+    #[error("{other} names the same file")]
+    SameOutput {
+        /// The other output's flag (`--record`).
+        other: &'static str,
+    },
+    /// The file is not UTF-8 text.
+    #[error("not UTF-8 text ({0})")]
+    NotUtf8(#[source] std::string::FromUtf8Error),
+    /// The path names something that is not a regular file (a folder, a FIFO, a device, a socket).
+    #[error("is {kind}, not a regular file")]
+    NotRegular {
+        /// What it is instead ("a folder", "a FIFO", ...).
+        kind: &'static str,
+    },
+    /// The file is larger than the reader's budget.
+    #[error("{size} bytes is over the {limit}-byte limit for {what}")]
+    TooBig {
+        /// Its size in bytes (or the bytes read before the budget ran out).
+        size: u64,
+        /// The budget in bytes.
+        limit: u64,
+        /// What kind of file the budget is for ("a glTF file", "a settings file", ...).
+        what: &'static str,
+    },
+}
+
+/// An I/O error as the one-line messages say it: "no such file" for a missing path, else the operating
+/// system's words.
+fn io_reason(e: &std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::NotFound { "no such file".to_string() } else { e.to_string() }
+}
+
+impl UserFileError {
+    pub(super) fn new(path: &Path, problem: FileProblem) -> Self {
+        Self { path: path.to_path_buf(), problem }
+    }
+
+    /// Whether the error means the path does not exist.
+    #[must_use]
+    pub fn is_not_found(&self) -> bool {
+        matches!(&self.problem, FileProblem::Io(e) if e.kind() == std::io::ErrorKind::NotFound)
+    }
+}
 
 /// Why a file could not be written, naming what is missing or in the way.
 #[derive(Debug, Error)]
@@ -43,7 +114,7 @@ impl WriteProblem {
     #[must_use]
     pub fn of(e: std::io::Error, file: &Path) -> Self {
         use std::io::ErrorKind as K;
-        let folder = super::folder_of(file).to_path_buf();
+        let folder = super::paths::folder_of(file).to_path_buf();
         match e.kind() {
             K::NotFound if std::fs::metadata(&folder).is_err() => WriteProblem::NoFolder(folder),
             K::NotFound => WriteProblem::NoNewFiles(folder, e),
