@@ -3,10 +3,10 @@
 //! `data:` URIs are decoded in memory. Any other scheme, an absolute path, or a path whose `..` components
 //! climb above the folder is refused (`sub/../tri.bin` stays inside and is read), so a file cannot make the
 //! loader read outside its folder; symbolic links that lead out of the folder are refused too. Each refusal
-//! says what the URI breaks: a NUL byte is not an empty path, and a folder is not a file. Files are only located first ([`locate`]: canonical path and size, nothing
-//! read), so that the loader can read a file named twice once and refuse one over its budget before
-//! reading it; reading goes through [`crate::userfile`] (regular files only: a FIFO or a device is refused
-//! without blocking).
+//! says what the URI breaks: a NUL byte is not an empty path, and a folder is not a file. Files are only
+//! located first ([`locate`]: canonical path and size, nothing read), so that the loader can read a file
+//! named twice once and refuse one over its budget before reading it; reading goes through
+//! [`crate::userfile`] (regular files only: a FIFO or a device is refused without blocking).
 
 use std::path::{Component, Path, PathBuf};
 

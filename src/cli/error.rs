@@ -176,7 +176,6 @@ pub(super) fn output_folder(flag: &'static str, dir: &std::path::Path, what: &'s
         problem: crate::userfile::WriteProblem::of(e, file),
     };
     std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
-    let probe = crate::userfile::temp_sibling(&dir.join("write-probe"));
-    std::fs::write(&probe, b"").map_err(|e| fail(&probe, e))?;
+    let (probe, _) = crate::userfile::create_temp_sibling(&dir.join("write-probe")).map_err(|e| fail(dir, e))?;
     std::fs::remove_file(&probe).map_err(|e| fail(&probe, e))
 }

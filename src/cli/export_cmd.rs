@@ -20,7 +20,7 @@ pub struct ExportArgs {
     #[arg(long)]
     pub tick: u64,
     /// The GLB file to write (its name ends in .glb).
-    #[arg(long, value_parser = values::glb_path)]
+    #[arg(long, value_parser = values::glb_path())]
     pub out: PathBuf,
     /// Frame width (sets the camera's aspect and the LOD choice), 1 to 16384.
     #[arg(long, default_value_t = 1280, value_parser = values::side(values::MAX_SIDE))]

@@ -14,6 +14,7 @@ use crate::render::{Method, RenderOptions};
 use crate::shell::race::Race;
 use crate::shell::race_scene::{FIELD, RaceScene};
 use crate::shell::settings::{self, Settings, SettingsFile};
+use crate::shell::stop::StopSignals;
 use crate::shell::viewer::Viewer;
 use crate::shell::window::{Ended, WindowConfig, run};
 use crate::userfile::Inputs;
@@ -76,7 +77,7 @@ pub struct PlayArgs {
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
     /// Write the last frame to this image when quitting, PNG or JPEG by its extension (.png, .jpg, .jpeg).
-    #[arg(long, value_parser = values::image_path)]
+    #[arg(long, value_parser = values::image_path())]
     pub screenshot: Option<PathBuf>,
 }
 
@@ -160,7 +161,9 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             let mut inputs = Inputs::new();
             inputs.add_all(&scene.files, "a file of the scene");
             outputs_not_inputs(&args, &inputs, None)?;
-            stopped(run(window, &mut Viewer::new(scene, args.picture.apply(options), aspect))?)?;
+            let signals = StopSignals::catch();
+            let viewer = &mut Viewer::new(scene, args.picture.apply(options), aspect);
+            stopped(run(window, viewer, signals.as_ref())?)?;
         }
         None => {
             let dir = super::error::assets_dir()?;
@@ -188,13 +191,16 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             if let Some(search) = ghost {
                 race = race.with_ghost_search(search);
             }
+            race = race.reading(inputs);
             if let Some(path) = &args.record {
                 if let Some(left) = crate::input::recording::left_behind(path) {
                     say(&format!("note: {left}"));
                 }
                 race = race.record_to(path)?;
             }
-            let ran = run(window, &mut race);
+            // Caught from before the window opens until the recording is kept (dropped at the end).
+            let signals = StopSignals::catch();
+            let ran = run(window, &mut race, signals.as_ref());
             // However the window closed (a stop signal too), what was raced replaces the target (or stays
             // in its temporary file, named in the one-line error, when the rename fails).
             match (race.finish_recording(), ran) {

@@ -83,7 +83,7 @@ pub struct RenderArgs {
     pub background: u32,
     /// Output image, PNG or JPEG by its extension (.png, .jpg, .jpeg); default: the scene's file name with
     /// .png, in the current directory.
-    #[arg(long, value_parser = values::image_path)]
+    #[arg(long, value_parser = values::image_path())]
     pub out: Option<PathBuf>,
     /// Draw the frame N times and report the median time (1 to 100000).
     #[arg(long, default_value_t = 1, value_parser = values::count(values::MAX_REPEAT))]

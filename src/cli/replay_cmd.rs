@@ -30,7 +30,7 @@ pub struct ReplayArgs {
     pub frames: Option<PathBuf>,
     /// Headless: write the race's soundtrack to this WAV file (48 kHz stereo, 16-bit PCM), the same bits on
     /// every run.
-    #[arg(long, requires = "headless", value_parser = values::wav_path)]
+    #[arg(long, requires = "headless", value_parser = values::wav_path())]
     pub audio: Option<PathBuf>,
     /// Write every Nth tick's frame (1 to 10^9).
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
@@ -244,5 +244,6 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         exit_after_frames: None,
         screenshot: None,
     };
-    super::error::stopped(run(window, &mut race)?)
+    let signals = crate::shell::stop::StopSignals::catch();
+    super::error::stopped(run(window, &mut race, signals.as_ref())?)
 }

@@ -77,9 +77,8 @@ pub enum ValueError {
     },
 }
 
-/// `s` as a path whose extension (any letter case) is one of `allowed`.
-fn with_extension(s: &str, allowed: &[&str], accepted: &'static str) -> Result<PathBuf, ValueError> {
-    let path = PathBuf::from(s);
+/// `path` when its extension (any letter case) is one of `allowed`.
+fn with_extension(path: PathBuf, allowed: &[&str], accepted: &'static str) -> Result<PathBuf, ValueError> {
     let found = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match &found {
         Some(e) if allowed.contains(&e.as_str()) => Ok(path),
@@ -87,21 +86,37 @@ fn with_extension(s: &str, allowed: &[&str], accepted: &'static str) -> Result<P
     }
 }
 
-/// An image output (`render --out`, `play --screenshot`): PNG or JPEG, by its extension.
-pub fn image_path(s: &str) -> Result<PathBuf, ValueError> {
-    let path = with_extension(s, &["png", "jpg", "jpeg"], crate::shell::image_file::ACCEPTED)?;
+/// The extensions of an image output: PNG or JPEG.
+fn image_extension(path: PathBuf) -> Result<PathBuf, ValueError> {
+    let path = with_extension(path, &["png", "jpg", "jpeg"], crate::shell::image_file::ACCEPTED)?;
     debug_assert!(crate::shell::image_file::ImageFormat::of(&path).is_ok(), "the writer takes what is accepted");
     Ok(path)
 }
 
+/// A path flag's value as the system gives it (any bytes, not only UTF-8), checked by `check`.
+fn output_path(
+    check: fn(PathBuf) -> Result<PathBuf, ValueError>,
+) -> impl clap::builder::TypedValueParser<Value = PathBuf> {
+    use clap::builder::TypedValueParser;
+    clap::builder::OsStringValueParser::new().try_map(move |s| check(PathBuf::from(s)))
+}
+
+/// An image output (`render --out`, `play --screenshot`): PNG or JPEG, by its extension.
+#[must_use]
+pub fn image_path() -> impl clap::builder::TypedValueParser<Value = PathBuf> {
+    output_path(image_extension)
+}
+
 /// A GLB output (`export-frame --out`).
-pub fn glb_path(s: &str) -> Result<PathBuf, ValueError> {
-    with_extension(s, &["glb"], ".glb")
+#[must_use]
+pub fn glb_path() -> impl clap::builder::TypedValueParser<Value = PathBuf> {
+    output_path(|p| with_extension(p, &["glb"], ".glb"))
 }
 
 /// A WAV output (`replay --audio`).
-pub fn wav_path(s: &str) -> Result<PathBuf, ValueError> {
-    with_extension(s, &["wav"], ".wav")
+#[must_use]
+pub fn wav_path() -> impl clap::builder::TypedValueParser<Value = PathBuf> {
+    output_path(|p| with_extension(p, &["wav"], ".wav"))
 }
 
 /// Parses `R,G,B` (each 0-255) into `0x00RRGGBB`.
@@ -142,17 +157,26 @@ mod tests {
 
     #[test]
     fn outputs_are_named_by_an_extension_their_writer_knows() {
-        assert_eq!(image_path("a/b.PNG"), Ok(PathBuf::from("a/b.PNG")));
-        assert_eq!(image_path("shot.jpeg"), Ok(PathBuf::from("shot.jpeg")));
+        let image = |s: &str| image_extension(PathBuf::from(s));
+        assert_eq!(image("a/b.PNG"), Ok(PathBuf::from("a/b.PNG")));
+        assert_eq!(image("shot.jpeg"), Ok(PathBuf::from("shot.jpeg")));
+        assert_eq!(image("x.gif").unwrap_err().to_string(), "unknown extension '.gif' (accepted: .png, .jpg or .jpeg)");
         assert_eq!(
-            image_path("x.gif").unwrap_err().to_string(),
-            "unknown extension '.gif' (accepted: .png, .jpg or .jpeg)"
-        );
-        assert_eq!(
-            image_path("frame").unwrap_err().to_string(),
+            image("frame").unwrap_err().to_string(),
             "no extension to choose the format by (accepted: .png, .jpg or .jpeg)"
         );
-        assert!(glb_path("f.glb").is_ok() && glb_path("f.gltf").is_err());
-        assert!(wav_path("r.WAV").is_ok() && wav_path("r.mp3").is_err());
+        // Through clap, as the flags take them: a name that is not UTF-8 is a name like any other.
+        use clap::builder::TypedValueParser;
+        let cmd = clap::Command::new("test");
+        #[cfg(unix)]
+        {
+            let odd = std::os::unix::ffi::OsStrExt::from_bytes(b"not \xff utf-8.png");
+            assert_eq!(image_path().parse_ref(&cmd, None, odd).unwrap(), PathBuf::from(odd));
+        }
+        let parse = |p: &dyn Fn(&std::ffi::OsStr) -> bool, s: &str| p(std::ffi::OsStr::new(s));
+        let glb = |s: &std::ffi::OsStr| glb_path().parse_ref(&cmd, None, s).is_ok();
+        let wav = |s: &std::ffi::OsStr| wav_path().parse_ref(&cmd, None, s).is_ok();
+        assert!(parse(&glb, "f.glb") && !parse(&glb, "f.gltf"));
+        assert!(parse(&wav, "r.WAV") && !parse(&wav, "r.mp3"));
     }
 }

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::trace::{Header, TraceError, TraceWriter};
-use crate::userfile::{UserFileError, WriteProblem, temp_sibling, write_target};
+use crate::userfile::{UserFileError, WriteProblem, create_temp_sibling, temp_sibling, write_target};
 
 /// Why a race could not be recorded or kept.
 #[derive(Debug, Error)]
@@ -121,8 +121,8 @@ impl std::fmt::Display for LeftBehind {
 }
 
 /// The temporary recordings beside `target` (`.NAME.PID.N.tmp`, see [`crate::userfile::temp_sibling`])
-/// whose process no longer runs; `None` when there are none. A file of a process that still runs (another
-/// game recording to the same name) is not named.
+/// that hold a race and whose process no longer runs; `None` when there are none. A file of a process that
+/// still runs (another game recording to the same name) is not named.
 #[must_use]
 pub fn left_behind(target: &Path) -> Option<LeftBehind> {
     let dest = write_target(target);
@@ -138,16 +138,36 @@ pub fn left_behind(target: &Path) -> Option<LeftBehind> {
             let (pid, n) = middle.split_once('.')?;
             let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
             let pid: u32 = pid.parse().ok().filter(|_| digits(n))?;
-            (!runs(pid) && entry.file_type().is_ok_and(|t| t.is_file())).then(|| entry.path())
+            // A bare target's folder is `.`: the file is named as the user would name it.
+            let path = if folder == Path::new(".") { PathBuf::from(entry.file_name()) } else { entry.path() };
+            (entry.file_type().is_ok_and(|t| t.is_file()) && !runs(pid) && holds_a_race(&path)).then_some(path)
         })
         .collect();
     files.sort();
     (!files.is_empty()).then(|| LeftBehind { target: target.to_path_buf(), files })
 }
 
-/// Whether process `pid` runs now (this one does; others are looked up in `/proc` where there is one).
+/// Whether another process numbered `pid` runs now: looked up in `/proc` where there is one, else asked
+/// of `kill -0`. This process's own number is not another process: [`left_behind`] is asked before this
+/// process records to the target, so a file of that name is a killed run's whose number was reused.
 fn runs(pid: u32) -> bool {
-    pid == std::process::id() || Path::new("/proc").join(pid.to_string()).exists()
+    if pid == std::process::id() {
+        return false;
+    }
+    if Path::new("/proc/self").exists() {
+        return Path::new("/proc").join(pid.to_string()).exists();
+    }
+    std::process::Command::new("kill")
+        .args(["-0", &pid.to_string()])
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Whether the trace at `path` holds at least one record after its header (a run killed before its first
+/// tick left nothing to keep).
+fn holds_a_race(path: &Path) -> bool {
+    super::trace::TraceReader::open(path).is_ok_and(|(_, mut reader)| matches!(reader.next_record(), Ok(Some(_))))
 }
 
 /// A trace being written beside its target (see the module documentation).
@@ -172,12 +192,10 @@ impl Recording {
             Err(e) if e.is_not_found() => {}
             Err(e) => return Err(e.into()),
         }
-        let tmp = temp_sibling(&dest);
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(|e| RecordError::Create { target: target.to_path_buf(), problem: WriteProblem::of(e, &tmp) })?;
+        let (tmp, file) = create_temp_sibling(&dest).map_err(|e| RecordError::Create {
+            target: target.to_path_buf(),
+            problem: WriteProblem::of(e, &temp_sibling(&dest)),
+        })?;
         match TraceWriter::new(file, &tmp.display().to_string(), header) {
             Ok(w) => Ok(Self { target: target.to_path_buf(), dest, tmp, writer: Some(w) }),
             Err(e) => {
@@ -227,7 +245,8 @@ impl Drop for Recording {
         if self.writer.is_some()
             && let Err(e) = self.finish()
         {
-            eprintln!("scanline-racer: error: {e}");
+            // Not `eprintln!`, which panics when the terminal has gone; the race is in the file either way.
+            let _ = std::io::Write::write_fmt(&mut std::io::stderr(), format_args!("scanline-racer: error: {e}\n"));
         }
     }
 }
@@ -311,15 +330,31 @@ mod tests {
         let d = dir("left");
         let target = d.join("race.trace");
         assert_eq!(left_behind(&target), None);
+        // A race of one tick, as a killed run leaves it.
+        let race = |path: &Path, ticks: usize| {
+            let mut w = TraceWriter::new(std::fs::File::create(path).unwrap(), "test", &header()).unwrap();
+            for _ in 0..ticks {
+                w.controls(Controls::default()).unwrap();
+            }
+            w.sync().unwrap();
+        };
         // No process has a PID this high (Linux's limit is 2^22).
         let dead = d.join(".race.trace.4294967290.0.tmp");
-        std::fs::write(&dead, b"a race").unwrap();
-        std::fs::write(d.join(format!(".race.trace.{}.7.tmp", std::process::id())), b"ours").unwrap();
+        race(&dead, 1);
+        // This process's own number: a killed run's whose number was reused (as PID 1 in a container is).
+        let reused = d.join(format!(".race.trace.{}.7.tmp", std::process::id()));
+        race(&reused, 2);
+        // Killed before its first tick: nothing to keep.
+        race(&d.join(".race.trace.4294967292.0.tmp"), 0);
         for other in [".other.trace.4294967290.0.tmp", ".race.trace.x.0.tmp", ".race.trace.4294967290.tmp"] {
-            std::fs::write(d.join(other), b"not it").unwrap();
+            race(&d.join(other), 1);
         }
         let left = left_behind(&target).unwrap();
-        assert_eq!(left.files, std::slice::from_ref(&dead));
+        let mut want = vec![dead.clone(), reused.clone()];
+        want.sort();
+        assert_eq!(left.files, want);
+        std::fs::remove_file(&reused).unwrap();
+        let left = left_behind(&target).unwrap();
         assert_eq!(
             left.to_string(),
             format!(
@@ -328,7 +363,7 @@ mod tests {
                 dead.display()
             )
         );
-        std::fs::write(d.join(".race.trace.4294967291.0.tmp"), b"another").unwrap();
+        race(&d.join(".race.trace.4294967291.0.tmp"), 1);
         let two = left_behind(&target).unwrap().to_string();
         assert!(two.starts_with("2 races recorded to") && two.ends_with("; rename one to keep it"), "{two}");
     }

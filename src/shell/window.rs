@@ -144,8 +144,8 @@ pub enum Ended {
 
 struct App<'c> {
     config: WindowConfig,
-    /// The stop signals caught while the window runs.
-    signals: Option<super::stop::StopSignals>,
+    /// The stop signals caught while the window runs (the caller's, kept until its recording is kept).
+    signals: Option<&'c super::stop::StopSignals>,
     /// The stop signal that ended the run.
     stopped_by: Option<super::stop::StopSignal>,
     content: &'c mut dyn Content,
@@ -170,15 +170,19 @@ fn plain_reason(s: &str) -> String {
     reason.trim_end_matches('.').to_string()
 }
 
-/// Opens the window and runs until it is closed or a stop signal arrives (SIGTERM, SIGHUP, SIGINT are
-/// caught while it runs, and end it as Quit does).
-pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<Ended, ShellError> {
+/// Opens the window and runs until it is closed or one of the stop signals `signals` catches arrives (it
+/// ends the window as Quit does, screenshot included).
+pub fn run(
+    config: WindowConfig,
+    content: &mut dyn Content,
+    signals: Option<&super::stop::StopSignals>,
+) -> Result<Ended, ShellError> {
     let event_loop = EventLoop::new().map_err(ShellError::NoDisplay)?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
     let mut app = App {
         config,
-        signals: super::stop::StopSignals::catch(),
+        signals,
         stopped_by: None,
         content,
         window: None,
@@ -202,7 +206,9 @@ pub fn run(config: WindowConfig, content: &mut dyn Content) -> Result<Ended, She
         Ok(result) => result.map_err(ShellError::EventLoop)?,
         Err(_) => return Err(ShellError::DisplayLost),
     }
-    match (app.error.take(), app.stopped_by) {
+    // A signal that came after the loop's last look still names the stop.
+    let stopped_by = app.stopped_by.or_else(|| signals.and_then(super::stop::StopSignals::received));
+    match (app.error.take(), stopped_by) {
         (Some(e), _) => Err(e),
         (None, Some(signal)) => Ok(Ended::Signal(signal)),
         (None, None) => Ok(Ended::Closed),
@@ -231,14 +237,19 @@ impl App<'_> {
             Err(e) => return self.fail(event_loop, e),
         }
         if self.quit || self.config.exit_after_frames.is_some_and(|n| self.frames >= n) {
-            if let Some(path) = self.config.screenshot.clone() {
-                let (fw, fh) = self.frame_size;
-                if let Err(e) = super::image_file::write_image(&path, &self.frame, fw, fh) {
-                    return self.fail(event_loop, e.into());
-                }
-            }
-            event_loop.exit();
+            self.exit(event_loop);
         }
+    }
+
+    /// Ends the run as Quit does: the screenshot, if one was asked for, then the loop's exit.
+    fn exit(&mut self, event_loop: &ActiveEventLoop) {
+        if let Some(path) = self.config.screenshot.take() {
+            let (fw, fh) = self.frame_size;
+            if let Err(e) = super::image_file::write_image(&path, &self.frame, fw, fh) {
+                return self.fail(event_loop, e.into());
+            }
+        }
+        event_loop.exit();
     }
 
     /// Renders and presents one frame; `Ok(false)` when the window has no area.
@@ -351,10 +362,9 @@ impl ApplicationHandler for App<'_> {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        if let Some(signal) = self.signals.as_ref().and_then(super::stop::StopSignals::received) {
+        if let Some(signal) = self.signals.and_then(super::stop::StopSignals::received) {
             self.stopped_by = Some(signal);
-            event_loop.exit();
-            return;
+            return self.exit(event_loop);
         }
         if let Some(w) = &self.window {
             w.request_redraw();

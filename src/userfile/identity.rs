@@ -80,12 +80,14 @@ impl Inputs {
 }
 
 /// Refuses `path` when it leads to the same file as `other` (both outputs of one command; `other_flag`
-/// names the second). Paths that do not exist yet are compared by their spelling after `write_target`.
+/// names the second). Files that do not exist yet are compared as their folder's canonical path (links and
+/// `..` resolved) joined with their name.
 pub fn check_distinct(path: &Path, other: &Path, other_flag: &'static str) -> Result<(), UserFileError> {
     let (a, b) = (write_target(path), write_target(other));
     let same = match (FileId::of(&a), FileId::of(&b)) {
         (Some(x), Some(y)) => x == y,
-        _ => a == b || lexical(&a) == lexical(&b),
+        (None, None) => resolved(&a) == resolved(&b),
+        _ => false,
     };
     if same {
         return Err(UserFileError { path: path.to_path_buf(), problem: FileProblem::SameOutput { other: other_flag } });
@@ -93,15 +95,13 @@ pub fn check_distinct(path: &Path, other: &Path, other_flag: &'static str) -> Re
     Ok(())
 }
 
-/// `path` with `.` parts dropped and made absolute against the current folder (no file system access
-/// beyond the current folder), for comparing two new files' names.
-fn lexical(path: &Path) -> PathBuf {
-    let abs = if path.is_absolute() {
-        path.to_path_buf()
-    } else {
-        std::env::current_dir().map(|d| d.join(path)).unwrap_or_else(|_| path.to_path_buf())
-    };
-    abs.components().filter(|c| !matches!(c, std::path::Component::CurDir)).collect()
+/// Where a new file named by `path` would be: its folder's canonical path joined with its name (the path
+/// as it is when the folder does not exist, as then neither file can be written).
+fn resolved(path: &Path) -> PathBuf {
+    match (super::folder_of(path).canonicalize(), path.file_name()) {
+        (Ok(folder), Some(name)) => folder.join(name),
+        _ => path.to_path_buf(),
+    }
 }
 
 #[cfg(test)]
@@ -144,5 +144,6 @@ mod tests {
         assert!(e.to_string().ends_with("--record names the same file"), "{e}");
         assert!(check_distinct(&scene, &d.join("sub/../copy.gltf"), "--record").is_err());
         assert!(check_distinct(&d.join("a.png"), &d.join("b.png"), "--record").is_ok());
+        assert!(check_distinct(&d.join("sub/../new.png"), &d.join("new.png"), "--record").is_err());
     }
 }

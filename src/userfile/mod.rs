@@ -17,7 +17,7 @@ mod paths;
 mod problem;
 
 pub use identity::{FileId, Inputs, check_distinct};
-pub use paths::{folder_of, temp_sibling, write_target};
+pub use paths::{create_temp_sibling, folder_of, temp_sibling, write_target};
 pub use problem::{FileProblem, UserFileError, WriteProblem};
 
 use std::fs::File;
@@ -139,9 +139,8 @@ pub fn check_output(path: &Path) -> Result<(), UserFileError> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(write_failed(&target, e)),
     }
-    let probe = temp_sibling(&target);
-    match std::fs::OpenOptions::new().write(true).create_new(true).open(&probe) {
-        Ok(_) => {
+    match create_temp_sibling(&target) {
+        Ok((probe, _)) => {
             let _ = std::fs::remove_file(&probe);
             Ok(())
         }
@@ -158,11 +157,11 @@ pub fn replace_atomically(path: &Path, bytes: &[u8]) -> Result<(), UserFileError
     {
         return Err(not_regular(&target, meta.file_type()));
     }
-    let tmp = temp_sibling(&target);
     let old_permissions = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    // A new file: a stale file of a temporary name is never written through (it could be a link, or a race
+    // a killed run left) nor removed.
+    let (tmp, mut f) = create_temp_sibling(&target).map_err(|e| write_failed(&target, e))?;
     let result = (|| {
-        // `create_new`: a stale file of that name is never written through (it could be a link).
-        let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         f.write_all(bytes)?;
         // The new file keeps the old one's permissions (a private settings file stays private).
         if let Some(p) = old_permissions {

@@ -43,3 +43,22 @@ pub fn temp_sibling(target: &Path) -> PathBuf {
     let tmp = format!(".{name}.{}.{n}.tmp", std::process::id());
     target.parent().filter(|d| !d.as_os_str().is_empty()).map_or_else(|| PathBuf::from(&tmp), |d| d.join(&tmp))
 }
+
+/// Most temporary names tried beside one target before giving up (each taken name is another try).
+const MAX_TEMP_TRIES: usize = 64;
+
+/// Creates a new temporary sibling of `target` ([`temp_sibling`]) and opens it for writing. A name that is
+/// taken (a file a killed run left, whose process number this run now has) is never written through: the
+/// next name is tried.
+pub fn create_temp_sibling(target: &Path) -> std::io::Result<(PathBuf, std::fs::File)> {
+    let mut last = std::io::Error::from(std::io::ErrorKind::AlreadyExists);
+    for _ in 0..MAX_TEMP_TRIES {
+        let tmp = temp_sibling(target);
+        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((tmp, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = e,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last)
+}

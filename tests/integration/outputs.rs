@@ -182,7 +182,8 @@ fn a_write_that_cannot_happen_names_the_folder_in_its_way() {
     let o = run(&["render", scene, "--out", "/proc/frame.png"]);
     assert_line(
         &o,
-        "scanline-racer: error: cannot write --out /proc/frame.png: the folder /proc takes no new files (entity not found)",
+        "scanline-racer: error: cannot write --out /proc/frame.png: the folder /proc takes no new files (entity not \
+         found)",
     );
     assert_eq!(std::fs::read(&file).unwrap(), b"mine");
 }

@@ -185,6 +185,14 @@ impl Race {
         Ok(self)
     }
 
+    /// Names the files the run reads (the settings file, the assets): a name typed in the main menu's
+    /// recording field that leads to one of them is refused there ("not recording: ...").
+    #[must_use]
+    pub fn reading(mut self, inputs: crate::userfile::Inputs) -> Self {
+        self.recording.inputs = inputs;
+        self
+    }
+
     /// Ends the recording when the window has closed (by any path: Quit, Esc in the main menu, the window's
     /// close button, `--exit-after-frames`, an error): what was raced replaces the target. `None` when
     /// there was nothing to record to or a race was already kept; [`Kept::Nothing`] when the switch was on

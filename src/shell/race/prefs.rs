@@ -124,7 +124,8 @@ impl Prefs {
         if let Some(file) = &mut self.file
             && let Err(e) = file.save(&now)
         {
-            eprintln!("warning: {e}");
+            // Not `eprintln!`, which panics when the terminal has gone.
+            let _ = std::io::Write::write_fmt(&mut std::io::stderr(), format_args!("warning: {e}\n"));
             *notice = Some(e.to_string());
         }
     }

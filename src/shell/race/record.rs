@@ -82,6 +82,8 @@ pub(super) struct Recorder {
     pub(super) to: RecordTo,
     /// Whether a recorded race has replaced its target in this run.
     kept_a_race: bool,
+    /// The files the run reads (settings, assets), which a name typed in the menu must not record over.
+    pub(super) inputs: crate::userfile::Inputs,
 }
 
 impl Recorder {
@@ -110,9 +112,15 @@ impl Recorder {
             return;
         }
         let path = self.to.path();
+        if let Err(e) = self.inputs.check_output(&path) {
+            *notice = Some(format!("not recording: {e}"));
+            return;
+        }
+        // Races killed runs left beside the target are named once more where the player looks.
+        let left = crate::input::recording::left_behind(&path).map(|l| format!("; {l}")).unwrap_or_default();
         match Recording::start(&path, &header_for(world)) {
             Ok(r) => {
-                *notice = Some(format!("recording to {}", path.display()));
+                *notice = Some(format!("recording to {}{left}", path.display()));
                 self.recorder = Some(r);
             }
             Err(e) => *notice = Some(format!("not recording: {e}")),
@@ -227,5 +235,25 @@ mod tests {
         race.tick();
         assert_eq!(race.finish_recording().unwrap(), Some(Kept::Race { path: path.clone(), ticks: 1 }));
         assert_eq!(ticks_in(&path), 1);
+    }
+
+    /// A name typed in the menu that leads to a file the run reads (the settings file) is not recorded
+    /// to: the race runs unrecorded, the notice says why, and the file is as it was.
+    #[test]
+    fn a_name_typed_in_the_menu_never_records_over_an_input() {
+        let d = dir("input");
+        let settings = d.join("settings.json");
+        std::fs::write(&settings, b"{}").unwrap();
+        let mut inputs = crate::userfile::Inputs::new();
+        inputs.add(&settings, "the settings file");
+        let mut race = race_on_the_menu().reading(inputs).record_to(&d.join("given.trace")).unwrap();
+        race.recording.to.text = settings.display().to_string();
+        race.start_race();
+        race.tick();
+        assert!(race.recording.recorder.is_none(), "not recording");
+        let notice = race.notice.clone().unwrap_or_default();
+        assert!(notice.starts_with("not recording: ") && notice.contains("it is the settings file"), "{notice}");
+        assert_eq!(race.finish_recording().unwrap(), Some(Kept::Nothing { path: settings.clone() }));
+        assert_eq!(std::fs::read(&settings).unwrap(), b"{}");
     }
 }
