@@ -165,63 +165,68 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
             let viewer = &mut Viewer::new(scene, args.picture.apply(options), aspect);
             stopped(run(window, viewer, signals.as_ref())?)?;
         }
-        None => {
-            let dir = super::error::assets_dir()?;
-            let scene = RaceScene::load(&dir)?;
-            let path = args.settings.clone().or_else(settings::default_path);
-            let mut inputs = Inputs::new();
-            inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
-            if let Some(p) = &path {
-                inputs.add(p, "the settings file");
-            }
-            outputs_not_inputs(&args, &inputs, args.ghost.as_deref())?;
-            // The trace is checked now; its laps are searched on a background thread while the race runs.
-            let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
-            let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
-                Some((file, settings, note)) => (Some(file), settings, note),
-                None => (None, Settings::default(), None),
-            };
-            if let Some(n) = &note {
-                eprintln!("warning: {n}");
-            }
-            let mut race = Race::new(scene, race_options(options, &settings, &args.picture), args.laps, !args.no_menu)
-                .autopilot(args.autopilot)
-                .with_settings(settings, file, args.scale, note)
-                .with_sound();
-            if let Some(search) = ghost {
-                race = race.with_ghost_search(search);
-            }
-            race = race.reading(inputs);
-            if let Some(path) = &args.record {
-                if let Some(left) = crate::input::recording::left_behind(path) {
-                    say(&format!("note: {left}"));
-                }
-                race = race.record_to(path)?;
-            }
-            // Caught from before the window opens until the recording is kept (dropped at the end).
-            let signals = StopSignals::catch();
-            let ran = run(window, &mut race, signals.as_ref());
-            // However the window closed (a stop signal too), what was raced replaces the target (or stays
-            // in its temporary file, named in the one-line error, when the rename fails).
-            match (race.finish_recording(), ran) {
-                (Ok(kept), Ok(Ended::Signal(signal))) => return Err(CliError::Stopped { signal, kept }),
-                (Ok(kept), ran) => {
-                    // A race kept is always said; nothing recorded only when the window ran (not before
-                    // the one-line error that it could not open).
-                    if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
-                        say(&kept.to_string());
-                    }
-                    ran?;
-                }
-                (Err(e), Ok(_)) => return Err(e.into()),
-                (Err(e), Err(ran)) => {
-                    say(&format!("scanline-racer: error: {e}"));
-                    return Err(ran.into());
-                }
-            }
-        }
+        None => race(&args, options, window)?,
     }
     Ok(())
+}
+
+/// Runs the race of `play`: the assets, the settings, the ghost and the recording, then the window; what
+/// was recorded is kept however the window closed.
+fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result<(), CliError> {
+    let dir = super::error::assets_dir()?;
+    let scene = RaceScene::load(&dir)?;
+    let path = args.settings.clone().or_else(settings::default_path);
+    let mut inputs = Inputs::new();
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    if let Some(p) = &path {
+        inputs.add(p, "the settings file");
+    }
+    outputs_not_inputs(args, &inputs, args.ghost.as_deref())?;
+    // The trace is checked now; its laps are searched on a background thread while the race runs.
+    let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
+    let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
+        Some((file, settings, note)) => (Some(file), settings, note),
+        None => (None, Settings::default(), None),
+    };
+    if let Some(n) = &note {
+        say(&format!("warning: {n}"));
+    }
+    let mut race = Race::new(scene, race_options(options, &settings, &args.picture), args.laps, !args.no_menu)
+        .autopilot(args.autopilot)
+        .with_settings(settings, file, args.scale, note)
+        .with_sound();
+    if let Some(search) = ghost {
+        race = race.with_ghost_search(search);
+    }
+    race = race.reading(inputs);
+    if let Some(path) = &args.record {
+        if let Some(left) = crate::input::recording::left_behind(path) {
+            say(&format!("note: {left}"));
+        }
+        race = race.record_to(path)?;
+    }
+    // Caught from before the window opens until the recording is kept (dropped at the end).
+    let signals = StopSignals::catch();
+    let ran = run(window, &mut race, signals.as_ref());
+    // However the window closed (a stop signal too), what was raced replaces the target (or stays
+    // in its temporary file, named in the one-line error, when the rename fails).
+    match (race.finish_recording(), ran) {
+        (Ok(kept), Ok(Ended::Signal(signal))) => Err(CliError::Stopped { signal, kept }),
+        (Ok(kept), ran) => {
+            // A race kept is always said; nothing recorded only when the window ran (not before
+            // the one-line error that it could not open).
+            if let Some(kept) = kept.filter(|k| ran.is_ok() || matches!(k, Kept::Race { .. })) {
+                say(&kept.to_string());
+            }
+            ran?;
+            Ok(())
+        }
+        (Err(e), Ok(_)) => Err(e.into()),
+        (Err(e), Err(ran)) => {
+            say(&format!("scanline-racer: error: {e}"));
+            Err(ran.into())
+        }
+    }
 }
 
 #[cfg(test)]
