@@ -34,6 +34,7 @@ pub use super::scene::{LoadedScene, SceneCamera};
 pub use super::sources::MAX_IMAGE_SIDE;
 use super::sources::{Images, Parsed, load_buffers, parse};
 use super::state::Loader;
+use super::uri::Base;
 use crate::render::{Camera, Instance, LodSet, Mesh, Projection};
 use crate::userfile::{FileProblem, read_regular};
 
@@ -69,6 +70,18 @@ pub fn load_from_slice(bytes: &[u8], base_dir: &Path, file: &str) -> Result<Load
     load_from_slice_with_budget(bytes, base_dir, file, &LoadBudget::default())
 }
 
+/// Loads a glTF file of a tree of files built into the program (`files`, by path), named by its path in
+/// that tree (`track/circuit.gltf`), within the default [`LoadBudget`]; the files it names are found in
+/// the same tree, relative to its folder.
+pub fn load_embedded(path: &str, files: &[(&str, &[u8])]) -> Result<LoadedScene, AssetError> {
+    let bytes = files.iter().find(|(n, _)| *n == path).map(|(_, b)| *b).ok_or_else(|| AssetError::Read {
+        file: path.to_string(),
+        problem: FileProblem::Io(std::io::Error::from(std::io::ErrorKind::NotFound)),
+    })?;
+    let dir = path.rsplit_once('/').map_or("", |(d, _)| d);
+    load_from_base(bytes, Base::Embedded { dir, files }, path, &LoadBudget::default())
+}
+
 /// Loads glTF or GLB bytes within `budget`; external files are resolved inside `base_dir`; `file` names
 /// the source in errors.
 pub fn load_from_slice_with_budget(
@@ -77,16 +90,21 @@ pub fn load_from_slice_with_budget(
     file: &str,
     budget: &LoadBudget,
 ) -> Result<LoadedScene, AssetError> {
+    load_from_base(bytes, Base::Folder(base_dir), file, budget)
+}
+
+/// Loads glTF or GLB bytes within `budget`, the files they name found from `base`.
+fn load_from_base(bytes: &[u8], base: Base<'_>, file: &str, budget: &LoadBudget) -> Result<LoadedScene, AssetError> {
     let mut meter = Meter::new(*budget);
     meter.charge(Limit::FileBytes, bytes.len() as u64).map_err(|over| AssetError::budget(file, Place::File, over))?;
     let parse_error = |problem: ParseError| AssetError::Parse { file: file.to_string(), problem };
     let Parsed { doc, blob } = parse(bytes).map_err(parse_error)?;
     super::validate::check(doc.as_json()).map_err(|e| parse_error(e.into()))?;
-    let buffers = load_buffers(&doc, blob, base_dir, &mut meter, file)?;
+    let buffers = load_buffers(&doc, blob, base, &mut meter, file)?;
     let slices = buffers.slices();
     let mut loader = Loader {
         file: file.to_string(),
-        base_dir,
+        base,
         doc: &doc,
         buffers: &slices,
         images: Images::default(),

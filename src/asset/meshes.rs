@@ -126,7 +126,7 @@ impl Loader<'_> {
             let texture = self.images.texture(
                 self.doc,
                 image,
-                (self.buffers, self.base_dir, &self.file),
+                (self.buffers, self.base, &self.file),
                 &mut self.meter,
                 &mut self.out.textures,
             );

@@ -10,11 +10,11 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::Cursor;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use super::budget::{Limit, Meter};
 use super::error::{AssetError, BufferProblem, ImageProblem, ParseError, Place};
-use super::uri::{Located, locate};
+use super::uri::{Base, Located, locate};
 use crate::render::Texture;
 
 /// Largest texture side accepted.
@@ -79,6 +79,7 @@ fn validated(root: gltf::json::Root) -> Result<gltf::Document, gltf::Error> {
 enum Key<'d> {
     Bin,
     Data(&'d str),
+    Embedded(String),
     File(PathBuf),
     View { buffer: usize, start: usize, end: usize },
 }
@@ -112,7 +113,7 @@ impl Buffers<'_> {
 pub fn load_buffers<'a>(
     doc: &gltf::Document,
     blob: Option<Cow<'a, [u8]>>,
-    base_dir: &Path,
+    base: Base<'_>,
     meter: &mut Meter,
     file: &str,
 ) -> Result<Buffers<'a>, AssetError> {
@@ -124,9 +125,10 @@ pub fn load_buffers<'a>(
         let (key, located) = match b.source() {
             gltf::buffer::Source::Bin => (Key::Bin, None),
             gltf::buffer::Source::Uri(uri) => {
-                let located = locate(uri, base_dir).map_err(|e| err(b.index(), e.into()))?;
+                let located = locate(uri, base).map_err(|e| err(b.index(), e.into()))?;
                 let key = match &located {
                     Located::File { path, .. } => Key::File(path.clone()),
+                    Located::Embedded { name, .. } => Key::Embedded(name.clone()),
                     Located::Data { .. } => Key::Data(uri),
                 };
                 (key, Some(located))
@@ -195,11 +197,11 @@ impl<'d> Images<'d> {
         &mut self,
         doc: &'d gltf::Document,
         index: usize,
-        ctx: (&[&[u8]], &Path, &str),
+        ctx: (&[&[u8]], Base<'_>, &str),
         meter: &mut Meter,
         textures: &mut Vec<Texture>,
     ) -> Result<usize, AssetError> {
-        let (buffers, base_dir, file) = ctx;
+        let (buffers, base, file) = ctx;
         if let Some(&t) = self.by_image.get(&index) {
             return Ok(t);
         }
@@ -217,9 +219,10 @@ impl<'d> Images<'d> {
                 (Key::View { buffer: view.buffer().index(), start: view.offset(), end }, Some(Cow::Borrowed(bytes)))
             }
             (None, Some(uri)) => {
-                let located = locate(uri, base_dir).map_err(|e| err(e.into()))?;
+                let located = locate(uri, base).map_err(|e| err(e.into()))?;
                 let key = match &located {
                     Located::File { path, .. } => Key::File(path.clone()),
+                    Located::Embedded { name, .. } => Key::Embedded(name.clone()),
                     Located::Data { .. } => Key::Data(uri),
                 };
                 if let Some(&t) = self.by_key.get(&key) {

@@ -2,7 +2,6 @@
 //! (`meshes`). It sits below both so that neither imports the other's file.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use glam::Vec3;
 
@@ -14,7 +13,7 @@ use super::sources::Images;
 /// The state of one load: the scene walk is in [`super::loader`], the mesh building in [`super::meshes`].
 pub(super) struct Loader<'a> {
     pub(super) file: String,
-    pub(super) base_dir: &'a Path,
+    pub(super) base: super::uri::Base<'a>,
     pub(super) doc: &'a gltf::Document,
     /// Each glTF buffer's bytes, by buffer index.
     pub(super) buffers: &'a [&'a [u8]],

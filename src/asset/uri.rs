@@ -118,8 +118,25 @@ fn percent_decode(s: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-/// Where the bytes a URI names are: in the URI itself (`data:`, still encoded) or in a file inside the
-/// asset's folder (its canonical path, so two spellings of one file are one source).
+/// Where the files a glTF file names are found: in its folder on disk, or in a table of files built into
+/// the program (the game's own assets, so that an installed binary needs no folder beside it).
+#[derive(Clone, Copy, Debug)]
+pub enum Base<'a> {
+    /// A folder on disk: URIs are paths relative to it and may not leave it.
+    Folder(&'a Path),
+    /// Files in memory, by their path in a tree (`track/circuit.bin`); URIs are relative to `dir` (its
+    /// path in that tree, `""` for the top) and may not leave the tree.
+    Embedded {
+        /// The glTF file's folder in the tree (`track`).
+        dir: &'a str,
+        /// Every file of the tree, by path.
+        files: &'a [(&'a str, &'a [u8])],
+    },
+}
+
+/// Where the bytes a URI names are: in the URI itself (`data:`, still encoded), in a file inside the
+/// asset's folder (its canonical path, so two spellings of one file are one source), or in a file built
+/// into the program.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Located<'u> {
     /// A `data:` URI's payload.
@@ -128,6 +145,13 @@ pub enum Located<'u> {
         base64: bool,
         /// The encoded payload.
         payload: &'u str,
+    },
+    /// A file built into the program, by its path in the tree (normalised: one file, one name).
+    Embedded {
+        /// Its path in the tree.
+        name: String,
+        /// Its bytes.
+        bytes: &'u [u8],
     },
     /// A regular file inside the asset's folder.
     File {
@@ -146,6 +170,7 @@ impl Located<'_> {
         match self {
             Located::Data { base64: true, payload } => (payload.len() as u64).div_ceil(4) * 3,
             Located::Data { base64: false, payload } => payload.len() as u64,
+            Located::Embedded { bytes, .. } => bytes.len() as u64,
             Located::File { size, .. } => *size,
         }
     }
@@ -160,6 +185,7 @@ impl Located<'_> {
             Located::Data { base64: false, payload } => {
                 percent_decode(payload).map(String::into_bytes).ok_or(UriError::BadData(DataProblem::PercentEncoding))
             }
+            Located::Embedded { bytes, .. } => Ok(bytes.to_vec()),
             Located::File { path, size } => Ok(read_regular(path, *size, WHAT)?),
         }
     }
@@ -169,8 +195,9 @@ impl Located<'_> {
 const WHAT: &str = "a file a glTF file names";
 
 /// Finds what a URI names without reading it: a `data:` URI is checked for shape and size, a relative
-/// path must stay inside `base_dir` (also through links) and be a regular file of at most [`MAX_BYTES`].
-pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError> {
+/// path must stay inside the base folder (also through links) and be a regular file of at most
+/// [`MAX_BYTES`], or name a file of the embedded tree.
+pub fn locate<'u>(uri: &'u str, base: Base<'u>) -> Result<Located<'u>, UriError> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (meta, payload) = rest.split_once(',').ok_or(UriError::BadData(DataProblem::NoComma))?;
         if payload.len() as u64 > MAX_BYTES * 4 / 3 + 4 {
@@ -202,6 +229,20 @@ pub fn locate<'u>(uri: &'u str, base_dir: &Path) -> Result<Located<'u>, UriError
     {
         return Err(refused(Refusal::LeavesFolder));
     }
+    let base_dir = match base {
+        Base::Folder(dir) => dir,
+        Base::Embedded { dir, files } => {
+            let name = normalised(dir, &decoded);
+            let found = files.iter().find(|(n, _)| *n == name);
+            return match found {
+                Some((_, bytes)) => Ok(Located::Embedded { name, bytes }),
+                None => Err(UriError::Read {
+                    path: PathBuf::from(name),
+                    source: std::io::Error::from(std::io::ErrorKind::NotFound),
+                }),
+            };
+        }
+    };
     // The folder's own path joined with the URI's: the system resolves the `..` parts (through links, as
     // it will when reading), and the canonical path must still be inside the folder.
     let path = base_dir.join(rel);
@@ -232,10 +273,26 @@ fn climbs_out(decoded: &str) -> bool {
     false
 }
 
+/// The path in an embedded tree of the relative path `rel` (checked not to climb out) from the folder
+/// `dir`: `.` and `..` resolved, `/` between the parts.
+fn normalised(dir: &str, rel: &str) -> String {
+    let mut parts: Vec<&str> = dir.split('/').filter(|p| !p.is_empty()).collect();
+    for part in rel.split(['/', '\\']) {
+        match part {
+            "" | "." => {}
+            ".." => {
+                parts.pop();
+            }
+            p => parts.push(p),
+        }
+    }
+    parts.join("/")
+}
+
 /// Returns the bytes a URI names, reading files only from inside `base_dir` ([`locate`], then
 /// [`Located::read`]).
 pub fn resolve(uri: &str, base_dir: &Path) -> Result<Vec<u8>, UriError> {
-    locate(uri, base_dir)?.read()
+    locate(uri, Base::Folder(base_dir))?.read()
 }
 
 #[cfg(test)]
@@ -261,7 +318,7 @@ mod tests {
         for inside in ["sub/../tri.bin", "./sub/./../tri.bin", "sub%2F..%2Ftri.bin"] {
             assert_eq!(resolve(inside, &d).unwrap(), [1, 2, 3], "{inside}");
         }
-        let why = |uri: &str| match locate(uri, &d) {
+        let why = |uri: &str| match locate(uri, Base::Folder(&d)) {
             Err(UriError::Refused { why, .. }) => why.to_string(),
             other => panic!("{uri}: {other:?}"),
         };
@@ -274,7 +331,7 @@ mod tests {
             "the scheme 'https:' is not read: only data: URIs and relative paths are"
         );
         assert_eq!(
-            locate("tri%00.bin", &d).unwrap_err().to_string(),
+            locate("tri%00.bin", Base::Folder(&d)).unwrap_err().to_string(),
             "URI 'tri%00.bin' refused: it holds a NUL byte (%00), which no file name may hold"
         );
     }
@@ -285,17 +342,17 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(d.join("sub")).unwrap();
         std::fs::write(d.join("sub/a.bin"), [7u8; 5]).unwrap();
-        let a = locate("sub/a.bin", &d).unwrap();
-        let b = locate("./sub/%61.bin", &d).unwrap();
+        let a = locate("sub/a.bin", Base::Folder(&d)).unwrap();
+        let b = locate("./sub/%61.bin", Base::Folder(&d)).unwrap();
         assert_eq!(a, b, "two spellings locate one canonical path");
         assert_eq!(a.size_bound(), 5);
         assert_eq!(a.read().unwrap(), [7u8; 5]);
-        assert_eq!(locate("data:;base64,AAECAw==", &d).unwrap().size_bound(), 6, "a bound, not exact");
+        assert_eq!(locate("data:;base64,AAECAw==", Base::Folder(&d)).unwrap().size_bound(), 6, "a bound, not exact");
         #[cfg(unix)]
         {
             let fifo = d.join("pipe.bin");
             assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
-            let e = locate("pipe.bin", &d).unwrap_err();
+            let e = locate("pipe.bin", Base::Folder(&d)).unwrap_err();
             assert!(e.to_string().ends_with("is a FIFO, not a regular file"), "{e}");
         }
     }

@@ -12,6 +12,7 @@ use crate::bench::{Row, chart, collect_frames, collect_sequence, configs, csv, l
 use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
 use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
 use crate::shell::image_file::write_image;
+use crate::shell::race_scene::Assets;
 use crate::shell::race_scene::RaceScene;
 
 /// Arguments of `bench`.
@@ -48,15 +49,18 @@ pub struct BenchArgs {
     /// resolutions.
     #[arg(long)]
     pub quick: bool,
+    /// The race's assets.
+    #[command(flatten)]
+    pub assets: super::error::AssetsArg,
 }
 
 /// Runs `bench`.
 pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     // Before the sweep (minutes long): an output folder that cannot be written fails now, not after it.
     super::error::output_folder("--out", &args.out, "the CSV and the charts")?;
-    let dir = super::error::assets_dir()?;
-    let scene = RaceScene::load(&dir)?;
-    let trace = args.trace.clone().unwrap_or_else(|| dir.join("replays/demo-race.trace"));
+    let assets = args.assets.find();
+    let scene = RaceScene::open(&assets)?;
+    let trace = trace_to_measure(args.trace.as_deref(), &assets)?;
     outputs_not_inputs(&args.out, &trace, &scene)?;
     let (frames, sequence, repeats, main, buckets, resolutions): (usize, usize, usize, _, Vec<usize>, Vec<_>) =
         if args.quick {
@@ -128,6 +132,16 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
         args.out.display()
     );
     Ok(())
+}
+
+/// The trace `bench` measures: the one named, else the demo race of the assets folder (the built-in assets
+/// hold none).
+fn trace_to_measure(named: Option<&std::path::Path>, assets: &Assets) -> Result<std::path::PathBuf, CliError> {
+    match (named, assets) {
+        (Some(t), _) => Ok(t.to_path_buf()),
+        (None, Assets::Folder(dir)) => Ok(dir.join("replays/demo-race.trace")),
+        (None, Assets::BuiltIn) => Err(CliError::NoTrace),
+    }
 }
 
 /// Refuses an output folder in which a file the bench writes is the trace or one of the assets.

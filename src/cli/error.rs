@@ -51,9 +51,10 @@ pub enum CliError {
         #[source]
         problem: crate::userfile::WriteProblem,
     },
-    /// The shipped assets folder was not found where the game looks for it.
-    #[error("cannot find the assets folder (run from the repository root, or set SCANLINE_RACER_ASSETS)")]
-    NoAssets,
+    /// `bench` has no trace to measure: none named, and the assets are the built-in ones (no folder with
+    /// the demo traces).
+    #[error("bench: name a trace to measure with --trace FILE (the built-in assets hold no demo trace)")]
+    NoTrace,
     /// A frame could not be written out as GLB.
     #[error("export-frame: {0}")]
     Export(#[from] crate::asset::export::ExportError),
@@ -99,6 +100,9 @@ pub enum CliError {
         /// The most a WAV file holds, in hours of sound.
         hours: f64,
     },
+    /// Standard output could not be written (a closed pipe).
+    #[error("cannot write to standard output: {0}")]
+    Stdout(#[source] std::io::Error),
     /// A stop signal ended the window as Quit would have; what was recorded is said with it.
     #[error("stopped by {signal}{}", kept.as_ref().map(|k| format!("; {k}")).unwrap_or_default())]
     Stopped {
@@ -144,10 +148,22 @@ impl CliError {
     }
 }
 
-/// The shipped assets folder (see [`crate::shell::race_scene::find_assets`]), or the one-line error that
-/// says where it was looked for.
-pub(super) fn assets_dir() -> Result<std::path::PathBuf, CliError> {
-    crate::shell::race_scene::find_assets().ok_or(CliError::NoAssets)
+/// The `--assets DIR` flag the commands that race share.
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct AssetsArg {
+    /// A folder holding the race's assets (`track/`, `cars/`) to use instead of the ones built in
+    /// (default: $SCANLINE_RACER_ASSETS, else an `assets` folder here or beside the build tree, else the
+    /// built-in ones).
+    #[arg(long, value_name = "DIR")]
+    pub assets: Option<std::path::PathBuf>,
+}
+
+impl AssetsArg {
+    /// Where the assets come from ([`crate::shell::race_scene::Assets::find`]).
+    #[must_use]
+    pub fn find(&self) -> crate::shell::race_scene::Assets {
+        crate::shell::race_scene::Assets::find(self.assets.as_deref())
+    }
 }
 
 /// Refuses the output `out`, named by `flag`, when it leads to one of the command's `inputs` (checked

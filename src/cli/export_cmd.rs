@@ -28,13 +28,15 @@ pub struct ExportArgs {
     /// Frame height, 1 to 16384.
     #[arg(long, default_value_t = 720, value_parser = values::side(values::MAX_SIDE))]
     pub height: usize,
+    /// The race's assets.
+    #[command(flatten)]
+    pub assets: super::error::AssetsArg,
 }
 
 /// Runs `export-frame`; prints what was written.
 pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     crate::userfile::check_output(&args.out).map_err(|source| CliError::Output { flag: "--out", source })?;
-    let dir = super::error::assets_dir()?;
-    let scene = RaceScene::load(&dir)?;
+    let scene = RaceScene::open(&args.assets.find())?;
     let mut inputs = crate::userfile::Inputs::new();
     inputs.add(&args.trace, "the trace");
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);

@@ -10,11 +10,12 @@ mod picture;
 mod play_cmd;
 mod render_cmd;
 mod replay_cmd;
+mod shell_cmd;
 pub mod values;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 pub use bench_cmd::{BenchArgs, bench_command};
 pub use error::CliError;
@@ -23,6 +24,7 @@ pub use export_cmd::{ExportArgs, export_command};
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
 pub use replay_cmd::{ReplayArgs, ReplaySummary, replay_command, replay_headless};
+pub use shell_cmd::{CompletionsArgs, completions_command, man_command};
 
 /// Top-level arguments.
 #[derive(Debug, Parser)]
@@ -46,6 +48,10 @@ pub enum Command {
     ExportFrame(ExportArgs),
     /// Chart speed against accuracy for every method and setting over a demo replay (CSV, SVG, PNG).
     Bench(BenchArgs),
+    /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
+    Completions(CompletionsArgs),
+    /// Print the man page (roff).
+    Man,
 }
 
 /// Parses the process arguments, runs the command and returns the exit status.
@@ -58,6 +64,8 @@ pub fn main() -> ExitCode {
         Some(Command::Replay(args)) => replay_command(&args),
         Some(Command::Bench(args)) => bench_command(&args),
         Some(Command::ExportFrame(args)) => export_command(&args),
+        Some(Command::Completions(args)) => completions_command(&args, Cli::command()),
+        Some(Command::Man) => man_command(Cli::command()),
         None => play_command(PlayArgs::default()),
     };
     match result {

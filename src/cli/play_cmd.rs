@@ -31,7 +31,7 @@ pub struct PlayArgs {
     /// Window height in pixels (1 to 16384).
     #[arg(long, default_value_t = 720, value_parser = values::window_side())]
     pub height: u32,
-    /// Start in fullscreen (F11 or F toggles).
+    /// Start in fullscreen (F11 toggles).
     #[arg(long)]
     pub fullscreen: bool,
     /// Window pixels per rendered pixel, 1 to 8 (1 = native; 2-4 for the retro look; '-' and '=' change
@@ -79,6 +79,9 @@ pub struct PlayArgs {
     /// Write the last frame to this image when quitting, PNG or JPEG by its extension (.png, .jpg, .jpeg).
     #[arg(long, value_parser = values::image_path())]
     pub screenshot: Option<PathBuf>,
+    /// The race's assets.
+    #[command(flatten)]
+    pub assets: super::error::AssetsArg,
 }
 
 impl Default for PlayArgs {
@@ -101,6 +104,7 @@ impl Default for PlayArgs {
             laps: 3,
             exit_after_frames: None,
             screenshot: None,
+            assets: super::error::AssetsArg::default(),
         }
     }
 }
@@ -173,8 +177,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
 /// Runs the race of `play`: the assets, the settings, the ghost and the recording, then the window; what
 /// was recorded is kept however the window closed.
 fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result<(), CliError> {
-    let dir = super::error::assets_dir()?;
-    let scene = RaceScene::load(&dir)?;
+    let scene = RaceScene::open(&args.assets.find())?;
     let path = args.settings.clone().or_else(settings::default_path);
     let mut inputs = Inputs::new();
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);

@@ -60,6 +60,9 @@ pub struct ReplayArgs {
     /// In the window: draw no menus or HUD over the race.
     #[arg(long)]
     pub no_hud: bool,
+    /// The race's assets.
+    #[command(flatten)]
+    pub assets: super::error::AssetsArg,
 }
 
 impl ReplayArgs {
@@ -96,8 +99,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     if let Some(a) = &args.audio {
         crate::userfile::check_output(a).map_err(|source| CliError::Output { flag: "--audio", source })?;
     }
-    let dir = super::error::assets_dir()?;
-    let scene = RaceScene::load(&dir)?;
+    let scene = RaceScene::open(&args.assets.find())?;
     let mut inputs = crate::userfile::Inputs::new();
     inputs.add(&args.trace, "the trace");
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
@@ -223,7 +225,6 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
-    let dir = super::error::assets_dir()?;
     let options = args.options();
     // The settings file's sound levels, mute and keys apply to a replay too (the window keeps its scale).
     let (file, settings, note) = match settings::default_path().as_deref().map(SettingsFile::load) {
@@ -233,7 +234,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     if let Some(n) = &note {
         eprintln!("warning: {n}");
     }
-    let mut race = Race::replaying(RaceScene::load(&dir)?, options, &args.trace)?
+    let mut race = Race::replaying(RaceScene::open(&args.assets.find())?, options, &args.trace)?
         .stopping_at(args.stop_at, !args.no_hud)
         .with_settings(settings, file, Some(1), note)
         .with_sound();

@@ -107,6 +107,16 @@ impl Gamepads {
         self.active.is_some()
     }
 
+    /// How the active pad's maker labels its buttons (the Xbox names without an active pad).
+    #[must_use]
+    pub fn style(&self) -> super::pad_names::PadStyle {
+        let vendor = match (&self.gilrs, self.active) {
+            (Some(g), Some(id)) => g.connected_gamepad(id).and_then(|pad| pad.vendor_id()),
+            _ => None,
+        };
+        super::pad_names::PadStyle::of_vendor(vendor)
+    }
+
     /// True when the backend could not be opened (the UI says so: keyboard only).
     #[must_use]
     pub fn unavailable(&self) -> bool {

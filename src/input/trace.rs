@@ -147,7 +147,7 @@ pub enum HeaderProblem {
     /// The file ends before the header does.
     #[error("file ends inside the header")]
     Cut,
-    /// The header's length is over [`MAX_HEADER`].
+    /// The header's length is over `MAX_HEADER`.
     #[error("header of {length} bytes is over the limit of {MAX_HEADER}")]
     TooLong {
         /// The length the file declares.

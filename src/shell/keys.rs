@@ -217,6 +217,82 @@ pub fn key_name(code: KeyCode) -> String {
     format!("{code:?}")
 }
 
+/// A key as keyboards label it (`KeyC` is `C`, `ArrowLeft` is `Left`, `Numpad0` is `Num 0`), for menus,
+/// Settings and the HUD; the settings file keeps winit's names, which follow a key's place on any layout.
+/// A name this table does not know is shown with spaces between its words (`AudioVolumeUp` is
+/// `Audio Volume Up`).
+#[must_use]
+pub fn key_label(name: &str) -> String {
+    if let Some(letter) = name.strip_prefix("Key").filter(|l| l.len() == 1) {
+        return letter.to_string();
+    }
+    if let Some(digit) = name.strip_prefix("Digit").filter(|d| d.len() == 1) {
+        return digit.to_string();
+    }
+    if let Some(rest) = name.strip_prefix("Numpad") {
+        let key = match rest {
+            "Add" => "+",
+            "Subtract" => "-",
+            "Multiply" => "*",
+            "Divide" => "/",
+            "Decimal" => ".",
+            "Equal" => "=",
+            "Comma" => ",",
+            other => return format!("Num {}", words(other)),
+        };
+        return format!("Num {key}");
+    }
+    for (side, word) in [("Left", "Left"), ("Right", "Right")] {
+        for (prefix, key) in [("Shift", "Shift"), ("Control", "Ctrl"), ("Alt", "Alt"), ("Super", "Super")] {
+            if name.strip_prefix(prefix) == Some(side) {
+                return format!("{word} {key}");
+            }
+        }
+    }
+    let label = match name {
+        "ArrowUp" => "Up",
+        "ArrowDown" => "Down",
+        "ArrowLeft" => "Left",
+        "ArrowRight" => "Right",
+        "Escape" => "Esc",
+        "Backquote" => "`",
+        "Minus" => "-",
+        "Equal" => "=",
+        "BracketLeft" => "[",
+        "BracketRight" => "]",
+        "Backslash" => "\\",
+        "IntlBackslash" => "\\ (left of Z)",
+        "Semicolon" => ";",
+        "Quote" => "'",
+        "Comma" => ",",
+        "Period" => ".",
+        "Slash" => "/",
+        "ContextMenu" => "Menu",
+        other => return words(other),
+    };
+    label.to_string()
+}
+
+/// `CamelCase` as separate words (`PageUp` is `Page Up`, `F11` stays `F11`).
+fn words(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    let mut previous_lower = false;
+    for c in name.chars() {
+        if c.is_ascii_uppercase() && previous_lower {
+            out.push(' ');
+        }
+        previous_lower = c.is_ascii_lowercase();
+        out.push(c);
+    }
+    out
+}
+
+/// Keys as keyboards label them, joined by `separator`.
+#[must_use]
+pub fn key_labels(names: &[String], separator: &str) -> String {
+    names.iter().map(|n| key_label(n)).collect::<Vec<_>>().join(separator)
+}
+
 /// Whether `name` names a key.
 #[must_use]
 pub fn is_key_name(name: &str) -> bool {
@@ -235,5 +311,35 @@ mod tests {
         assert!(KEYS.len() >= 190, "{} keys", KEYS.len());
         assert!(is_key_name("ArrowUp") && is_key_name("KeyW") && is_key_name("F35"));
         assert!(!is_key_name("ArowUp") && !is_key_name("arrowup") && !is_key_name(""));
+    }
+
+    #[test]
+    fn keys_are_shown_as_keyboards_label_them() {
+        for (name, label) in [
+            ("KeyC", "C"),
+            ("Digit7", "7"),
+            ("ArrowLeft", "Left"),
+            ("Space", "Space"),
+            ("Numpad0", "Num 0"),
+            ("NumpadAdd", "Num +"),
+            ("NumpadEnter", "Num Enter"),
+            ("ShiftLeft", "Left Shift"),
+            ("ControlRight", "Right Ctrl"),
+            ("Escape", "Esc"),
+            ("PageUp", "Page Up"),
+            ("CapsLock", "Caps Lock"),
+            ("Backquote", "`"),
+            ("F11", "F11"),
+            ("AudioVolumeUp", "Audio Volume Up"),
+        ] {
+            assert_eq!(key_label(name), label, "{name}");
+        }
+        // Every key has a label of its own: no two keys look alike in a menu.
+        let mut labels: Vec<String> = KEYS.iter().map(|(_, n)| key_label(n)).collect();
+        labels.sort();
+        let before = labels.len();
+        labels.dedup();
+        assert_eq!(labels.len(), before, "two keys share a label");
+        assert_eq!(key_labels(&["KeyW".into(), "ArrowUp".into()], "/"), "W/Up");
     }
 }

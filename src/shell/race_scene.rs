@@ -17,12 +17,36 @@ use crate::userfile::UserFileError;
 /// Number of cars in a race.
 pub const FIELD: usize = 8;
 
-/// Where the shipped assets are: `$SCANLINE_RACER_ASSETS`, `./assets`, or beside the executable's build tree.
+/// Where the race's assets come from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Assets {
+    /// A folder holding `track/` and `cars/` (a checkout's `assets/`, or one being edited).
+    Folder(PathBuf),
+    /// The ones built into the program ([`super::built_in`]).
+    BuiltIn,
+}
+
+impl Assets {
+    /// The assets a command uses: the folder `given` (`--assets DIR`), else `$SCANLINE_RACER_ASSETS`, else
+    /// an `assets` folder in the current folder or beside the executable's build tree (a checkout, whose
+    /// edits then show), else the ones built into the program.
+    #[must_use]
+    pub fn find(given: Option<&Path>) -> Self {
+        match given {
+            Some(dir) => Assets::Folder(dir.to_path_buf()),
+            None => find_assets().map_or(Assets::BuiltIn, Assets::Folder),
+        }
+    }
+}
+
+/// Where an assets folder is: `$SCANLINE_RACER_ASSETS` (whatever it holds, so a wrong one is named in the
+/// error), `./assets`, or beside the executable's build tree; `None` when there is none.
 #[must_use]
 pub fn find_assets() -> Option<PathBuf> {
-    let mut candidates: Vec<PathBuf> =
-        std::env::var_os("SCANLINE_RACER_ASSETS").map(PathBuf::from).into_iter().collect();
-    candidates.push(PathBuf::from("assets"));
+    if let Some(dir) = std::env::var_os("SCANLINE_RACER_ASSETS") {
+        return Some(PathBuf::from(dir));
+    }
+    let mut candidates: Vec<PathBuf> = vec![PathBuf::from("assets")];
     if let Ok(exe) = std::env::current_exe() {
         // target/release/scanline-racer -> ../../assets
         if let Some(root) = exe.parent().and_then(Path::parent).and_then(Path::parent) {
@@ -111,6 +135,34 @@ pub fn camera_for(world: &World, view: View) -> Camera {
 }
 
 impl RaceScene {
+    /// Loads the race from `assets`.
+    pub fn open(assets: &Assets) -> Result<Self, RaceSceneError> {
+        match assets {
+            Assets::Folder(dir) => Self::load(dir),
+            Assets::BuiltIn => Self::load_built_in(),
+        }
+    }
+
+    /// Loads the race from the assets built into the program.
+    pub fn load_built_in() -> Result<Self, RaceSceneError> {
+        let files = super::built_in::FILES;
+        let mut scene = crate::asset::loader::load_embedded("track/circuit.gltf", files)?;
+        scene.files.clear();
+        let statics = scene.instances.len();
+        let mut car_sets = vec![];
+        for n in 1..=FIELD {
+            let car = crate::asset::loader::load_embedded(&format!("cars/car_{n}.gltf"), files)?;
+            let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], files: vec![], ..car });
+            car_sets.push(first);
+        }
+        let line = "track/centerline.json";
+        let text = files.iter().find(|(n, _)| *n == line).and_then(|(_, b)| std::str::from_utf8(b).ok()).unwrap_or("");
+        let track = Track::from_json(text)
+            .map_err(|source| RaceSceneError::CentreLine { file: format!("built-in {line}"), source })?;
+        scene.instances.truncate(statics);
+        Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
+    }
+
     /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
     pub fn load(dir: &Path) -> Result<Self, RaceSceneError> {
         let mut scene = load(&dir.join("track/circuit.gltf"))?;

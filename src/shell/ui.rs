@@ -18,7 +18,14 @@ pub struct Ui {
     textures: BTreeMap<TextureId, Texture>,
     shapes: Vec<egui::epaint::ClippedPrimitive>,
     pixels_per_point: f32,
+    /// Where the text on screen is written when it changes (`$SCANLINE_RACER_UI_TEXT`), and what was written.
+    text_out: Option<(std::path::PathBuf, String)>,
 }
+
+/// The environment variable naming a file that receives the text the menus show, a line each: `X Y text`,
+/// the text's top-left corner in window pixels. For tests and tools that read the screen as a user does
+/// (which key names Settings shows, where a button is to click), without OCR.
+pub const UI_TEXT_ENV: &str = "SCANLINE_RACER_UI_TEXT";
 
 impl Ui {
     /// egui for `window`.
@@ -26,7 +33,8 @@ impl Ui {
     pub fn new(window: &Window) -> Self {
         let ctx = egui::Context::default();
         let state = egui_winit::State::new(ctx.clone(), ViewportId::ROOT, window, None, None, Some(4096));
-        Self { ctx, state, textures: BTreeMap::new(), shapes: vec![], pixels_per_point: 1.0 }
+        let text_out = std::env::var_os(UI_TEXT_ENV).map(|p| (std::path::PathBuf::from(p), String::new()));
+        Self { ctx, state, textures: BTreeMap::new(), shapes: vec![], pixels_per_point: 1.0, text_out }
     }
 
     /// Passes a window event to egui; true when egui used it (a click on a button, typing in a field).
@@ -59,6 +67,17 @@ impl Ui {
             self.textures.remove(&id);
         }
         self.pixels_per_point = out.pixels_per_point;
+        if let Some((path, last)) = &mut self.text_out {
+            let mut lines = String::new();
+            for clipped in &out.shapes {
+                texts(&clipped.shape, out.pixels_per_point, &mut lines);
+            }
+            // Written only when it changes, whole (a reader never sees half a file); a failure is no reason
+            // to stop the game.
+            if lines != *last && crate::userfile::replace_atomically(path, lines.as_bytes()).is_ok() {
+                *last = lines;
+            }
+        }
         self.shapes = self.ctx.tessellate(std::mem::take(&mut out.shapes), out.pixels_per_point);
     }
 
@@ -111,5 +130,18 @@ impl Ui {
                 draw_triangles(buffer, width, height, &verts, &mesh.indices, self.textures.get(&mesh.texture_id), clip);
         }
         written
+    }
+}
+
+/// Appends a line `X Y text` for every text in `shape` (and the shapes it holds), in window pixels.
+fn texts(shape: &egui::Shape, pixels_per_point: f32, out: &mut String) {
+    match shape {
+        egui::Shape::Text(t) => {
+            let text = t.galley.text().replace('\n', " ");
+            let (x, y) = (t.pos.x * pixels_per_point, t.pos.y * pixels_per_point);
+            out.push_str(&format!("{} {} {text}\n", x.round(), y.round()));
+        }
+        egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| texts(s, pixels_per_point, out)),
+        _ => {}
     }
 }

@@ -14,7 +14,7 @@ const MAX_LINK_HOPS: usize = 40;
 
 /// The file a write to `path` should replace: the end of its chain of symbolic links (so that a linked
 /// settings file stays a link, and a link to a link too), else `path` itself. Relative link targets are
-/// resolved against the folder of the link that names them. A chain longer than [`MAX_LINK_HOPS`] (a
+/// resolved against the folder of the link that names them. A chain longer than `MAX_LINK_HOPS` (a
 /// loop) stops where it is, and the write then fails or replaces that link, never anything outside it.
 #[must_use]
 pub fn write_target(path: &Path) -> PathBuf {

@@ -375,3 +375,34 @@ fn lod_sets_by_naming_convention_load_like_msft_lod() {
     assert_eq!(polys(&named), polys(&original));
     assert_eq!(named.lod_sets[0].switch_px, scanline_racer::asset::loader::DEFAULT_SWITCH_PX);
 }
+
+/// The assets built into the program are the committed folder's: the same scene, centre line and frames
+/// (a replay of the demo race drawn both ways at three ticks, pixel for pixel).
+#[test]
+fn the_built_in_assets_draw_what_the_folder_draws() {
+    use scanline_racer::input::replay::Replay;
+    use scanline_racer::shell::race_scene::{FIELD, RaceScene, View};
+    let built_in = RaceScene::load_built_in().unwrap();
+    let folder = RaceScene::load(&assets()).unwrap();
+    assert_eq!(built_in.scene().polygon_count(), folder.scene().polygon_count());
+    assert_eq!(built_in.scene().textures.len(), folder.scene().textures.len());
+    assert_eq!(built_in.track.length(), folder.track.length());
+    assert!(built_in.scene().files.is_empty(), "no file on disk is an input");
+    let trace = assets().join("replays/demo-race.trace");
+    let mut replay = Replay::open(&trace, folder.track.clone(), FIELD).unwrap();
+    let (w, h) = (160, 90);
+    let mut renderer = Renderer::new();
+    let mut drawn = 0;
+    while replay.advance().unwrap() && drawn < 3 {
+        if replay.world.tick.is_multiple_of(1500) {
+            let mut a = vec![0u32; w * h];
+            let mut b = vec![0u32; w * h];
+            let o = RenderOptions::default();
+            built_in.render(&mut renderer, &replay.world, View::ChaseNear, &o, (&mut a, w, h)).unwrap();
+            folder.render(&mut renderer, &replay.world, View::ChaseNear, &o, (&mut b, w, h)).unwrap();
+            assert!(a == b, "tick {}: the built-in assets draw another frame", replay.world.tick);
+            drawn += 1;
+        }
+    }
+    assert_eq!(drawn, 3);
+}

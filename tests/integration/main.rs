@@ -24,6 +24,7 @@ mod assets;
 mod audio;
 mod cli;
 mod conformance;
+mod docs;
 mod failures;
 mod game;
 mod gltf_fuzz;

@@ -110,10 +110,13 @@ fn a_trace_settings_file_or_asset_is_never_an_output() {
     std::fs::write(&csv, &bytes).unwrap();
     let o = run(&["bench", "--quick", "--trace", s(&csv), "--out", s(&d)]);
     assert_line(&o, &is_input("--out", &csv, "the trace"));
-    // The game's own assets, and play's settings file, are inputs too.
-    let texture = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/asphalt.png");
+    // The game's assets (a folder of them, as a user editing them names it), and play's settings file,
+    // are inputs too.
+    let assets = d.join("assets");
+    copy_assets(&assets);
+    let texture = assets.join("track/asphalt.png");
     let before = std::fs::read(&texture).unwrap();
-    let o = run(&["play", "--screenshot", s(&texture)]);
+    let o = run(&["play", "--assets", s(&assets), "--screenshot", s(&texture)]);
     assert_line(&o, &is_input("--screenshot", &texture, "a file of the game's assets"));
     assert_eq!(std::fs::read(&texture).unwrap(), before);
     let settings = d.join("settings.png");

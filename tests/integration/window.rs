@@ -334,3 +334,77 @@ fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_e
     // Every checksum in the prefix matches the replayed world's: identical up to the kill.
     assert!(err.contains(&format!(", {sums} checksums verified")), "{err} (trace has {sums})");
 }
+
+/// The lines `X Y text` the game writes of its menus' text ([`scanline_racer::shell::ui::UI_TEXT_ENV`]).
+fn ui_text(path: &Path) -> Vec<(i32, i32, String)> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| {
+            let mut parts = l.splitn(3, ' ');
+            Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?, parts.next()?.to_string()))
+        })
+        .collect()
+}
+
+/// Waits until a line of the menus' text satisfies `want`; returns it.
+fn wait_for_text(path: &Path, game: &mut std::process::Child, want: impl Fn(&str) -> bool) -> (i32, i32, String) {
+    let t = Instant::now();
+    loop {
+        if let Some(line) = ui_text(path).into_iter().find(|(_, _, s)| want(s)) {
+            return line;
+        }
+        assert!(game.try_wait().unwrap().is_none(), "the game ended early");
+        assert!(t.elapsed() < Duration::from_secs(60), "not on screen after 60 s: {:?}", ui_text(path));
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn settings_show_keys_as_keyboards_label_them_and_the_file_keeps_winit_s_names() {
+    let Some(x) = Xvfb::start() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-key-names");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = r#"{"keys":{"throttle":["Numpad0"],"brake":["Space"],"steer_left":["ArrowLeft","KeyA"]}}"#;
+    let settings = settings_file("key-names", Some(json));
+    let text = dir.join("ui.txt");
+    let mut game = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["play", "--width", "800", "--height", "600"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", &settings)
+        .env(scanline_racer::shell::ui::UI_TEXT_ENV, &text)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // The main menu's line of keys, then a click on its Settings button.
+    let (_, _, keys) = wait_for_text(&text, &mut game, |s| s.starts_with("Keys: "));
+    assert!(keys.starts_with("Keys: Left/A and "), "{keys}");
+    assert!(keys.contains("Num 0 accelerates, Space brakes"), "{keys}");
+    let (bx, by, _) = wait_for_text(&text, &mut game, |s| s == "Settings");
+    let Some(wid) = xdotool(&x.display, &["search", "--sync", "--name", "scanline-racer"]) else {
+        let _ = game.kill();
+        return;
+    };
+    let wid = wid.lines().next().unwrap().to_string();
+    let (cx, cy) = ((bx + 8).to_string(), (by + 6).to_string());
+    xdotool(&x.display, &["mousemove", "--window", &wid, &cx, &cy, "click", "1"]);
+    wait_for_text(&text, &mut game, |s| s.starts_with("Keys (click"));
+    let shown: Vec<String> = ui_text(&text).into_iter().map(|(_, _, s)| s).collect();
+    for label in ["Num 0", "Space", "Left, A"] {
+        assert!(shown.iter().any(|s| s == label), "{label} in Settings: {shown:?}");
+    }
+    for name in ["Numpad0", "ArrowLeft", "KeyA", "ArrowUp"] {
+        assert!(!shown.iter().any(|s| s.contains(name)), "winit's {name} shown: {shown:?}");
+    }
+    // The screen as the player sees it, to look at.
+    let shot = Command::new("xwd").args(["-root", "-silent", "-display", &x.display]).output().unwrap();
+    if let Some((px, w, h)) = read_xwd(&shot.stdout) {
+        write_png(&dir.join("settings.png"), &px, w, h);
+    }
+    let _ = game.kill();
+    let _ = game.wait();
+    assert_eq!(std::fs::read_to_string(&settings).unwrap(), json, "the file keeps winit's names, untouched");
+}

@@ -1,5 +1,5 @@
 //! Textures and their sampling: wrap modes, nearest, bilinear and trilinear filtering, any size, each
-//! texture with its chain of mip levels (made as [`mip`](super::mip) says).
+//! texture with its chain of mip levels (made as [`super::mip`] says).
 //!
 //! Texels are stored as packed `0xAARRGGBB` and used exactly as stored (no colour-space conversion), as the
 //! `render` command promises. Texture coordinates follow glTF: `(0, 0)` is the top-left corner of the image,

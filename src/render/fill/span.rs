@@ -61,7 +61,7 @@ pub(crate) fn qst_at(a0: &[f32; ATTRS], da: &[f32; ATTRS], k: f32) -> [f32; 3] {
 impl Shading<'_> {
     /// The level of detail `λ` for a pixel whose `1/w`, `s/w`, `t/w` are `qst`: 0 with mip-maps off, the
     /// polygon's with [`MipMode::Polygon`], else the texel footprint there (a span's caller asks once, at
-    /// its middle pixel, for [`MipMode::Span`]). The `lod` [`shade_surface`] takes.
+    /// its middle pixel, for [`MipMode::Span`]). The `lod` `shade_surface` takes.
     #[inline]
     #[must_use]
     pub fn lod_at(&self, qst: [f32; 3]) -> f32 {

@@ -51,6 +51,7 @@ impl MenuState {
         to: &mut RecordTo,
         notice: Option<&str>,
         bindings: &Bindings,
+        pad: crate::input::pad_names::PadStyle,
     ) -> Vec<Choice> {
         let mut chose = vec![];
         centred("scanline-racer").show(ctx, |ui| {
@@ -79,7 +80,7 @@ impl MenuState {
             if let Some(n) = notice {
                 ui.label(n);
             }
-            let keys = |a: Action| bindings.keys(a).join("/");
+            let keys = |a: Action| crate::shell::keys::key_labels(bindings.keys(a), "/");
             ui.label(format!(
                 "Keys: {} and {} steer, {} accelerates, {} brakes, {} changes the view, {} mutes, Esc pauses \
                  (Settings rebinds).",
@@ -90,7 +91,7 @@ impl MenuState {
                 keys(Action::ChangeView),
                 keys(Action::Mute)
             ));
-            ui.label("Gamepad: stick steers, triggers drive; D-pad and A in menus; Start pauses.");
+            ui.label(pad.help());
         });
         chose
     }

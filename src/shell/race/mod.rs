@@ -454,6 +454,7 @@ impl Content for Race {
                 &mut self.recording.to,
                 self.notice.as_deref(),
                 &self.prefs.bindings,
+                self.control.pads.style(),
             ),
             Screen::Paused => menus::pause_menu(ctx),
             Screen::Race | Screen::Frozen => Vec::new(),

@@ -11,6 +11,7 @@ use crate::game::rules::format_ticks;
 use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
 use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions, TextureMode};
+use crate::shell::keys::key_label;
 use crate::shell::race_scene::View;
 use crate::shell::settings::{Settings, SettingsFile, VOLUME_RANGE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
@@ -193,7 +194,7 @@ impl Prefs {
         let s = &mut self.sound;
         ui.add(egui::Slider::new(&mut s.volume, VOLUME_RANGE).text("master volume"));
         ui.add(egui::Slider::new(&mut s.effects, VOLUME_RANGE).text("effects volume"));
-        let key = self.bindings.keys(Action::Mute).first().map_or_else(String::new, |k| format!(" ({k})"));
+        let key = self.bindings.keys(Action::Mute).first().map_or_else(String::new, |k| format!(" ({})", key_label(k)));
         ui.checkbox(&mut s.muted, format!("mute{key}"));
     }
 
@@ -206,7 +207,7 @@ impl Prefs {
                 let text = if self.rebinding == Some(action) {
                     "press a key...".to_string()
                 } else {
-                    self.bindings.keys(action).join(", ")
+                    crate::shell::keys::key_labels(self.bindings.keys(action), ", ")
                 };
                 if ui.button(text).clicked() {
                     self.rebinding = Some(action);

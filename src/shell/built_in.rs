@@ -1,0 +1,20 @@
+//! The game's shipped assets (`assets/track/` and `assets/cars/`), built into the program by `build.rs`,
+//! so that an installed binary races from any folder.
+
+include!(concat!(env!("OUT_DIR"), "/built_in_assets.rs"));
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_tree_holds_the_circuit_the_cars_and_no_hidden_file() {
+        let names: Vec<&str> = FILES.iter().map(|(n, _)| *n).collect();
+        for want in ["track/circuit.gltf", "track/circuit.bin", "track/centerline.json", "cars/car_8.gltf"] {
+            assert!(names.contains(&want), "{want} in {names:?}");
+        }
+        assert!(names.iter().all(|n| !n.rsplit('/').next().is_some_and(|f| f.starts_with('.'))));
+        let on_disk = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/track/circuit.gltf")).unwrap();
+        assert_eq!(FILES.iter().find(|(n, _)| *n == "track/circuit.gltf").map(|(_, b)| b.to_vec()), Some(on_disk));
+    }
+}
