@@ -14,6 +14,10 @@ fn main() {
     for tree in TREES {
         let dir = root.join(tree);
         println!("cargo:rerun-if-changed={}", dir.display());
+        if !dir.is_dir() {
+            // Not an error: the asset generator (a binary of this package) is built before assets exist.
+            println!("cargo:warning=no {} folder: the program is built without its assets", dir.display());
+        }
         collect(&dir, tree, &mut files);
     }
     files.sort();
@@ -32,17 +36,25 @@ fn main() {
     }
 }
 
-/// Every regular file under `dir`, named `prefix/relative/path`.
+/// Every regular file under `dir` (links followed, as loading from the folder follows them), named
+/// `prefix/relative/path`; hidden files and folders (`.name`, such as an editor's or a write's temporary
+/// file) are left out, and so are names that are not UTF-8 (said as a warning: a glTF URI could not name
+/// them anyway).
 fn collect(dir: &Path, prefix: &str, files: &mut Vec<(String, PathBuf)>) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for entry in entries.flatten() {
         let path = entry.path();
-        let name = format!("{prefix}/{}", entry.file_name().to_string_lossy());
-        match entry.file_type() {
-            Ok(t) if t.is_dir() => collect(&path, &name, files),
-            Ok(t) if t.is_file() && !name.rsplit('/').next().is_some_and(|n| n.starts_with('.')) => {
-                files.push((name, path));
-            }
+        let Some(file) = entry.file_name().to_str().map(str::to_string) else {
+            println!("cargo:warning=not built in (its name is not UTF-8): {}", path.display());
+            continue;
+        };
+        if file.starts_with('.') {
+            continue;
+        }
+        let name = format!("{prefix}/{file}");
+        match std::fs::metadata(&path) {
+            Ok(m) if m.is_dir() => collect(&path, &name, files),
+            Ok(m) if m.is_file() => files.push((name, path)),
             _ => {}
         }
     }

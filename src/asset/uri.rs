@@ -237,7 +237,7 @@ pub fn locate<'u>(uri: &'u str, base: Base<'u>) -> Result<Located<'u>, UriError>
             return match found {
                 Some((_, bytes)) => Ok(Located::Embedded { name, bytes }),
                 None => Err(UriError::Read {
-                    path: PathBuf::from(name),
+                    path: PathBuf::from(format!("{name} (built into the program)")),
                     source: std::io::Error::from(std::io::ErrorKind::NotFound),
                 }),
             };
@@ -274,10 +274,10 @@ fn climbs_out(decoded: &str) -> bool {
 }
 
 /// The path in an embedded tree of the relative path `rel` (checked not to climb out) from the folder
-/// `dir`: `.` and `..` resolved, `/` between the parts.
+/// `dir`: `.` and `..` resolved, `/` between the parts (a `\\` is part of a name, as in a folder on Unix).
 fn normalised(dir: &str, rel: &str) -> String {
     let mut parts: Vec<&str> = dir.split('/').filter(|p| !p.is_empty()).collect();
-    for part in rel.split(['/', '\\']) {
+    for part in rel.split('/') {
         match part {
             "" | "." => {}
             ".." => {
@@ -355,6 +355,22 @@ mod tests {
             let e = locate("pipe.bin", Base::Folder(&d)).unwrap_err();
             assert!(e.to_string().ends_with("is a FIFO, not a regular file"), "{e}");
         }
+    }
+
+    #[test]
+    fn a_built_in_tree_is_resolved_like_a_folder_and_never_left() {
+        let files: &[(&str, &[u8])] = &[("track/a.bin", b"a"), ("track/sub/b.bin", b"b"), ("top.bin", b"t")];
+        let base = Base::Embedded { dir: "track", files };
+        let read = |uri: &str| locate(uri, base).and_then(|l| l.read());
+        for (uri, want) in [("a.bin", b"a"), ("./sub/../a.bin", b"a"), ("sub%2Fb.bin", b"b")] {
+            assert_eq!(read(uri).unwrap(), want, "{uri}");
+        }
+        // As in a folder, nothing above the glTF file's own folder is reached.
+        for uri in ["../top.bin", "sub/../../x", "/track/a.bin", "a%00.bin", "", "file:///etc/passwd", "sub/"] {
+            assert!(matches!(read(uri), Err(UriError::Refused { .. })), "{uri}");
+        }
+        let e = read("sub\\b.bin").unwrap_err();
+        assert_eq!(e.to_string(), "cannot read 'track/sub\\b.bin (built into the program)': entity not found");
     }
 
     #[test]

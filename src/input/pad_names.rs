@@ -71,11 +71,11 @@ impl PadStyle {
     #[must_use]
     pub fn help(self) -> String {
         format!(
-            "Gamepad: stick steers, right trigger accelerates, left trigger brakes; D-pad and {} in menus, {} \
-             back; {} pauses; {} changes the view.",
+            "Gamepad: stick steers, right trigger accelerates, left trigger brakes; D-pad and {} in menus; {} \
+             pauses ({} resumes); {} changes the view.",
             self.button(PadPlace::South),
-            self.button(PadPlace::East),
             self.button(PadPlace::Start),
+            self.button(PadPlace::East),
             self.button(PadPlace::North)
         )
     }
@@ -98,6 +98,6 @@ mod tests {
             ["Cross", "Circle", "Square", "Triangle", "Options"]
         );
         assert_eq!(places.map(|p| PadStyle::Nintendo.button(p)), ["B", "A", "Y", "X", "+"]);
-        assert!(PadStyle::PlayStation.help().contains("Cross in menus, Circle back; Options pauses; Triangle"));
+        assert!(PadStyle::PlayStation.help().contains("Cross in menus; Options pauses (Circle resumes); Triangle"));
     }
 }

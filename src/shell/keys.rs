@@ -217,9 +217,10 @@ pub fn key_name(code: KeyCode) -> String {
     format!("{code:?}")
 }
 
-/// A key as keyboards label it (`KeyC` is `C`, `ArrowLeft` is `Left`, `Numpad0` is `Num 0`), for menus,
-/// Settings and the HUD; the settings file keeps winit's names, which follow a key's place on any layout.
-/// A name this table does not know is shown with spaces between its words (`AudioVolumeUp` is
+/// A key as keyboards label it (`KeyC` is `C`, `ArrowLeft` is `Left`, `Numpad0` is `Num 0`).
+///
+/// For menus, Settings and the HUD; the settings file keeps winit's names, which follow a key's place on
+/// any layout. A name this table does not know is shown with spaces between its words (`AudioVolumeUp` is
 /// `Audio Volume Up`).
 #[must_use]
 pub fn key_label(name: &str) -> String {

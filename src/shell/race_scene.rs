@@ -43,7 +43,7 @@ impl Assets {
 /// error), `./assets`, or beside the executable's build tree; `None` when there is none.
 #[must_use]
 pub fn find_assets() -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os("SCANLINE_RACER_ASSETS") {
+    if let Some(dir) = std::env::var_os("SCANLINE_RACER_ASSETS").filter(|d| !d.is_empty()) {
         return Some(PathBuf::from(dir));
     }
     let mut candidates: Vec<PathBuf> = vec![PathBuf::from("assets")];
@@ -68,6 +68,13 @@ pub enum RaceSceneError {
     /// The centre line's file is missing, not a regular file, or too big.
     #[error("{0}")]
     CentreLineFile(#[from] UserFileError),
+    /// A file the race needs is not among the built-in assets (or is not UTF-8 text): the program was
+    /// built without them (`build.rs` found no `assets/`).
+    #[error("the built-in assets hold no {file}: name an assets folder with --assets DIR")]
+    BuiltInMissing {
+        /// The file's path in the tree.
+        file: &'static str,
+    },
     /// The centre line does not describe a usable circuit.
     #[error("{file}: {source}")]
     CentreLine {
@@ -156,7 +163,11 @@ impl RaceScene {
             car_sets.push(first);
         }
         let line = "track/centerline.json";
-        let text = files.iter().find(|(n, _)| *n == line).and_then(|(_, b)| std::str::from_utf8(b).ok()).unwrap_or("");
+        let text = files
+            .iter()
+            .find(|(n, _)| *n == line)
+            .and_then(|(_, b)| std::str::from_utf8(b).ok())
+            .ok_or(RaceSceneError::BuiltInMissing { file: line })?;
         let track = Track::from_json(text)
             .map_err(|source| RaceSceneError::CentreLine { file: format!("built-in {line}"), source })?;
         scene.instances.truncate(statics);

@@ -22,8 +22,9 @@ pub struct Ui {
     text_out: Option<(std::path::PathBuf, String)>,
 }
 
-/// The environment variable naming a file that receives the text the menus show, a line each: `X Y text`,
-/// the text's top-left corner in window pixels. For tests and tools that read the screen as a user does
+/// The environment variable naming a file that receives the text the menus show.
+///
+/// A line each: `X Y text`, the text's top-left corner in window pixels. For tests and tools that read the screen as a user does
 /// (which key names Settings shows, where a button is to click), without OCR.
 pub const UI_TEXT_ENV: &str = "SCANLINE_RACER_UI_TEXT";
 

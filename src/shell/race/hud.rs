@@ -7,12 +7,13 @@ use crate::game::rules::{Phase, format_ticks};
 use crate::game::{TICK_HZ, World};
 
 /// Speed, position, lap, times and the countdown of the player in `world`; the race's `notice`, else the
-/// replay's keys at `replay_speed` when replaying; the view, method, picture and frame time of `drawing`.
+/// replay's keys when replaying (`replay`: its speed and the pause keys' labels); the view, method, picture
+/// and frame time of `drawing`.
 pub(super) fn hud(
     ctx: &egui::Context,
     world: &World,
     notice: Option<&str>,
-    replay_speed: Option<f64>,
+    replay: Option<(f64, String)>,
     drawing: &Drawing,
 ) {
     let race = &world.race;
@@ -39,9 +40,9 @@ pub(super) fn hud(
             },
         );
     }
-    let line = match (notice, replay_speed) {
+    let line = match (notice, replay) {
         (Some(n), _) => Some(n.to_string()),
-        (None, Some(speed)) => Some(format!("REPLAY {speed}x — P pause, N step, [ ] speed, R restart")),
+        (None, Some((speed, pause))) => Some(format!("REPLAY {speed}x — {pause} pause, N step, [ ] speed, R restart")),
         (None, None) => None,
     };
     if let Some(text) = line {

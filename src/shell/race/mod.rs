@@ -469,8 +469,16 @@ impl Content for Race {
         self.save_settings();
         self.drawing.debug.show(ctx);
         if self.screen != Screen::Menu {
-            let replay_speed = self.control.replaying().then_some(self.clock.speed);
-            hud::hud(ctx, &self.world, self.notice.as_deref(), replay_speed, &self.drawing);
+            let replay = self.control.replaying().then(|| {
+                (
+                    self.clock.speed,
+                    crate::shell::keys::key_labels(
+                        self.prefs.bindings.keys(crate::input::bindings::Action::Pause),
+                        "/",
+                    ),
+                )
+            });
+            hud::hud(ctx, &self.world, self.notice.as_deref(), replay, &self.drawing);
         }
         if self.world.race.phase == Phase::Finished && self.choose(menus::results(ctx, &self.world.race)) {
             quit = true;

@@ -136,9 +136,9 @@ impl Prefs {
     pub(super) fn rebind(&mut self, action: Action, code: KeyCode, name: &str, notice: &mut Option<String>) {
         self.rebinding = None;
         if code != KeyCode::Escape
-            && let Err(e) = self.bindings.bind(action, name)
+            && let Err(crate::input::bindings::BindError::Reserved { key }) = self.bindings.bind(action, name)
         {
-            *notice = Some(e.to_string());
+            *notice = Some(format!("{} is reserved for menus and the window", key_label(&key)));
         }
     }
 
