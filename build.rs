@@ -22,7 +22,7 @@ fn main() {
     }
     files.sort();
     let mut out = String::from(
-        "/// The shipped assets, by their path under `assets/` (`track/circuit.gltf`), in name order.\n\
+        "/// The shipped assets, by their path under `assets/` (`track/circuit/circuit.gltf`), in name order.\n\
          pub static FILES: &[(&str, &[u8])] = &[\n",
     );
     for (name, path) in &files {

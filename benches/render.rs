@@ -21,7 +21,7 @@ use scanline_racer::audio::Mixer;
 use scanline_racer::game::TICK_HZ;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::render::{DrawList, Instance, Mesh, Method, RenderOptions, Renderer};
-use scanline_racer::shell::race_scene::{FIELD, RaceScene, View, camera_for};
+use scanline_racer::shell::race_scene::{DEFAULT_COURSE, RaceScene, View, camera_for};
 
 /// Benches `mesh` seen by a pixel-unit camera under each method, with each thread count of `threads`.
 fn bench_scene(
@@ -74,8 +74,8 @@ fn synthetic(c: &mut Criterion) {
 
 fn race(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = RaceScene::load(&root.join("assets")).unwrap();
-    let mut replay = Replay::open(&root.join("assets/replays/demo-race.trace"), scene.track.clone(), FIELD).unwrap();
+    let scene = RaceScene::load(&root.join("assets"), DEFAULT_COURSE).unwrap();
+    let mut replay = Replay::open(&root.join("assets/replays/demo-race.trace"), scene.track.clone()).unwrap();
     while replay.world.tick < 3000 && replay.advance().unwrap() {}
     let camera = camera_for(&replay.world, View::ChaseNear);
     let instances = scene.instances(&replay.world, None);

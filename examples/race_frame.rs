@@ -14,7 +14,7 @@ mod timing;
 
 use scanline_racer::input::replay::Replay;
 use scanline_racer::render::{Antialias, Filter, Method, MipMode, RenderOptions, Renderer};
-use scanline_racer::shell::race_scene::{FIELD, RaceScene, View, camera_for};
+use scanline_racer::shell::race_scene::{DEFAULT_COURSE, RaceScene, View, camera_for};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -27,8 +27,8 @@ fn main() {
     let (threads, rounds, tick) = (arg(1, 2), arg(2, 5), arg(3, 3000) as u64);
     let (w, h) = (arg(4, 1280), arg(5, 720));
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = RaceScene::load(&root.join("assets")).unwrap();
-    let mut replay = Replay::open(&root.join("assets/replays/demo-race.trace"), scene.track.clone(), FIELD).unwrap();
+    let scene = RaceScene::load(&root.join("assets"), DEFAULT_COURSE).unwrap();
+    let mut replay = Replay::open(&root.join("assets/replays/demo-race.trace"), scene.track.clone()).unwrap();
     while replay.world.tick < tick && replay.advance().unwrap() {}
     let camera = camera_for(&replay.world, View::ChaseNear);
     let instances = scene.instances(&replay.world, None);

@@ -71,7 +71,7 @@ pub fn load_from_slice(bytes: &[u8], base_dir: &Path, file: &str) -> Result<Load
 }
 
 /// Loads a glTF file of a tree of files built into the program (`files`, by path), named by its path in
-/// that tree (`track/circuit.gltf`), within the default [`LoadBudget`]; the files it names are found in
+/// that tree (`track/circuit/circuit.gltf`), within the default [`LoadBudget`]; the files it names are found in
 /// the same tree, relative to its folder.
 pub fn load_embedded(path: &str, files: &[(&str, &[u8])]) -> Result<LoadedScene, AssetError> {
     let bytes = files.iter().find(|(n, _)| *n == path).map(|(_, b)| *b).ok_or_else(|| AssetError::Read {

@@ -124,7 +124,7 @@ fn percent_decode(s: &str) -> Option<String> {
 pub enum Base<'a> {
     /// A folder on disk: URIs are paths relative to it and may not leave it.
     Folder(&'a Path),
-    /// Files in memory, by their path in a tree (`track/circuit.bin`); URIs are relative to `dir` (its
+    /// Files in memory, by their path in a tree (`track/circuit/circuit.bin`); URIs are relative to `dir` (its
     /// path in that tree, `""` for the top) and may not leave the tree.
     Embedded {
         /// The glTF file's folder in the tree (`track`).

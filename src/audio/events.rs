@@ -35,9 +35,11 @@ pub struct Contact {
 }
 
 /// Contacts between the world's cars `before` and `after` one tick: a car clamped onto a barrier that was
-/// moving into it, and two cars touching that were closing on each other.
+/// moving into it, and two cars touching that were closing on each other (`params` each car's handling,
+/// by index; a car past its end has the last's).
 #[must_use]
-pub fn contacts(track: &Track, params: &CarParams, before: &[Car], after: &[Car]) -> Vec<Contact> {
+pub fn contacts(track: &Track, params: &[CarParams], before: &[Car], after: &[Car]) -> Vec<Contact> {
+    let radius = |k: usize| params.get(k).or(params.last()).map_or(0.0, |p| p.radius);
     let mut out = vec![];
     for (i, (b, a)) in before.iter().zip(after).enumerate() {
         let side = usize::from(a.loc.lateral > 0.0);
@@ -55,7 +57,7 @@ pub fn contacts(track: &Track, params: &CarParams, before: &[Car], after: &[Car]
         for j in i + 1..after.len().min(before.len()) {
             let d = after[j].pos - after[i].pos;
             let dist = d.length();
-            if dist > 2.0 * params.radius + 0.02 || (after[i].loc.height - after[j].loc.height).abs() > 3.0 {
+            if dist > radius(i) + radius(j) + 0.02 || (after[i].loc.height - after[j].loc.height).abs() > 3.0 {
                 continue;
             }
             let n = if dist > 1e-4 { d / dist } else { after[i].forward().perp() };
@@ -277,18 +279,18 @@ mod tests {
         let mut after = before;
         after[0].pos += right * 50.0;
         after[0].settle(&t);
-        let c = contacts(&t, &p, &before, &after);
+        let c = contacts(&t, std::slice::from_ref(&p), &before, &after);
         assert_eq!(c.len(), 1, "{c:?}");
         assert!((c[0].speed - 12.0).abs() < 0.5 && c[0].cars == (0, None), "{c:?}");
-        assert!(contacts(&t, &p, &after, &after).is_empty(), "resting on the barrier is silent");
+        assert!(contacts(&t, std::slice::from_ref(&p), &after, &after).is_empty(), "resting on the barrier is silent");
         // Two cars closing at 8 m/s, touching.
         let mut x = [b, b];
         x[1].pos += b.forward() * 2.0 * p.radius;
         let mut y = x;
         y[0].vel = b.forward() * 8.0;
-        let c = contacts(&t, &p, &y, &x);
+        let c = contacts(&t, std::slice::from_ref(&p), &y, &x);
         assert_eq!(c.len(), 1);
         assert!((c[0].speed - 8.0).abs() < 1e-3 && c[0].cars == (0, Some(1)));
-        assert!(contacts(&t, &p, &x, &x).is_empty(), "touching without closing is silent");
+        assert!(contacts(&t, std::slice::from_ref(&p), &x, &x).is_empty(), "touching without closing is silent");
     }
 }

@@ -116,7 +116,7 @@ impl Mixer {
         }
         for (i, (voice, car)) in self.voices.iter_mut().zip(&world.cars).enumerate() {
             let at = if i == 0 { Spatial::CENTRE } else { place(&listener, car.pos, car.vel) };
-            voice.update(car, &world.params, (i == 0, self.effects), at);
+            voice.update(car, &world.params[i], (i == 0, self.effects), at);
         }
         if self.prev_cars.len() == world.cars.len() {
             for c in contacts(&world.track, &world.params, &self.prev_cars, &world.cars) {

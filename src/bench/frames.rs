@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::input::replay::{Replay, ReplayError};
 use crate::render::{Camera, Instance, LodMode, RenderOptions, Renderer};
-use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for};
+use crate::shell::race_scene::{RaceScene, View, camera_for};
 
 /// One frame to draw: where from, and what.
 #[derive(Clone, Debug)]
@@ -22,7 +22,7 @@ pub struct BenchFrame {
 /// `count` chase-camera frames spread evenly over the racing part of the trace at `path`, plus the other
 /// three views at every other one of those ticks.
 pub fn collect_frames(scene: &RaceScene, path: &Path, count: usize) -> Result<Vec<BenchFrame>, ReplayError> {
-    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(path, scene.track.clone())?;
     let mut worlds = vec![];
     while replay.advance()? {
         if !replay.world.race.holding() {
@@ -32,7 +32,7 @@ pub fn collect_frames(scene: &RaceScene, path: &Path, count: usize) -> Result<Ve
     let n = worlds.len();
     let count = count.max(1).min(n.max(1));
     let ticks: Vec<u64> = (0..count).filter_map(|i| worlds.get((2 * i + 1) * n / (2 * count)).copied()).collect();
-    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(path, scene.track.clone())?;
     let mut frames = vec![];
     let mut k = 0;
     while replay.advance()? {
@@ -65,7 +65,7 @@ pub const SEQUENCE_STEP: u64 = 2;
 /// every [`SEQUENCE_STEP`]th tick, moved back to fit in the racing part of the trace when it is shorter (and
 /// cut to the racing part when that is shorter than the sequence).
 pub fn collect_sequence(scene: &RaceScene, path: &Path, count: usize) -> Result<Vec<BenchFrame>, ReplayError> {
-    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(path, scene.track.clone())?;
     let (mut first, mut last) = (None, 0);
     while replay.advance()? {
         if !replay.world.race.holding() {
@@ -77,7 +77,7 @@ pub fn collect_sequence(scene: &RaceScene, path: &Path, count: usize) -> Result<
     let span = SEQUENCE_STEP * count.saturating_sub(1) as u64;
     let start = SEQUENCE_START.min(last.saturating_sub(span)).max(first);
     let ticks = |t: u64| t >= start && t <= last && (t - start).is_multiple_of(SEQUENCE_STEP) && t - start <= span;
-    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(path, scene.track.clone())?;
     let mut frames = vec![];
     while replay.advance()? {
         let w = &replay.world;
@@ -113,7 +113,7 @@ pub fn lod_pops_per_min(
     let mut renderers: Vec<Renderer> = keys.iter().map(|_| Renderer::new()).collect();
     let mut previous: Vec<Vec<Option<usize>>> = vec![vec![]; keys.len()];
     let mut frames = 0u64;
-    let mut replay = Replay::open(path, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(path, scene.track.clone())?;
     while !keys.is_empty() && replay.advance()? {
         let w = &replay.world;
         if !w.tick.is_multiple_of(SEQUENCE_STEP) {
@@ -149,7 +149,7 @@ mod tests {
 
     fn demo() -> (RaceScene, std::path::PathBuf) {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
-        (RaceScene::load(&dir).unwrap(), dir.join("replays/demo-race.trace"))
+        (RaceScene::load(&dir, crate::shell::race_scene::DEFAULT_COURSE).unwrap(), dir.join("replays/demo-race.trace"))
     }
 
     #[test]

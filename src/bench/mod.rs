@@ -308,7 +308,7 @@ mod tests {
     #[test]
     fn a_fresh_renderer_draws_the_car_the_camera_is_in_with_its_close_model() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
-        let scene = crate::shell::race_scene::RaceScene::load(&dir).unwrap();
+        let scene = crate::shell::race_scene::RaceScene::load(&dir, crate::shell::race_scene::DEFAULT_COURSE).unwrap();
         let frames = collect_frames(&scene, &dir.join("replays/demo-race.trace"), 2).unwrap();
         let bumper = frames.iter().find(|f| f.name.ends_with("Bumper")).unwrap();
         let list = scene.draw_list(&bumper.instances);

@@ -59,8 +59,8 @@ pub fn bench_command(args: &BenchArgs) -> Result<(), CliError> {
     // Before the sweep (minutes long): an output folder that cannot be written fails now, not after it.
     super::error::output_folder("--out", &args.out, "the CSV and the charts")?;
     let assets = args.assets.find();
-    let scene = RaceScene::open(&assets)?;
     let trace = trace_to_measure(args.trace.as_deref(), &assets)?;
+    let scene = args.assets.scene_for_trace(&trace)?;
     outputs_not_inputs(&args.out, &trace, &scene)?;
     let (frames, sequence, repeats, main, buckets, resolutions): (usize, usize, usize, _, Vec<usize>, Vec<_>) =
         if args.quick {

@@ -164,6 +164,13 @@ impl AssetsArg {
     pub fn find(&self) -> crate::shell::race_scene::Assets {
         crate::shell::race_scene::Assets::find(self.assets.as_deref())
     }
+
+    /// The race scene of the course the trace at `trace` was raced on (its header names it).
+    pub fn scene_for_trace(&self, trace: &std::path::Path) -> Result<crate::shell::race_scene::RaceScene, CliError> {
+        let (header, _) =
+            crate::input::trace::TraceReader::open(trace).map_err(crate::input::replay::ReplayError::from)?;
+        Ok(crate::shell::race_scene::RaceScene::open(&self.find(), &header.course)?)
+    }
 }
 
 /// Refuses the output `out`, named by `flag`, when it leads to one of the command's `inputs` (checked

@@ -9,7 +9,7 @@ use super::values;
 use crate::asset::export::export_glb;
 use crate::input::replay::Replay;
 use crate::render::{RenderOptions, Renderer};
-use crate::shell::race_scene::{FIELD, RaceScene, View, camera_for};
+use crate::shell::race_scene::{View, camera_for};
 
 /// Arguments of `export-frame`.
 #[derive(Debug, Args)]
@@ -36,12 +36,12 @@ pub struct ExportArgs {
 /// Runs `export-frame`; prints what was written.
 pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     crate::userfile::check_output(&args.out).map_err(|source| CliError::Output { flag: "--out", source })?;
-    let scene = RaceScene::open(&args.assets.find())?;
+    let scene = args.assets.scene_for_trace(&args.trace)?;
     let mut inputs = crate::userfile::Inputs::new();
     inputs.add(&args.trace, "the trace");
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
     super::error::not_an_input("--out", &args.out, &inputs)?;
-    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(&args.trace, scene.track.clone())?;
     while replay.world.tick < args.tick {
         if !replay.advance()? {
             return Err(CliError::TraceTooShort {

@@ -24,7 +24,7 @@ pub use export_cmd::{ExportArgs, export_command};
 pub use play_cmd::{PlayArgs, play_command};
 pub use render_cmd::{RenderArgs, render_command};
 pub use replay_cmd::{ReplayArgs, ReplaySummary, replay_command, replay_headless};
-pub use shell_cmd::{CompletionsArgs, completions_command, man_command};
+pub use shell_cmd::{CompletionsArgs, CoursesArgs, cars_command, completions_command, courses_command, man_command};
 
 /// Top-level arguments.
 #[derive(Debug, Parser)]
@@ -48,6 +48,10 @@ pub enum Command {
     ExportFrame(ExportArgs),
     /// Chart speed against accuracy for every method and setting over a demo replay (CSV, SVG, PNG).
     Bench(BenchArgs),
+    /// List the courses: name (for --course), lap length, title and what each is like.
+    Courses(CoursesArgs),
+    /// List the cars: number (for --car), name and handling (top speed, acceleration, braking, grip).
+    Cars,
     /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
     Completions(CompletionsArgs),
     /// Print the man page (roff).
@@ -64,6 +68,8 @@ pub fn main() -> ExitCode {
         Some(Command::Replay(args)) => replay_command(&args),
         Some(Command::Bench(args)) => bench_command(&args),
         Some(Command::ExportFrame(args)) => export_command(&args),
+        Some(Command::Courses(args)) => courses_command(&args),
+        Some(Command::Cars) => cars_command(),
         Some(Command::Completions(args)) => completions_command(&args, Cli::command()),
         Some(Command::Man) => man_command(Cli::command()),
         None => play_command(PlayArgs::default()),

@@ -12,7 +12,7 @@ use crate::input::ghost::GhostSearch;
 use crate::input::recording::Kept;
 use crate::render::{Method, RenderOptions};
 use crate::shell::race::Race;
-use crate::shell::race_scene::{FIELD, RaceScene};
+use crate::shell::race_scene::RaceScene;
 use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::stop::StopSignals;
 use crate::shell::viewer::Viewer;
@@ -25,6 +25,9 @@ const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
 /// Arguments of `play`.
 #[derive(Debug, Args)]
 pub struct PlayArgs {
+    /// The course to race: circuit, city, ... (`scanline-racer courses` lists them). Default: circuit.
+    #[arg(long, value_name = "NAME", value_parser = values::course_name)]
+    pub course: Option<String>,
     /// Window width in pixels (1 to 16384).
     #[arg(long, default_value_t = 1280, value_parser = values::window_side())]
     pub width: u32,
@@ -73,6 +76,15 @@ pub struct PlayArgs {
     /// Laps in the race (1 to 99).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=values::MAX_LAPS))]
     pub laps: u32,
+    /// Your car, 1 to 8 (each handles differently: `scanline-racer cars` lists them). Default: 1.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::game::garage::CARS as i64))]
+    pub car: Option<u32>,
+    /// The mode: race (against the AI) or time-trial (alone, against the ghost of your best lap). Default: race.
+    #[arg(long, value_parser = values::mode)]
+    pub mode: Option<crate::game::Mode>,
+    /// How fast the AI drives: easy, normal or hard. Default: normal.
+    #[arg(long, value_parser = values::difficulty)]
+    pub difficulty: Option<crate::game::Difficulty>,
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
@@ -87,6 +99,7 @@ pub struct PlayArgs {
 impl Default for PlayArgs {
     fn default() -> Self {
         Self {
+            course: None,
             width: 1280,
             height: 720,
             fullscreen: false,
@@ -102,6 +115,9 @@ impl Default for PlayArgs {
             ghost: None,
             no_menu: false,
             laps: 3,
+            car: None,
+            mode: None,
+            difficulty: None,
             exit_after_frames: None,
             screenshot: None,
             assets: super::error::AssetsArg::default(),
@@ -177,7 +193,8 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
 /// Runs the race of `play`: the assets, the settings, the ghost and the recording, then the window; what
 /// was recorded is kept however the window closed.
 fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result<(), CliError> {
-    let scene = RaceScene::open(&args.assets.find())?;
+    let course = args.course.as_deref().unwrap_or(crate::shell::race_scene::DEFAULT_COURSE);
+    let scene = RaceScene::open(&args.assets.find(), course)?;
     let path = args.settings.clone().or_else(settings::default_path);
     let mut inputs = Inputs::new();
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
@@ -186,7 +203,7 @@ fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result
     }
     outputs_not_inputs(args, &inputs, args.ghost.as_deref())?;
     // The trace is checked now; its laps are searched on a background thread while the race runs.
-    let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone(), FIELD)).transpose()?;
+    let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone())).transpose()?;
     let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
         Some((file, settings, note)) => (Some(file), settings, note),
         None => (None, Settings::default(), None),
@@ -194,7 +211,14 @@ fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result
     if let Some(n) = &note {
         say(&format!("warning: {n}"));
     }
-    let mut race = Race::new(scene, race_options(options, &settings, &args.picture), args.laps, !args.no_menu)
+    let setup = crate::game::RaceSetup {
+        mode: args.mode.unwrap_or_default(),
+        laps: args.laps,
+        car: args.car.map_or(0, |n| n as usize - 1),
+        difficulty: args.difficulty.unwrap_or_default(),
+        ..crate::game::RaceSetup::default()
+    };
+    let mut race = Race::new(scene, race_options(options, &settings, &args.picture), setup, !args.no_menu)
         .autopilot(args.autopilot)
         .with_settings(settings, file, args.scale, note)
         .with_sound();

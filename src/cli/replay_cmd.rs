@@ -13,7 +13,7 @@ use crate::input::replay::Replay;
 use crate::render::{LodMode, Method, RenderOptions, Renderer};
 use crate::shell::image_file::write_image;
 use crate::shell::race::Race;
-use crate::shell::race_scene::{FIELD, RaceScene, View};
+use crate::shell::race_scene::View;
 use crate::shell::settings::{self, Settings, SettingsFile};
 use crate::shell::window::{WindowConfig, run};
 
@@ -99,7 +99,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
     if let Some(a) = &args.audio {
         crate::userfile::check_output(a).map_err(|source| CliError::Output { flag: "--audio", source })?;
     }
-    let scene = RaceScene::open(&args.assets.find())?;
+    let scene = args.assets.scene_for_trace(&args.trace)?;
     let mut inputs = crate::userfile::Inputs::new();
     inputs.add(&args.trace, "the trace");
     inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
@@ -110,7 +110,7 @@ pub fn replay_headless(args: &ReplayArgs, mut progress: impl FnMut(u64)) -> Resu
         frames_not_inputs(d, &inputs)?;
     }
     let mut sound = args.audio.as_ref().map(|_| Soundtrack::new());
-    let mut replay = Replay::open(&args.trace, scene.track.clone(), FIELD)?;
+    let mut replay = Replay::open(&args.trace, scene.track.clone())?;
     let options = args.options();
     let mut renderer = Renderer::new();
     let mut frame = vec![0u32; args.width * args.height];
@@ -234,7 +234,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     if let Some(n) = &note {
         eprintln!("warning: {n}");
     }
-    let mut race = Race::replaying(RaceScene::open(&args.assets.find())?, options, &args.trace)?
+    let mut race = Race::replaying(args.assets.scene_for_trace(&args.trace)?, options, &args.trace)?
         .stopping_at(args.stop_at, !args.no_hud)
         .with_settings(settings, file, Some(1), note)
         .with_sound();

@@ -1,5 +1,6 @@
 //! `scanline-racer completions SHELL` and `scanline-racer man`: shell completions and the man page,
-//! generated from the command-line definitions, printed on stdout.
+//! generated from the command-line definitions, printed on stdout; and `scanline-racer courses`, the list
+//! of courses `play --course` takes.
 //!
 //! Why generated: written by hand they drift from the flags; from clap's definitions every flag, value
 //! and help line is the one `--help` shows.
@@ -15,6 +16,45 @@ use super::error::CliError;
 pub struct CompletionsArgs {
     /// The shell: bash, zsh, fish, elvish or powershell.
     pub shell: clap_complete::Shell,
+}
+
+/// Arguments of `courses`.
+#[derive(Debug, Args)]
+pub struct CoursesArgs {
+    /// The race's assets.
+    #[command(flatten)]
+    pub assets: super::error::AssetsArg,
+}
+
+/// Prints one line per course: its name, lap length, title and what it is like.
+pub fn courses_command(args: &CoursesArgs) -> Result<(), CliError> {
+    let courses = args.assets.find().courses();
+    let mut out = String::new();
+    for c in &courses {
+        let about = if c.about.is_empty() { String::new() } else { format!(": {}", c.about) };
+        out.push_str(&format!("{:<12} {:>5.2} km  {}{about}\n", c.name, c.length_m / 1000.0, c.title));
+    }
+    if courses.is_empty() {
+        out.push_str("no courses in these assets\n");
+    }
+    print(out.as_bytes())
+}
+
+/// Prints one line per car of the garage: its number (for --car), name and handling figures.
+pub fn cars_command() -> Result<(), CliError> {
+    let mut out = String::from("car  name           top speed  0-100 km/h  braking  grip\n");
+    for (i, c) in crate::game::garage::GARAGE.iter().enumerate() {
+        out.push_str(&format!(
+            "{:<4} {:<14} {:>5.0} km/h  {:>6.1} s  {:>5.1} g  {:>4.2} g\n",
+            i + 1,
+            c.name,
+            c.top_speed * 3.6,
+            c.zero_to_100(),
+            c.brake / 9.81,
+            c.grip / 9.81
+        ));
+    }
+    print(out.as_bytes())
 }
 
 /// Prints the completion script of the command line `cli` for `args.shell` (for bash: `scanline-racer

@@ -75,6 +75,33 @@ pub enum ValueError {
         /// The extensions accepted, as the message lists them.
         accepted: &'static str,
     },
+    /// `--mode` names no mode.
+    #[error("expected race or time-trial")]
+    Mode,
+    /// `--difficulty` names no difficulty.
+    #[error("expected easy, normal or hard")]
+    Difficulty,
+    /// `--course` is not a plain folder name.
+    #[error(
+        "a course is named by its folder: lower-case letters, digits, '-' and '_' (`scanline-racer courses` lists them)"
+    )]
+    Course,
+}
+
+/// A mode (`play --mode`): race or time-trial.
+pub fn mode(s: &str) -> Result<crate::game::Mode, ValueError> {
+    crate::game::Mode::from_name(s).ok_or(ValueError::Mode)
+}
+
+/// A difficulty (`play --difficulty`): easy, normal or hard.
+pub fn difficulty(s: &str) -> Result<crate::game::Difficulty, ValueError> {
+    crate::game::Difficulty::from_name(s).ok_or(ValueError::Difficulty)
+}
+
+/// A course's name (`play --course`): a plain folder name; whether the assets hold it is checked when they
+/// are loaded, where the message can list the courses there are.
+pub fn course_name(s: &str) -> Result<String, ValueError> {
+    if crate::shell::course::is_course_name(s) { Ok(s.to_string()) } else { Err(ValueError::Course) }
 }
 
 /// `path` when its extension (any letter case) is one of `allowed`.

@@ -21,6 +21,13 @@ pub struct Driver {
 }
 
 impl Driver {
+    /// This driver with its pace multiplied by `factor` (the race's difficulty): a share of the grip it
+    /// dares use in corners, never the grip itself.
+    #[must_use]
+    pub fn with_pace(self, factor: f32) -> Self {
+        Self { pace: self.pace * factor, ..self }
+    }
+
     /// The `i`-th driver of a field: paces and lines differ, deterministically.
     #[must_use]
     pub fn field(i: usize) -> Self {

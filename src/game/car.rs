@@ -176,10 +176,10 @@ pub fn wrap_angle(a: f32) -> f32 {
 }
 
 /// Pushes two overlapping cars apart and exchanges the velocity along the contact normal (inelastic).
-pub fn collide(a: &mut Car, b: &mut Car, p: &CarParams) {
+pub fn collide(a: &mut Car, b: &mut Car, (pa, pb): (&CarParams, &CarParams)) {
     let d = b.pos - a.pos;
     let dist = d.length();
-    let min = 2.0 * p.radius;
+    let min = pa.radius + pb.radius;
     if dist >= min || (a.loc.height - b.loc.height).abs() > 3.0 {
         return; // apart, or on different levels of the crossing
     }
@@ -243,7 +243,7 @@ mod tests {
         let mut a = Car::on_grid(&t, 100.0, 0.0);
         let mut b = Car::on_grid(&t, 101.0, 0.5);
         a.vel = Vec2::new(0.0, -20.0);
-        collide(&mut a, &mut b, &p);
+        collide(&mut a, &mut b, (&p, &p));
         assert!((b.pos - a.pos).length() >= 2.0 * p.radius - 1e-4);
         assert!(b.vel.length() > 0.0);
     }

@@ -6,12 +6,15 @@
 pub mod ai;
 pub mod car;
 pub mod controls;
+pub mod garage;
 pub mod rules;
+pub mod setup;
 pub mod timestep;
 pub mod track;
 pub mod world;
 
 pub use controls::Controls;
+pub use setup::{Difficulty, Handling, Mode, RaceSetup};
 pub use timestep::{DT, TICK_HZ};
 pub use track::Track;
 pub use world::{World, step};

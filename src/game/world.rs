@@ -8,7 +8,9 @@ use std::sync::Arc;
 use super::ai::{Driver, drive};
 use super::car::{Car, CarParams, collide};
 use super::controls::Controls;
+use super::garage::GARAGE;
 use super::rules::RaceProgress;
+use super::setup::{Handling, RaceSetup};
 use super::timestep::DT;
 use super::track::Track;
 
@@ -21,10 +23,14 @@ pub struct World {
     pub track: Arc<Track>,
     /// All cars; index 0 is the player.
     pub cars: Vec<Car>,
-    /// The AI drivers of cars 1.. (index `i` drives car `i + 1`).
+    /// The AI drivers of cars 1.. (index `i` drives car `i + 1`), at the setup's difficulty.
     pub drivers: Vec<Driver>,
-    /// The car model (the same for every car for now).
-    pub params: CarParams,
+    /// Each car's handling, by its index in `cars`.
+    pub params: Vec<CarParams>,
+    /// Each car's garage index (its model and name), by its index in `cars`.
+    pub models: Vec<usize>,
+    /// What decided the race before its first tick.
+    pub setup: RaceSetup,
     /// True when car 0 is driven by the AI too (attract mode, tests).
     pub player_is_ai: bool,
     /// The race rules' state: countdown, laps, times, positions.
@@ -32,19 +38,24 @@ pub struct World {
 }
 
 impl World {
-    /// A race start of `laps` laps: `cars` cars on a two-column staggered grid behind the start line, player last.
+    /// A race start of `laps` laps: `cars` cars on a two-column staggered grid behind the start line, player
+    /// last, the player in car 1, each car with its own handling.
     #[must_use]
     pub fn with_laps(track: Arc<Track>, cars: usize, laps: u32) -> Self {
-        let mut w = Self::new(track, cars);
-        let s: Vec<f32> = w.cars.iter().map(|c| c.loc.s).collect();
-        w.race = RaceProgress::new(laps, &s, w.track.length());
-        w
+        Self::for_race(track, &RaceSetup { laps, field: cars, ..RaceSetup::default() })
     }
 
-    /// A three-lap race start: `cars` cars on a two-column staggered grid behind the start line, player last.
+    /// A three-lap race start of `cars` cars (see [`World::with_laps`]).
     #[must_use]
     pub fn new(track: Arc<Track>, cars: usize) -> Self {
-        let cars = cars.max(1);
+        Self::with_laps(track, cars, 3)
+    }
+
+    /// The start of the race `setup` describes: its cars on a two-column staggered grid behind the start line,
+    /// the player last.
+    #[must_use]
+    pub fn for_race(track: Arc<Track>, setup: &RaceSetup) -> Self {
+        let cars = setup.cars();
         // Slot k: 8 m behind the line per row pair, alternating sides; the player (car 0) takes the last slot.
         let slot = |k: usize| {
             let s = track.length() - 8.0 - 8.0 * k as f32;
@@ -60,13 +71,24 @@ impl World {
             })
             .collect();
         let starts: Vec<f32> = list.iter().map(|c| c.loc.s).collect();
+        let models = setup.models();
+        let params = models
+            .iter()
+            .map(|&m| match setup.handling {
+                Handling::Garage => GARAGE[m].params(),
+                Handling::Same => CarParams::default(),
+            })
+            .collect();
+        let pace = setup.difficulty.pace();
         Self {
             tick: 0,
-            drivers: (0..cars.saturating_sub(1)).map(Driver::field).collect(),
-            race: RaceProgress::new(3, &starts, track.length()),
+            drivers: (0..cars.saturating_sub(1)).map(|i| Driver::field(i).with_pace(pace)).collect(),
+            race: RaceProgress::new(setup.laps, &starts, track.length()),
             cars: list,
             track,
-            params: CarParams::default(),
+            params,
+            models,
+            setup: *setup,
             player_is_ai: false,
         }
     }
@@ -105,17 +127,17 @@ pub fn step(world: &mut World, controls: &Controls) {
             controls.sanitized()
         } else {
             let driver = if i == 0 { Driver::field(n) } else { world.drivers[i - 1] };
-            drive(&driver, i, &world.cars, &world.track, &world.params).sanitized()
+            drive(&driver, i, &world.cars, &world.track, &world.params[i]).sanitized()
         };
         inputs.push(c);
     }
-    for (car, c) in world.cars.iter_mut().zip(&inputs) {
-        car.step(&world.params, c, &world.track, DT);
+    for ((car, c), p) in world.cars.iter_mut().zip(&inputs).zip(&world.params) {
+        car.step(p, c, &world.track, DT);
     }
     for i in 0..n {
         for j in i + 1..n {
             let (a, b) = world.cars.split_at_mut(j);
-            collide(&mut a[i], &mut b[0], &world.params);
+            collide(&mut a[i], &mut b[0], (&world.params[i], &world.params[j]));
         }
     }
     for car in &mut world.cars {

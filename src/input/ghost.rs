@@ -102,10 +102,10 @@ impl LapRecorder {
     }
 }
 
-/// Replays the trace at `path` on `track` with `cars` cars and returns the player's fastest complete lap in
-/// it (`None` when the trace holds no complete lap).
-pub fn best_lap_of_trace(path: &Path, track: Arc<Track>, cars: usize) -> Result<Option<GhostLap>, ReplayError> {
-    let mut replay = Replay::open(path, track, cars)?;
+/// Replays the trace at `path` on `track` and returns the player's fastest complete lap in it (`None` when
+/// the trace holds no complete lap).
+pub fn best_lap_of_trace(path: &Path, track: Arc<Track>) -> Result<Option<GhostLap>, ReplayError> {
+    let mut replay = Replay::open(path, track)?;
     let mut laps = LapRecorder::default();
     while replay.advance()? {
         laps.observe(&replay.world);
@@ -184,10 +184,10 @@ pub struct GhostSearch {
 }
 
 impl GhostSearch {
-    /// Opens the trace at `path` for a race of `cars` cars on `track`, refusing at once a file that is not a
-    /// trace of that track and field, and replays it on a background thread.
-    pub fn start(path: &Path, track: Arc<Track>, cars: usize) -> Result<Self, ReplayError> {
-        let mut replay = Replay::open(path, track, cars)?;
+    /// Opens the trace at `path` on `track`, refusing at once a file that is not a trace of that track, and
+    /// replays it on a background thread.
+    pub fn start(path: &Path, track: Arc<Track>) -> Result<Self, ReplayError> {
+        let mut replay = Replay::open(path, track)?;
         let shared = Arc::new(Shared::default());
         let done = Done(Arc::clone(&shared));
         let thread = std::thread::spawn(move || {

@@ -4,6 +4,7 @@
 pub mod bindings;
 pub mod gamepad;
 pub mod ghost;
+pub mod header;
 pub mod pad_names;
 pub mod recording;
 pub mod replay;

@@ -265,6 +265,10 @@ mod tests {
 
     fn header() -> Header {
         Header {
+            course: "circuit".into(),
+            car: 1,
+            mode: "race".into(),
+            difficulty: "normal".into(),
             sim_version: super::super::trace::SIM_VERSION,
             game_version: "test".into(),
             track_length_mm: 1000,

@@ -32,16 +32,6 @@ pub enum ReplayError {
         /// Tick of the world.
         expected: u64,
     },
-    /// The trace was recorded with another number of cars.
-    #[error("{path}: recorded with {found} cars, this build races {expected}")]
-    Cars {
-        /// The trace file.
-        path: String,
-        /// Cars in the header.
-        found: u32,
-        /// Cars this build races.
-        expected: usize,
-    },
     /// The trace was recorded on another circuit.
     #[error("{path}: recorded on a track of {found} mm per lap, this track is {expected} mm")]
     Track {
@@ -120,14 +110,11 @@ pub struct Replay {
 }
 
 impl Replay {
-    /// Opens the trace at `path` for a race of `cars` cars on `track`, refusing a trace of another track or
-    /// field size.
-    pub fn open(path: &Path, track: std::sync::Arc<crate::game::Track>, cars: usize) -> Result<Self, ReplayError> {
+    /// Opens the trace at `path` for the race its header describes on `track`, refusing a trace of
+    /// another track.
+    pub fn open(path: &Path, track: std::sync::Arc<crate::game::Track>) -> Result<Self, ReplayError> {
         let source = TraceSource::open(path)?;
-        if source.header.cars as usize != cars {
-            return Err(ReplayError::Cars { path: source.path.clone(), found: source.header.cars, expected: cars });
-        }
-        let world = World::with_laps(track, cars, source.header.laps);
+        let world = World::for_race(track, &source.header.setup());
         source.check_track(&world)?;
         Ok(Self { world, source })
     }

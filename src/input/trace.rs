@@ -15,44 +15,25 @@ use std::path::Path;
 
 use thiserror::Error;
 
+use super::header::MAX_HEADER;
+pub use super::header::{
+    FIRST_COURSE, Header, HeaderProblem, MAX_COURSE_NAME, SAME_CARS_SIM_VERSION, SIM_VERSION, is_course_name,
+};
 use crate::game::Controls;
 
 /// The file's first eight bytes.
 pub const MAGIC: &[u8; 8] = b"SRTRACE\0";
-/// The format version this build writes and reads.
-pub const FORMAT_VERSION: u16 = 1;
-/// Version of the simulation rules: bumped when `game::step` changes behaviour, so an old trace is refused
-/// with a clear message instead of diverging (build details that do not change the simulation keep it).
-pub const SIM_VERSION: u32 = 2;
-/// Largest header accepted.
-const MAX_HEADER: u32 = 64 * 1024;
+/// The format version this build writes (version 2: the header names the course).
+pub const FORMAT_VERSION: u16 = 2;
+/// The oldest format version this build reads: a version 1 trace (from before there were several courses)
+/// was raced on the circuit, and replays there.
+pub const OLDEST_FORMAT_VERSION: u16 = 1;
 /// Largest trace file read: 256 MiB, about 14 hours of racing at 120 ticks a second (a three-lap race is
 /// under 200 KB). Reading stops there whatever the file does meanwhile.
 pub const MAX_TRACE_BYTES: u64 = 256 * 1024 * 1024;
 
 const TAG_CONTROLS: u8 = 1;
 const TAG_CHECKSUM: u8 = 2;
-
-/// What decides the simulation, written at the start of a trace.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct Header {
-    /// The simulation rules' version ([`SIM_VERSION`]).
-    pub sim_version: u32,
-    /// The program version that wrote the trace (informative).
-    pub game_version: String,
-    /// The circuit's lap length in millimetres (identifies the track).
-    pub track_length_mm: u64,
-    /// Cars in the race.
-    pub cars: u32,
-    /// Laps.
-    pub laps: u32,
-    /// Seed of the race's random choices.
-    pub seed: u64,
-    /// Simulation ticks per second.
-    pub tick_hz: u32,
-    /// Ticks between state checksums.
-    pub checksum_every: u32,
-}
 
 /// One record of a trace.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -89,7 +70,9 @@ pub enum TraceError {
         path: String,
     },
     /// A trace of another format version.
-    #[error("{path}: trace format version {found}, but this build reads version {FORMAT_VERSION}")]
+    #[error(
+        "{path}: trace format version {found}, but this build reads versions {OLDEST_FORMAT_VERSION} to {FORMAT_VERSION}"
+    )]
     Version {
         /// The file.
         path: String,
@@ -97,7 +80,9 @@ pub enum TraceError {
         found: u16,
     },
     /// A trace of another simulation version.
-    #[error("{path}: recorded with simulation version {found}, but this build runs version {SIM_VERSION}")]
+    #[error(
+        "{path}: recorded with simulation version {found}, but this build runs versions {SAME_CARS_SIM_VERSION} and {SIM_VERSION}"
+    )]
     SimVersion {
         /// The file.
         path: String,
@@ -139,44 +124,6 @@ pub enum TraceError {
         /// Tick of the checksum record before it.
         previous: u64,
     },
-}
-
-/// What is wrong with a trace's header.
-#[derive(Debug, Error)]
-pub enum HeaderProblem {
-    /// The file ends before the header does.
-    #[error("file ends inside the header")]
-    Cut,
-    /// The header's length is over `MAX_HEADER`.
-    #[error("header of {length} bytes is over the limit of {MAX_HEADER}")]
-    TooLong {
-        /// The length the file declares.
-        length: u32,
-    },
-    /// The header is not the JSON object a trace header is (or could not be written as one).
-    #[error("{0}")]
-    Json(#[source] serde_json::Error),
-    /// Another simulation tick rate.
-    #[error("tick rate {found} Hz differs from this build's {} Hz", crate::game::TICK_HZ)]
-    TickRate {
-        /// The rate in the header.
-        found: u32,
-    },
-    /// A number of cars this build cannot race.
-    #[error("{found} cars is out of range 1-64")]
-    Cars {
-        /// Cars in the header.
-        found: u32,
-    },
-    /// A number of laps this build cannot race.
-    #[error("{found} laps is out of range 1-99")]
-    Laps {
-        /// Laps in the header.
-        found: u32,
-    },
-    /// No ticks between checksums.
-    #[error("checksum interval 0 is out of range")]
-    ChecksumInterval,
 }
 
 /// Rounds controls to what a trace stores: steer in 1/32767 steps, throttle and brake in 1/255 steps.
@@ -314,7 +261,7 @@ impl TraceReader {
             return Err(TraceError::Magic { path: name });
         }
         let version = u16::from_le_bytes([head[8], head[9]]);
-        if version != FORMAT_VERSION {
+        if !(OLDEST_FORMAT_VERSION..=FORMAT_VERSION).contains(&version) {
             return Err(TraceError::Version { path: name, found: version });
         }
         let len = u32::from_le_bytes([head[10], head[11], head[12], head[13]]);
@@ -324,20 +271,11 @@ impl TraceReader {
         let mut json = vec![0u8; len as usize];
         input.read_exact(&mut json).map_err(read_failed)?;
         let header: Header = serde_json::from_slice(&json).map_err(|e| bad(HeaderProblem::Json(e)))?;
-        if header.sim_version != SIM_VERSION {
+        if header.sim_version != SIM_VERSION && header.sim_version != SAME_CARS_SIM_VERSION {
             return Err(TraceError::SimVersion { path: name, found: header.sim_version });
         }
-        if header.tick_hz != crate::game::TICK_HZ {
-            return Err(bad(HeaderProblem::TickRate { found: header.tick_hz }));
-        }
-        if !(1..=64).contains(&header.cars) {
-            return Err(bad(HeaderProblem::Cars { found: header.cars }));
-        }
-        if !(1..=99).contains(&header.laps) {
-            return Err(bad(HeaderProblem::Laps { found: header.laps }));
-        }
-        if header.checksum_every == 0 {
-            return Err(bad(HeaderProblem::ChecksumInterval));
+        if let Some(problem) = header.problem() {
+            return Err(bad(problem));
         }
         Ok((header, Self { input, path: name, offset: 14 + u64::from(len), last_checksum: None }))
     }

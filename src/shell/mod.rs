@@ -2,6 +2,7 @@
 //! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
 
 pub mod built_in;
+pub mod course;
 pub mod debug_overlay;
 pub mod image_file;
 pub mod keys;

@@ -1,7 +1,7 @@
-//! What a race looks like, shared by the window and headless replays: the merged circuit and car scene,
+//! What a race looks like, shared by the window and headless replays: the merged course and car scene,
 //! the cameras, and drawing one frame of a world.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
@@ -14,50 +14,11 @@ use crate::render::order::view_lists::{DEFAULT_LEVEL, DEFAULT_MAX_POLYGONS};
 use crate::render::{Camera, DrawList, Instance, Method, RenderError, RenderOptions, Renderer, Stats, ViewLists};
 use crate::userfile::UserFileError;
 
+pub use super::course::{Assets, DEFAULT_COURSE, find_assets};
+use super::course::{MAX_CENTRE_LINE_BYTES, built_in_text, centre_line_path, is_course_name, scene_path};
+
 /// Number of cars in a race.
 pub const FIELD: usize = 8;
-
-/// Where the race's assets come from.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Assets {
-    /// A folder holding `track/` and `cars/` (a checkout's `assets/`, or one being edited).
-    Folder(PathBuf),
-    /// The ones built into the program ([`super::built_in`]).
-    BuiltIn,
-}
-
-impl Assets {
-    /// The assets a command uses: the folder `given` (`--assets DIR`), else `$SCANLINE_RACER_ASSETS`, else
-    /// an `assets` folder in the current folder or beside the executable's build tree (a checkout, whose
-    /// edits then show), else the ones built into the program.
-    #[must_use]
-    pub fn find(given: Option<&Path>) -> Self {
-        match given {
-            Some(dir) => Assets::Folder(dir.to_path_buf()),
-            None => find_assets().map_or(Assets::BuiltIn, Assets::Folder),
-        }
-    }
-}
-
-/// Where an assets folder is: `$SCANLINE_RACER_ASSETS` (whatever it holds, so a wrong one is named in the
-/// error), `./assets`, or beside the executable's build tree; `None` when there is none.
-#[must_use]
-pub fn find_assets() -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os("SCANLINE_RACER_ASSETS").filter(|d| !d.is_empty()) {
-        return Some(PathBuf::from(dir));
-    }
-    let mut candidates: Vec<PathBuf> = vec![PathBuf::from("assets")];
-    if let Ok(exe) = std::env::current_exe() {
-        // target/release/scanline-racer -> ../../assets
-        if let Some(root) = exe.parent().and_then(Path::parent).and_then(Path::parent) {
-            candidates.push(root.join("assets"));
-        }
-    }
-    candidates.into_iter().find(|p| p.join("track/circuit.gltf").is_file())
-}
-
-/// Largest centre line read (the shipped one is about 150 KB).
-const MAX_CENTRE_LINE_BYTES: u64 = 16 * 1024 * 1024;
 
 /// Why the race's assets could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -73,7 +34,17 @@ pub enum RaceSceneError {
     #[error("the built-in assets hold no {file}: name an assets folder with --assets DIR")]
     BuiltInMissing {
         /// The file's path in the tree.
-        file: &'static str,
+        file: String,
+    },
+    /// No course of that name in the assets.
+    #[error("no course {name:?} in {place} (the courses: {})", if known.is_empty() { "none".to_string() } else { known.join(", ") })]
+    NoCourse {
+        /// The name asked for (its first 40 characters).
+        name: String,
+        /// Where the courses were looked for.
+        place: String,
+        /// The courses there are.
+        known: Vec<String>,
     },
     /// The centre line does not describe a usable circuit.
     #[error("{file}: {source}")]
@@ -90,8 +61,10 @@ pub struct RaceScene {
     scene: LoadedScene,
     statics: usize,
     car_sets: Vec<usize>,
-    /// The circuit's centre line for the simulation.
+    /// The course's centre line for the simulation.
     pub track: Arc<Track>,
+    /// The course's name (its folder under `track/`).
+    pub course: String,
     /// Drawing orders made in advance for the cars and track-side objects, built on first use.
     view_lists: std::sync::OnceLock<ViewLists>,
 }
@@ -142,18 +115,28 @@ pub fn camera_for(world: &World, view: View) -> Camera {
 }
 
 impl RaceScene {
-    /// Loads the race from `assets`.
-    pub fn open(assets: &Assets) -> Result<Self, RaceSceneError> {
+    /// Loads the race on `course` from `assets`.
+    pub fn open(assets: &Assets, course: &str) -> Result<Self, RaceSceneError> {
+        if !is_course_name(course) || !assets.course_names().iter().any(|c| c == course) {
+            return Err(RaceSceneError::NoCourse {
+                name: course.chars().take(40).collect(),
+                place: match assets {
+                    Assets::Folder(dir) => dir.join("track").display().to_string(),
+                    Assets::BuiltIn => "the built-in assets".to_string(),
+                },
+                known: assets.course_names(),
+            });
+        }
         match assets {
-            Assets::Folder(dir) => Self::load(dir),
-            Assets::BuiltIn => Self::load_built_in(),
+            Assets::Folder(dir) => Self::load(dir, course),
+            Assets::BuiltIn => Self::load_built_in(course),
         }
     }
 
-    /// Loads the race from the assets built into the program.
-    pub fn load_built_in() -> Result<Self, RaceSceneError> {
+    /// Loads the race on `course` (a name [`is_course_name`] accepts) from the assets built into the program.
+    pub fn load_built_in(course: &str) -> Result<Self, RaceSceneError> {
         let files = super::built_in::FILES;
-        let mut scene = crate::asset::loader::load_embedded("track/circuit.gltf", files)?;
+        let mut scene = crate::asset::loader::load_embedded(&scene_path(course), files)?;
         scene.files.clear();
         let statics = scene.instances.len();
         let mut car_sets = vec![];
@@ -162,21 +145,18 @@ impl RaceScene {
             let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], files: vec![], ..car });
             car_sets.push(first);
         }
-        let line = "track/centerline.json";
-        let text = files
-            .iter()
-            .find(|(n, _)| *n == line)
-            .and_then(|(_, b)| std::str::from_utf8(b).ok())
-            .ok_or(RaceSceneError::BuiltInMissing { file: line })?;
+        let line = centre_line_path(course);
+        let text = built_in_text(&line).ok_or(RaceSceneError::BuiltInMissing { file: line.clone() })?;
         let track = Track::from_json(text)
             .map_err(|source| RaceSceneError::CentreLine { file: format!("built-in {line}"), source })?;
         scene.instances.truncate(statics);
-        Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
+        Ok(Self::new(scene, statics, car_sets, track, course))
     }
 
-    /// Loads `track/circuit.gltf`, `track/centerline.json` and `cars/car_N.gltf` from `dir`.
-    pub fn load(dir: &Path) -> Result<Self, RaceSceneError> {
-        let mut scene = load(&dir.join("track/circuit.gltf"))?;
+    /// Loads `track/COURSE/COURSE.gltf`, `track/COURSE/centerline.json` and `cars/car_N.gltf` from `dir`
+    /// (`course` a name [`is_course_name`] accepts).
+    pub fn load(dir: &Path, course: &str) -> Result<Self, RaceSceneError> {
+        let mut scene = load(&dir.join(scene_path(course)))?;
         let statics = scene.instances.len();
         let mut car_sets = vec![];
         for n in 1..=FIELD {
@@ -184,13 +164,18 @@ impl RaceScene {
             let first = scene.append(LoadedScene { instances: vec![], cameras: vec![], ..car });
             car_sets.push(first);
         }
-        let line = dir.join("track/centerline.json");
+        let line = dir.join(centre_line_path(course));
         let text = crate::userfile::read_regular_text(&line, MAX_CENTRE_LINE_BYTES, "a centre line")?;
         let track = Track::from_json(&text)
             .map_err(|source| RaceSceneError::CentreLine { file: line.display().to_string(), source })?;
         scene.instances.truncate(statics);
         scene.files.push(line);
-        Ok(Self { scene, statics, car_sets, track: Arc::new(track), view_lists: std::sync::OnceLock::new() })
+        Ok(Self::new(scene, statics, car_sets, track, course))
+    }
+
+    fn new(scene: LoadedScene, statics: usize, car_sets: Vec<usize>, track: Track, course: &str) -> Self {
+        let view_lists = std::sync::OnceLock::new();
+        Self { scene, statics, car_sets, track: Arc::new(track), course: course.to_string(), view_lists }
     }
 
     /// Draws `world` seen from `view` into `frame`.
@@ -231,13 +216,19 @@ impl RaceScene {
     #[must_use]
     pub fn instances(&self, world: &World, ghost: Option<Pose>) -> Vec<Instance> {
         let mut instances: Vec<Instance> = self.scene.instances[..self.statics].to_vec();
+        // Each car is drawn with its own model (the garage index the race gave it); the ghost with the
+        // player's.
+        let set = |i: usize| {
+            let m = world.models.get(i).copied().unwrap_or(i);
+            self.car_sets[m % self.car_sets.len()]
+        };
         for (i, car) in world.cars.iter().enumerate() {
             let model = Mat4::from_translation(car.position3()) * Mat4::from_rotation_y(-car.yaw);
-            instances.push(Instance::of_lod_set(self.car_sets[i % self.car_sets.len()], model));
+            instances.push(Instance::of_lod_set(set(i), model));
         }
         if let Some(g) = ghost.filter(|g| g.position.is_finite() && g.yaw.is_finite()) {
             let model = Mat4::from_translation(g.position) * Mat4::from_rotation_y(-g.yaw);
-            instances.push(Instance::of_lod_set(self.car_sets[0], model).see_through());
+            instances.push(Instance::of_lod_set(set(0), model).see_through());
         }
         instances
     }

@@ -204,7 +204,7 @@ fn forced_levels_report_that_levels_polygons() {
 }
 
 fn centerline() -> (f64, Vec<([f64; 3], f64)>) {
-    let text = std::fs::read_to_string(assets().join("track/centerline.json")).unwrap();
+    let text = std::fs::read_to_string(assets().join("track/circuit/centerline.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let samples = v["samples"]
         .as_array()
@@ -272,7 +272,7 @@ fn the_circuit_is_closed_crosses_itself_and_has_straights_corners_hills_and_bank
 
 #[test]
 fn the_circuit_scene_has_its_furniture_and_stays_within_budget() {
-    let scene = load(&assets().join("track/circuit.gltf")).unwrap();
+    let scene = load(&assets().join("track/circuit/circuit.gltf")).unwrap();
     let polys = scene.polygon_count();
     assert!((5_000..=40_000).contains(&polys), "{polys} polygons");
     assert!(scene.lod_sets.len() >= 100, "trees are LOD sets: {}", scene.lod_sets.len());
@@ -381,15 +381,15 @@ fn lod_sets_by_naming_convention_load_like_msft_lod() {
 #[test]
 fn the_built_in_assets_draw_what_the_folder_draws() {
     use scanline_racer::input::replay::Replay;
-    use scanline_racer::shell::race_scene::{FIELD, RaceScene, View};
-    let built_in = RaceScene::load_built_in().unwrap();
-    let folder = RaceScene::load(&assets()).unwrap();
+    use scanline_racer::shell::race_scene::{DEFAULT_COURSE, RaceScene, View};
+    let built_in = RaceScene::load_built_in(DEFAULT_COURSE).unwrap();
+    let folder = RaceScene::load(&assets(), DEFAULT_COURSE).unwrap();
     assert_eq!(built_in.scene().polygon_count(), folder.scene().polygon_count());
     assert_eq!(built_in.scene().textures.len(), folder.scene().textures.len());
     assert_eq!(built_in.track.length(), folder.track.length());
     assert!(built_in.scene().files.is_empty(), "no file on disk is an input");
     let trace = assets().join("replays/demo-race.trace");
-    let mut replay = Replay::open(&trace, folder.track.clone(), FIELD).unwrap();
+    let mut replay = Replay::open(&trace, folder.track.clone()).unwrap();
     let (w, h) = (160, 90);
     let mut renderer = Renderer::new();
     let mut drawn = 0;

@@ -16,7 +16,6 @@ use scanline_racer::game::car::BODY_HALF_WIDTH;
 use scanline_racer::game::rules::Phase;
 use scanline_racer::game::{Track, World};
 use scanline_racer::input::replay::Replay;
-use scanline_racer::shell::race_scene::FIELD;
 
 /// Frames a tick.
 const TICK: usize = FRAMES_PER_TICK;
@@ -75,9 +74,9 @@ fn samples(bytes: &[u8]) -> Vec<f32> {
 /// Every world of `trace` from the grid (tick 0) to its end.
 #[allow(clippy::expect_used)]
 fn worlds(trace: &str) -> Vec<World> {
-    let text = std::fs::read_to_string(root().join("assets/track/centerline.json")).expect("centre line");
+    let text = std::fs::read_to_string(root().join("assets/track/circuit/centerline.json")).expect("centre line");
     let track = Arc::new(Track::from_json(&text).expect("track"));
-    let mut r = Replay::open(&root().join(format!("assets/replays/{trace}.trace")), track, FIELD).expect("trace");
+    let mut r = Replay::open(&root().join(format!("assets/replays/{trace}.trace")), track).expect("trace");
     let mut v = vec![r.world.clone()];
     while r.advance().expect("replays") {
         v.push(r.world.clone());
@@ -88,7 +87,7 @@ fn worlds(trace: &str) -> Vec<World> {
 /// The player's engine, tick by tick, as the engine-speed curve gives it.
 fn notes(worlds: &[World]) -> Vec<EngineNote> {
     let mut e = Engine::new();
-    worlds.iter().map(|w| e.update(&w.cars[0], &w.params)).collect()
+    worlds.iter().map(|w| e.update(&w.cars[0], &w.params[0])).collect()
 }
 
 /// Left plus right over two.
@@ -236,7 +235,7 @@ fn player_contacts(w: &[World]) -> Vec<(usize, f32)> {
         }
         for j in 1..w[t].cars.len() {
             let d = w[t].cars[j].pos - a.pos;
-            if d.length() <= 2.0 * w[t].params.radius + 0.02 {
+            if d.length() <= 2.0 * w[t].params[0].radius + 0.02 {
                 speed = speed.max(-(w[t - 1].cars[j].vel - b.vel).dot(d.normalize_or_zero()));
             }
         }

@@ -396,3 +396,25 @@ fn export_frame_writes_the_frame_as_glb() {
     let late = run(&["export-frame", trace.to_str().unwrap(), "--tick", "999999", "--out", glb.to_str().unwrap()]);
     assert_one_line_error(&late, 1, "ends at tick");
 }
+
+/// `courses` lists every course with its lap length and title; `play --course` refuses a name that is not
+/// a folder name with usage (exit 2) before any window opens.
+#[test]
+fn courses_lists_every_course_and_play_refuses_a_bad_course_name() {
+    let o = bin()
+        .arg("courses")
+        .env("SCANLINE_RACER_ASSETS", Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines.len() >= 2, "{text}");
+    assert!(
+        lines[0].starts_with("circuit ") && lines[0].contains("4.16 km") && lines[0].contains("Green Valley Circuit"),
+        "{text}"
+    );
+    assert!(lines[1].starts_with("city ") && lines[1].contains("Harbour Streets"), "{text}");
+    let o = run(&["play", "--course", "../track", "--exit-after-frames", "1"]);
+    assert_one_line_error(&o, 2, "a course is named by its folder");
+}

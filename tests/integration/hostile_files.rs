@@ -125,11 +125,11 @@ fn a_settings_file_that_is_not_a_file_gives_defaults_and_one_warning() {
     }
 }
 
-/// A copy of the assets with `track/centerline.json` made by `make`.
+/// A copy of the assets with `track/circuit/centerline.json` made by `make`.
 fn assets_with_centre_line(name: &str, make: impl FnOnce(&Path)) -> PathBuf {
     let dir = tmp(name).join("assets");
     copy_assets(&dir);
-    let line = dir.join("track/centerline.json");
+    let line = dir.join("track/circuit/centerline.json");
     std::fs::remove_file(&line).unwrap();
     make(&line);
     dir

@@ -114,7 +114,7 @@ fn a_trace_settings_file_or_asset_is_never_an_output() {
     // are inputs too.
     let assets = d.join("assets");
     copy_assets(&assets);
-    let texture = assets.join("track/asphalt.png");
+    let texture = assets.join("track/circuit/asphalt.png");
     let before = std::fs::read(&texture).unwrap();
     let o = run(&["play", "--assets", s(&assets), "--screenshot", s(&texture)]);
     assert_line(&o, &is_input("--screenshot", &texture, "a file of the game's assets"));

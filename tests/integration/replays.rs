@@ -23,7 +23,7 @@ use crate::common::*;
 use scanline_racer::input::replay::Replay;
 use scanline_racer::measure::flip;
 use scanline_racer::render::{DepthKey, Filter, Method, RenderOptions, Renderer, TextureMode};
-use scanline_racer::shell::race_scene::{FIELD, RaceScene, View};
+use scanline_racer::shell::race_scene::{DEFAULT_COURSE, RaceScene, View};
 
 /// Ticks between hashed frames.
 const HASH_EVERY: u64 = 600;
@@ -48,6 +48,7 @@ fn golden_ticks(trace: &str) -> &'static [u64] {
     match trace {
         "demo-race" => &[400, 1500, 6000, 11000],
         "scuffle" => &[900, 2400, 3600],
+        "demo-city" => &[700, 2400, 6600, 9600],
         _ => &[1200],
     }
 }
@@ -57,7 +58,13 @@ fn root() -> PathBuf {
 }
 
 fn scene() -> RaceScene {
-    RaceScene::load(&root().join("assets")).expect("race assets")
+    RaceScene::load(&root().join("assets"), DEFAULT_COURSE).expect("race assets")
+}
+
+/// The scene of the course the trace at `path` was raced on (its header names it).
+fn scene_of(path: &Path) -> RaceScene {
+    let (header, _) = scanline_racer::input::trace::TraceReader::open(path).expect("trace header");
+    RaceScene::load(&root().join("assets"), &header.course).expect("race assets")
 }
 
 /// Every committed demo trace, by name, in name order.
@@ -80,7 +87,7 @@ fn fnv(px: &[u32]) -> u64 {
 
 /// Replays `path` to its end, calling `at` with the world after every tick.
 fn replay(scene: &RaceScene, path: &Path, mut at: impl FnMut(&scanline_racer::game::World)) -> u64 {
-    let mut r = Replay::open(path, scene.track.clone(), FIELD).unwrap_or_else(|e| panic!("{e}"));
+    let mut r = Replay::open(path, scene.track.clone()).unwrap_or_else(|e| panic!("{e}"));
     while r.advance().unwrap_or_else(|e| panic!("{e}")) {
         at(&r.world);
     }
@@ -112,21 +119,21 @@ const REGENERATE: &str = "If the change is intended, regenerate with: UPDATE_GOL
 fn demo_traces_exist_and_one_is_a_full_field_race_of_a_minute_or_more() {
     let scene = scene();
     let t = traces();
-    assert!(t.len() >= 2, "{t:?}");
-    let longest = t.iter().map(|(_, p)| replay(&scene, p, |_| {})).max().unwrap();
+    assert!(t.len() >= 3, "{t:?}");
+    let longest = t.iter().map(|(_, p)| replay(&scene_of(p), p, |_| {})).max().unwrap();
     assert!(longest >= 60 * 120, "longest demo trace is {longest} ticks");
-    let demo = Replay::open(&root().join("assets/replays/demo-race.trace"), scene.track.clone(), FIELD).unwrap();
+    let demo = Replay::open(&root().join("assets/replays/demo-race.trace"), scene.track.clone()).unwrap();
     assert_eq!(demo.source.header.cars, 8);
 }
 
 #[test]
 fn replay_frames_hash_as_recorded_for_every_thread_count() {
     let update = updating();
-    let scene = scene();
     let hashes_path = root().join("tests/golden/replays.hashes");
     let mut got = BTreeMap::new();
     let methods = [Method::ZBuffer, Method::BucketNear];
     for (name, path) in traces() {
+        let scene = scene_of(&path);
         let mut renderers: Vec<Renderer> = (0..3).map(|_| Renderer::new()).collect();
         replay(&scene, &path, |w| {
             if !w.tick.is_multiple_of(HASH_EVERY) {
@@ -172,13 +179,13 @@ fn replay_frames_hash_as_recorded_for_every_thread_count() {
 #[test]
 fn replay_frames_match_their_goldens_by_flip() {
     let update = updating();
-    let scene = scene();
     let (gw, gh) = GOLDEN_SIZE;
     let golden_dir = root().join("tests/golden");
     let fail_dir = root().join("target/golden-failures");
     let mut failures = vec![];
     let mut checked = 0;
     for (name, path) in traces() {
+        let scene = scene_of(&path);
         let ticks = golden_ticks(&name);
         let mut r = Renderer::new();
         replay(&scene, &path, |w| {
@@ -285,7 +292,7 @@ fn the_ghost_is_the_fastest_lap_and_is_drawn_see_through() {
     use scanline_racer::input::ghost::best_lap_of_trace;
     let scene = scene();
     let demo = root().join("assets/replays/demo-race.trace");
-    let lap = best_lap_of_trace(&demo, scene.track.clone(), FIELD).unwrap().expect("the demo race has a lap");
+    let lap = best_lap_of_trace(&demo, scene.track.clone()).unwrap().expect("the demo race has a lap");
     let mut best = None;
     let mut mid_lap = None;
     replay(&scene, &demo, |w| {
@@ -296,7 +303,7 @@ fn the_ghost_is_the_fastest_lap_and_is_drawn_see_through() {
     });
     assert_eq!(Some(lap.ticks()), best, "ghost lap length is the race's best lap");
     let scuffle = root().join("assets/replays/scuffle.trace");
-    assert_eq!(best_lap_of_trace(&scuffle, scene.track.clone(), FIELD).unwrap(), None, "30 s: no complete lap");
+    assert_eq!(best_lap_of_trace(&scuffle, scene.track.clone()).unwrap(), None, "30 s: no complete lap");
 
     // The ghost where the same lap was 0.2 s later (alone on the straight), in the chase view.
     let w = mid_lap.unwrap();

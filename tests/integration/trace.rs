@@ -21,7 +21,7 @@ fn record(path: &Path, ticks: u64) -> Vec<(u64, u64)> {
 /// Replays a trace in-process; returns the ticks reached or the error message.
 fn replay(path: &Path) -> Result<u64, String> {
     let mut src = TraceSource::open(path).map_err(|e| e.to_string())?;
-    let mut w = World::with_laps(circuit(), src.header.cars as usize, src.header.laps);
+    let mut w = World::for_race(circuit(), &src.header.setup());
     src.check_track(&w).map_err(|e| e.to_string())?;
     while let Some(c) = src.next_controls(&w).map_err(|e| e.to_string())? {
         scanline_racer::game::step(&mut w, &c);
@@ -112,12 +112,16 @@ fn foreign_versions_and_files_are_refused_with_both_versions_named() {
     let path = tmp("version.trace");
     record(&path, 120);
     let bytes = std::fs::read(&path).unwrap();
-    let mut v2 = bytes.clone();
-    v2[8] = 2;
-    let p = tmp("v2.trace");
-    std::fs::write(&p, &v2).unwrap();
+    let mut v3 = bytes.clone();
+    v3[8] = 3;
+    let p = tmp("v3.trace");
+    std::fs::write(&p, &v3).unwrap();
     let e = replay(&p).unwrap_err();
-    assert!(e.contains("version 2") && e.contains("version 1"), "{e}");
+    assert!(e.contains("trace format version 3, but this build reads versions 1 to 2"), "{e}");
+    let mut v0 = bytes.clone();
+    v0[8] = 0;
+    std::fs::write(&p, &v0).unwrap();
+    assert!(replay(&p).unwrap_err().contains("format version 0"));
     let mut sim7 = bytes.clone();
     let key = format!("\"sim_version\":{}", scanline_racer::input::trace::SIM_VERSION).into_bytes();
     let key = key.as_slice();
@@ -125,8 +129,7 @@ fn foreign_versions_and_files_are_refused_with_both_versions_named() {
     sim7[pos + key.len() - 1] = b'7';
     std::fs::write(&p, &sim7).unwrap();
     let e = replay(&p).unwrap_err();
-    let this = format!("version {}", scanline_racer::input::trace::SIM_VERSION);
-    assert!(e.contains("simulation version 7") && e.contains(&this), "{e}");
+    assert!(e.contains("simulation version 7, but this build runs versions 2 and 3"), "{e}");
     std::fs::write(&p, b"PNG\x89 not a trace at all").unwrap();
     assert!(replay(&p).unwrap_err().contains("magic"));
     let mut huge = bytes.clone();
@@ -185,8 +188,8 @@ fn the_background_ghost_search_finds_the_fastest_lap_and_stops_when_dropped() {
     use scanline_racer::input::ghost::{GhostFound, GhostSearch, best_lap_of_trace};
     use std::time::{Duration, Instant};
     let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/replays/demo-race.trace");
-    let at_once = best_lap_of_trace(&demo, circuit(), 8).unwrap().expect("the demo race has a lap");
-    let mut search = GhostSearch::start(&demo, circuit(), 8).unwrap();
+    let at_once = best_lap_of_trace(&demo, circuit()).unwrap().expect("the demo race has a lap");
+    let mut search = GhostSearch::start(&demo, circuit()).unwrap();
     let mut laps = vec![];
     let end = loop {
         match search.wait() {
@@ -201,7 +204,7 @@ fn the_background_ghost_search_finds_the_fastest_lap_and_stops_when_dropped() {
     // Two million ticks (about 40 s to replay in a debug build): dropping the search stops its thread.
     let long = tmp("idle-long.trace");
     write_idle_trace(&long, 2_000_000);
-    let search = GhostSearch::start(&long, circuit(), 8).unwrap();
+    let search = GhostSearch::start(&long, circuit()).unwrap();
     std::thread::sleep(Duration::from_millis(200));
     let t = Instant::now();
     drop(search);
@@ -221,7 +224,7 @@ fn a_repeated_checksum_record_is_refused_and_the_ghost_search_on_it_stops_at_onc
     use std::time::{Duration, Instant};
     let w = World::with_laps(circuit(), 8, 3);
     let p = tmp("same-tick.trace");
-    TraceWriter::create(&p, &header_for(&w)).unwrap().finish().unwrap();
+    TraceWriter::create(&p, &header_for(&w, "circuit")).unwrap().finish().unwrap();
     let header_end = std::fs::metadata(&p).unwrap().len();
     let mut rec = [0u8; 17];
     rec[0] = 2;
@@ -236,7 +239,7 @@ fn a_repeated_checksum_record_is_refused_and_the_ghost_search_on_it_stops_at_onc
     let second = header_end + 17;
     assert!(err.contains(&format!("{}: checksum record at byte {second} for tick 0,", p.display())), "{err}");
     // The ghost search stops there too, and says so at once.
-    let mut search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let mut search = GhostSearch::start(&p, circuit()).unwrap();
     let t = Instant::now();
     match search.wait() {
         Some(GhostFound::Failed(e)) => assert_eq!(e.to_string(), err),
@@ -245,7 +248,7 @@ fn a_repeated_checksum_record_is_refused_and_the_ghost_search_on_it_stops_at_onc
     assert!(t.elapsed() < Duration::from_secs(1), "the search took {:?} to fail", t.elapsed());
     assert!(search.wait().is_none(), "nothing after the failure");
     // Dropped at once, the search returns at once (reading the run took about half a second before).
-    let search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let search = GhostSearch::start(&p, circuit()).unwrap();
     let t = Instant::now();
     drop(search);
     assert!(t.elapsed() < Duration::from_millis(250), "dropping took {:?}", t.elapsed());
@@ -262,14 +265,14 @@ fn the_ghost_search_keeps_only_the_fastest_lap_for_a_race_that_does_not_look() {
     // Three laps by the AI: the first, from the standing start, is the slowest.
     let p = tmp("three-laps.trace");
     record(&p, 120 * 300);
-    let mut replay = Replay::open(&p, circuit(), 8).unwrap();
+    let mut replay = Replay::open(&p, circuit()).unwrap();
     let (mut laps, mut faster) = (LapRecorder::default(), 0);
     while replay.advance().unwrap() {
         faster += usize::from(laps.observe(&replay.world));
     }
     assert!(faster >= 2, "the trace has {faster} laps each faster than the one before: the test needs two");
-    let at_once = best_lap_of_trace(&p, circuit(), 8).unwrap().unwrap();
-    let mut search = GhostSearch::start(&p, circuit(), 8).unwrap();
+    let at_once = best_lap_of_trace(&p, circuit()).unwrap().unwrap();
+    let mut search = GhostSearch::start(&p, circuit()).unwrap();
     let t = Instant::now();
     while !search.done() {
         assert!(t.elapsed() < Duration::from_secs(60), "the search still runs");
@@ -281,4 +284,60 @@ fn the_ghost_search_keeps_only_the_fastest_lap_for_a_race_that_does_not_look() {
     }
     assert!(search.poll().is_empty());
     assert!(search.wait().is_none());
+}
+
+/// A trace of format version 1 (from before the courses, its header names none) still replays, on the
+/// circuit, with every checksum verified: in-process and with the command line.
+#[test]
+fn a_trace_from_before_the_courses_replays_on_the_circuit() {
+    let old = samples().join("scuffle-v1.trace");
+    let bytes = std::fs::read(&old).unwrap();
+    assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 1, "the sample is a version 1 trace");
+    let src = TraceSource::open(&old).unwrap();
+    assert_eq!(src.header.course, "circuit");
+    assert_eq!(replay(&old), Ok(3600));
+    let o = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["replay", "--headless"])
+        .arg(&old)
+        .env("SCANLINE_RACER_ASSETS", Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("replayed 3600 ticks (30.0 s), 30 checksums verified"), "{err}");
+}
+
+/// A header naming a course that is no plain folder name is refused in one line; one naming a course the
+/// assets do not hold is refused naming the courses there are.
+#[test]
+fn a_trace_naming_a_course_that_is_not_there_is_refused_in_one_line() {
+    let path = tmp("course.trace");
+    record(&path, 120);
+    let bytes = std::fs::read(&path).unwrap();
+    let key = b"\"course\":\"circuit\"";
+    let pos = bytes.windows(key.len()).position(|w| w == key).expect("course in the header");
+    for (name, want) in [("../x/..", "is not a course name"), ("nowhere", "no course \"nowhere\"")] {
+        let mut header = bytes[14..].to_vec();
+        let replaced = format!("\"course\":\"{name}\"");
+        header.splice(pos - 14..pos - 14 + key.len(), replaced.bytes());
+        let len =
+            u32::from_le_bytes([bytes[10], bytes[11], bytes[12], bytes[13]]) as usize + replaced.len() - key.len();
+        let mut out = bytes[..10].to_vec();
+        out.extend_from_slice(&(len as u32).to_le_bytes());
+        out.extend_from_slice(&header);
+        let p = tmp(&format!("course-{}.trace", name.len()));
+        std::fs::write(&p, &out).unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+            .args(["replay", "--headless"])
+            .arg(&p)
+            .env("SCANLINE_RACER_ASSETS", Path::new(env!("CARGO_MANIFEST_DIR")).join("assets"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(want), "{name}: {err}");
+        if name == "nowhere" {
+            assert!(err.contains("the courses: circuit, city"), "{err}");
+        }
+    }
 }

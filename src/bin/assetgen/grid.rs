@@ -180,7 +180,7 @@ fn read_json(path: &Path) -> std::io::Result<Value> {
 /// Writes `grid.gltf` into `out` (beside the `cars` and `track` folders).
 pub fn generate(out: &Path, cars: &[CarInfo], track: &TrackInfo) -> std::io::Result<()> {
     let mut m = Merged::default();
-    m.add(read_json(&out.join("track/circuit.gltf"))?, "track/", None, true);
+    m.add(read_json(&out.join("track/circuit/circuit.gltf"))?, "track/circuit/", None, true);
     for (car, (pos, yaw)) in cars.iter().zip(&track.grid) {
         let doc = read_json(&out.join(format!("cars/{}.gltf", car.name)))?;
         // Cars face -Z in their own space; a slot's yaw turns the forward direction (sin yaw, 0, -cos yaw).

@@ -17,13 +17,17 @@ use std::process::ExitCode;
 
 fn run(out: &std::path::Path) -> std::io::Result<()> {
     let cars_dir = out.join("cars");
-    let track_dir = out.join("track");
     std::fs::create_dir_all(&cars_dir)?;
-    std::fs::create_dir_all(&track_dir)?;
     let cars = cars::generate(&cars_dir)?;
-    let track = track::generate(&track_dir)?;
-    grid::generate(out, &cars, &track)?;
-    replays::generate(&out.join("replays"), &track_dir)
+    let mut circuit = None;
+    for layout in track::COURSES {
+        let dir = out.join("track").join(layout.name);
+        std::fs::create_dir_all(&dir)?;
+        let info = track::generate(&dir, layout)?;
+        circuit.get_or_insert(info);
+    }
+    grid::generate(out, &cars, &circuit.unwrap_or_default())?;
+    replays::generate(&out.join("replays"), &out.join("track"))
 }
 
 fn main() -> ExitCode {

@@ -115,23 +115,16 @@ pub(super) enum Command {
 }
 
 impl Replaying {
-    /// Opens the trace at `path` to replay; refuses a file that is not a trace of this field (its track is
-    /// checked by [`Control::replay`], against the world set up for the trace's laps).
+    /// Opens the trace at `path` to replay (its track is checked by [`Control::replay`], against the world
+    /// set up for the trace's race).
     pub(super) fn open(path: &Path) -> Result<Self, ReplayError> {
         let source = TraceSource::open(path)?;
-        if source.header.cars as usize != FIELD {
-            return Err(ReplayError::Cars {
-                path: path.display().to_string(),
-                found: source.header.cars,
-                expected: FIELD,
-            });
-        }
         Ok(Self { source, path: path.to_path_buf() })
     }
 
-    /// Laps of the race the trace recorded: the race replaying it is set up with them.
-    pub(super) fn laps(&self) -> u32 {
-        self.source.header.laps
+    /// The race the trace recorded: the race replaying it is set up as it.
+    pub(super) fn setup(&self) -> crate::game::RaceSetup {
+        self.source.header.setup()
     }
 }
 
@@ -160,7 +153,7 @@ impl Control {
     /// and shows it.
     pub(super) fn player_controls(&mut self, world: &World) -> Result<Controls, ReplayStop> {
         match self.replay.as_mut() {
-            None if self.autopilot => Ok(drive(&Driver::field(FIELD), 0, &world.cars, &world.track, &world.params)),
+            None if self.autopilot => Ok(drive(&Driver::field(FIELD), 0, &world.cars, &world.track, &world.params[0])),
             None => {
                 // Keyboard and pad together: steering adds, pedals take the larger.
                 let k = self.keys.controls();

@@ -57,7 +57,8 @@ pub(super) fn hud(
     egui::Area::new(egui::Id::unique("hud-speed")).anchor(egui::Align2::RIGHT_BOTTOM, [-16.0, -12.0]).show(ctx, |ui| {
         ui.label(big(format!("{:.0} km/h", car.speed().abs() * 3.6), 28.0));
         ui.add(
-            egui::ProgressBar::new((car.speed().abs() / world.params.top_speed).clamp(0.0, 1.0)).desired_width(180.0),
+            egui::ProgressBar::new((car.speed().abs() / world.params[0].top_speed).clamp(0.0, 1.0))
+                .desired_width(180.0),
         );
     });
     egui::Area::new(egui::Id::unique("hud-debug")).anchor(egui::Align2::LEFT_BOTTOM, [12.0, -8.0]).show(ctx, |ui| {

@@ -38,11 +38,11 @@ use self::prefs::Prefs;
 use self::record::Recorder;
 use self::screen::{Drawing, Screen};
 use self::sound::Sound;
-use super::race_scene::{FIELD, RaceScene};
+use super::race_scene::RaceScene;
 use super::settings::{Settings, SettingsFile};
 use super::window::{Content, ShellError};
 use crate::game::rules::Phase;
-use crate::game::{DT, World};
+use crate::game::{DT, RaceSetup, World};
 use crate::input::ghost::{GhostLap, GhostSearch};
 use crate::input::recording::{Kept, RecordError, Recording};
 use crate::input::replay::{ReplayError, step_recorded};
@@ -68,8 +68,9 @@ struct Clock {
 pub struct Race {
     scene: RaceScene,
     world: World,
-    /// Laps of the race on the grid (the main menu's slider, or the replayed trace's).
-    laps: u32,
+    /// The race on the grid: its mode, laps (the main menu's slider), car and difficulty, or the replayed
+    /// trace's.
+    setup: RaceSetup,
     screen: Screen,
     /// Why the replay or recording stopped, or what changed, shown in the menus and the HUD.
     notice: Option<String>,
@@ -92,12 +93,13 @@ pub struct Race {
 impl Race {
     /// A race of `laps` laps on the grid, the player last, behind the main menu (or racing at once).
     #[must_use]
-    pub fn new(scene: RaceScene, options: RenderOptions, laps: u32, menu: bool) -> Self {
-        let world = World::with_laps(scene.track.clone(), FIELD, laps);
+    pub fn new(scene: RaceScene, options: RenderOptions, setup: RaceSetup, menu: bool) -> Self {
+        let world = World::for_race(scene.track.clone(), &setup);
+        let recording = Recorder::on(&scene.course);
         Self {
             world,
             scene,
-            laps,
+            setup,
             screen: if menu { Screen::Menu } else { Screen::Race },
             notice: None,
             clock: Clock { accumulator: 0.0, speed: 1.0, steps: 0, stop_at: None },
@@ -105,7 +107,7 @@ impl Race {
             control: Control::default(),
             menu: MenuState::default(),
             prefs: Prefs::default(),
-            recording: Recorder::default(),
+            recording,
             ghost: Ghost::default(),
             sound: Sound::default(),
         }
@@ -114,7 +116,7 @@ impl Race {
     /// A replay of the trace at `path`: the trace drives the player's car; P pauses, N steps a tick, `[`
     /// and `]` halve and double the speed (1/4x to 16x), R restarts.
     pub fn replaying(scene: RaceScene, options: RenderOptions, path: &Path) -> Result<Self, ReplayError> {
-        let mut race = Self::new(scene, options, 3, false);
+        let mut race = Self::new(scene, options, RaceSetup::default(), false);
         race.start_replay(path)?;
         Ok(race)
     }
@@ -236,7 +238,7 @@ impl Race {
     /// this track and field.
     fn start_replay(&mut self, path: &Path) -> Result<(), ReplayError> {
         let replay = Replaying::open(path)?;
-        self.laps = replay.laps();
+        self.setup = replay.setup();
         self.restart();
         self.control.replay(replay, &self.world)?;
         self.screen = Screen::Race;
@@ -260,7 +262,7 @@ impl Race {
 
     /// A fresh start on the grid with the current number of laps.
     fn restart(&mut self) {
-        self.world = World::with_laps(self.scene.track.clone(), FIELD, self.laps);
+        self.world = World::for_race(self.scene.track.clone(), &self.setup);
         self.clock.accumulator = 0.0;
         self.control.keys = Keys::default();
         self.drawing.renderer.reset_lod();
@@ -369,7 +371,7 @@ impl Race {
                     self.screen = Screen::Menu;
                 }
                 Choice::Laps(laps) => {
-                    self.laps = laps;
+                    self.setup.laps = laps;
                     self.restart();
                 }
                 Choice::Replay(path) => {
@@ -450,7 +452,7 @@ impl Content for Race {
         let chose = match self.screen {
             Screen::Menu => self.menu.main_menu(
                 ctx,
-                self.laps,
+                self.setup.laps,
                 &mut self.recording.to,
                 self.notice.as_deref(),
                 &self.prefs.bindings,

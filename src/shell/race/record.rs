@@ -25,14 +25,22 @@ use crate::input::trace::{Header, SIM_VERSION};
 /// A replay checks its world against each, so a trace that drifts is caught within a second of play.
 pub const CHECKSUM_EVERY: u32 = TICK_HZ;
 
-/// The trace header for a race of `world`.
+/// The trace header for a race of `world` on the course named `course`.
 ///
 /// One function for the recorder and the asset generator, so that a demo trace is read like a race
 /// recorded in the game.
 #[must_use]
-pub fn header_for(world: &World) -> Header {
+pub fn header_for(world: &World, course: &str) -> Header {
+    let setup = &world.setup;
     Header {
-        sim_version: SIM_VERSION,
+        course: course.to_string(),
+        car: setup.car as u32 + 1,
+        mode: setup.mode.name().to_string(),
+        difficulty: setup.difficulty.name().to_string(),
+        sim_version: match setup.handling {
+            crate::game::Handling::Garage => SIM_VERSION,
+            crate::game::Handling::Same => crate::input::trace::SAME_CARS_SIM_VERSION,
+        },
         game_version: env!("CARGO_PKG_VERSION").to_string(),
         track_length_mm: lap_mm(world),
         cars: world.cars.len() as u32,
@@ -84,15 +92,22 @@ pub(super) struct Recorder {
     kept_a_race: bool,
     /// The files the run reads (settings, assets), which a name typed in the menu must not record over.
     pub(super) inputs: crate::userfile::Inputs,
+    /// The course raced, which each trace's header names.
+    pub(super) course: String,
 }
 
 impl Recorder {
+    /// A recorder of races on `course`, not recording yet.
+    pub(super) fn on(course: &str) -> Self {
+        Self { course: course.to_string(), ..Self::default() }
+    }
+
     /// Records races to `path`: at once when the race in `world` is `racing` (started without the menu),
     /// else each race started from the main menu while its switch (now on, with this file) stays on. A
     /// path that cannot be recorded to (a folder, a missing folder) is refused now, before the window
     /// opens; `path` itself is not touched.
     pub(super) fn record_to(&mut self, path: &Path, world: &World, racing: bool) -> Result<(), RecordError> {
-        let recording = Recording::start(path, &header_for(world))?;
+        let recording = Recording::start(path, &header_for(world, &self.course))?;
         let shown = path.display().to_string();
         self.to = RecordTo { on: true, text: shown.clone(), given: Some((path.to_path_buf(), shown)) };
         if racing {
@@ -118,7 +133,7 @@ impl Recorder {
         }
         // Races killed runs left beside the target are named once more where the player looks.
         let left = crate::input::recording::left_behind(&path).map(|l| format!("; {l}")).unwrap_or_default();
-        match Recording::start(&path, &header_for(world)) {
+        match Recording::start(&path, &header_for(world, &self.course)) {
             Ok(r) => {
                 *notice = Some(format!("recording to {}{left}", path.display()));
                 self.recorder = Some(r);

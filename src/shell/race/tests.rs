@@ -2,12 +2,18 @@
 
 use super::*;
 use crate::render::{Antialias, Filter, MipMode};
+use crate::shell::race_scene::DEFAULT_COURSE;
 use crate::shell::settings::SettingsFile;
 
 /// A race on the main menu with the shipped assets.
 pub(super) fn race_on_the_menu() -> Race {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
-    Race::new(RaceScene::load(&dir).unwrap(), RenderOptions::default(), 1, true)
+    Race::new(
+        RaceScene::load(&dir, DEFAULT_COURSE).unwrap(),
+        RenderOptions::default(),
+        crate::game::RaceSetup { laps: 1, ..Default::default() },
+        true,
+    )
 }
 
 /// Settings changed in the game are saved onto the file as it is at that moment: a key added by hand
@@ -57,12 +63,13 @@ fn picture_choices_made_in_settings_are_saved_and_command_line_ones_are_not() {
     // As `play --aa 4x` starts the race: the file's filter, the command line's anti-aliasing.
     let options = RenderOptions { antialias: Antialias::Samples4, filter: settings.filter, ..RenderOptions::default() };
     let dir_assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
-    let mut race = Race::new(RaceScene::load(&dir_assets).unwrap(), options, 1, true).with_settings(
-        settings,
-        Some(file),
-        None,
-        None,
-    );
+    let mut race = Race::new(
+        RaceScene::load(&dir_assets, DEFAULT_COURSE).unwrap(),
+        options,
+        crate::game::RaceSetup { laps: 1, ..Default::default() },
+        true,
+    )
+    .with_settings(settings, Some(file), None, None);
     race.save_settings();
     race.prefs.show_ghost = false;
     race.save_settings();

@@ -155,7 +155,7 @@ pub fn samples() -> std::path::PathBuf {
 
 /// The circuit's centre line from the shipped assets.
 pub fn circuit() -> std::sync::Arc<scanline_racer::game::Track> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/centerline.json");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/track/circuit/centerline.json");
     let text = std::fs::read_to_string(path).expect("centre line");
     std::sync::Arc::new(scanline_racer::game::Track::from_json(&text).expect("valid centre line"))
 }
@@ -166,10 +166,11 @@ pub fn record_trace(path: &std::path::Path, ticks: u64) -> Vec<(u64, u64)> {
     use scanline_racer::game::ai::{Driver, drive};
     use scanline_racer::shell::race::{CHECKSUM_EVERY, header_for};
     let mut w = scanline_racer::game::World::with_laps(circuit(), 8, 3);
-    let mut rec = scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w)).expect("create trace");
+    let mut rec =
+        scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w, "circuit")).expect("create trace");
     let mut sums = vec![];
     for _ in 0..ticks {
-        let c = drive(&Driver::field(3), 0, &w.cars, &w.track, &w.params);
+        let c = drive(&Driver::field(3), 0, &w.cars, &w.track, &w.params[0]);
         scanline_racer::input::replay::step_recorded(&mut w, c, Some(&mut rec), CHECKSUM_EVERY).expect("record");
         if w.tick.is_multiple_of(u64::from(CHECKSUM_EVERY)) {
             sums.push((w.tick, w.checksum()));
@@ -300,7 +301,8 @@ pub fn copy_assets(dir: &std::path::Path) {
 pub fn write_idle_trace(path: &std::path::Path, ticks: u64) {
     use scanline_racer::shell::race::header_for;
     let w = scanline_racer::game::World::with_laps(circuit(), 8, 3);
-    let mut rec = scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w)).expect("create trace");
+    let mut rec =
+        scanline_racer::input::trace::TraceWriter::create(path, &header_for(&w, "circuit")).expect("create trace");
     for _ in 0..ticks {
         rec.controls(scanline_racer::game::Controls::default()).expect("write");
     }

@@ -4,10 +4,7 @@
 use glam::{Vec2, Vec3};
 
 use super::plan::{Plan, Profile};
-use super::spec::{
-    APRON, BARRIER_OFFSET, BARRIER_OFFSET_RAISED, BRIDGE_EDGE, BRIDGE_HEIGHT, CORNERS, CRESTS, HALF_WIDTH, ROAD_LIFT,
-    SAMPLE_STEP, SIDE, START_AT, START_EDGE,
-};
+use super::spec::{APRON, BARRIER_OFFSET_RAISED, BRIDGE_HEIGHT, HALF_WIDTH, Layout, ROAD_LIFT, SAMPLE_STEP, SIDE};
 use super::util::{cross2, loop_dist, other, smoothstep};
 
 /// One centreline sample.
@@ -37,17 +34,24 @@ pub(super) struct Sample {
 
 impl Sample {
     /// The cross-section at `s` from the plan position and direction, the smoothed and exact curvature, the
-    /// embankment height and the bank angle: barriers further out on the outside of tight corners (gravel
-    /// there), closer in on embankments.
-    fn new(s: f32, (pos, dir): (Vec2, Vec2), (kappa, kappa_raw): (f32, f32), h: f32, bank: f32) -> Sample {
+    /// embankment height and the bank angle: barriers at the layout's offset, further out on the outside of
+    /// tight corners (gravel there) where the layout has run-off, closer in on embankments.
+    fn new(
+        layout: &Layout,
+        s: f32,
+        (pos, dir): (Vec2, Vec2),
+        (kappa, kappa_raw): (f32, f32),
+        h: f32,
+        bank: f32,
+    ) -> Sample {
         let fwd = Vec3::new(dir.x, 0.0, dir.y);
         let right = Vec3::new(-dir.y, 0.0, dir.x);
         let lat = right * libm::cosf(bank) + Vec3::Y * libm::sinf(bank);
         // The roll pivots about the lower edge, so that edge stays at the lift above the ground.
         let p = Vec3::new(pos.x, h + ROAD_LIFT + HALF_WIDTH * libm::sinf(bank).abs(), pos.y);
-        let extra = 10.0 * ((kappa.abs() - 0.006) * 80.0).clamp(0.0, 1.0);
+        let extra = if layout.run_off { 10.0 * ((kappa.abs() - 0.006) * 80.0).clamp(0.0, 1.0) } else { 0.0 };
         let outside = usize::from(kappa > 0.0);
-        let mut bo = [BARRIER_OFFSET; 2];
+        let mut bo = [layout.barrier_offset; 2];
         let mut gravel = [false; 2];
         bo[outside] += extra;
         gravel[outside] = extra > 2.0;
@@ -81,6 +85,8 @@ pub(super) struct Frame {
 
 /// The circuit: samples along the centreline in racing order from the start line.
 pub(super) struct Circuit {
+    /// The course it was built from.
+    pub(super) layout: &'static Layout,
     pub(super) length: f32,
     pub(super) step: f32,
     pub(super) samples: Vec<Sample>,
@@ -106,15 +112,15 @@ pub(super) struct Circuit {
 }
 
 impl Circuit {
-    pub(super) fn new() -> std::io::Result<Circuit> {
-        let plan = Plan::new(&CORNERS)?;
+    pub(super) fn new(layout: &'static Layout) -> std::io::Result<Circuit> {
+        let plan = Plan::new(layout.corners)?;
         let length = plan.length;
-        let start = plan.at_segment(2 * START_EDGE, 0.0) + START_AT;
+        let start = plan.at_segment(2 * layout.start_edge, 0.0) + layout.start_at;
         let race = |raw: f32| (raw - start).rem_euclid(length);
         let (up_raw, low_raw, cross_point, up_dir, low_dir) =
-            plan.crossing(BRIDGE_EDGE).ok_or_else(|| other("the bridge straight crosses nothing".into()))?;
+            plan.crossing(layout.bridge_edge).ok_or_else(|| other("the bridge straight crosses nothing".into()))?;
         let mut bumps = vec![(up_raw, BRIDGE_HEIGHT, 35.0, 185.0)];
-        bumps.extend(CRESTS.iter().map(|&(seg, frac, h, top, ramp)| (plan.at_segment(seg, frac), h, top, ramp)));
+        bumps.extend(layout.crests.iter().map(|&(seg, frac, h, top, ramp)| (plan.at_segment(seg, frac), h, top, ramp)));
         let profile = Profile { bumps, length };
         let n = (length / SAMPLE_STEP).round() as usize;
         let step = length / n as f32;
@@ -129,7 +135,7 @@ impl Circuit {
             let calm = smoothstep(60.0, 100.0, loop_dist(s, upper_s, length))
                 * smoothstep(40.0, 80.0, loop_dist(s, lower_s, length));
             let bank = (kappa * 24.0).clamp(-0.18, 0.18) * calm;
-            samples.push(Sample::new(s, (pos, dir), (kappa, kappa_raw), profile.height(start + s), bank));
+            samples.push(Sample::new(layout, s, (pos, dir), (kappa, kappa_raw), profile.height(start + s), bank));
         }
         let upper_i = (upper_s / step).round() as usize % n;
         let lower_i = (lower_s / step).round() as usize % n;
@@ -140,9 +146,10 @@ impl Circuit {
         let pier_offset = (lower_bo + 2.0 + 6.0 * cos_a) / sin_a;
         let abutment = (lower_bo + 5.0 + (BARRIER_OFFSET_RAISED + 2.5) * cos_a) / sin_a;
         let span = (abutment / step).ceil() as usize;
-        let apex = (0..CORNERS.len()).map(|k| race(plan.at_segment(2 * k + 1, 0.5))).collect();
+        let apex = (0..layout.corners.len()).map(|k| race(plan.at_segment(2 * k + 1, 0.5))).collect();
         let tile = |t: f32| length / (length / t).round();
         let mut c = Circuit {
+            layout,
             length,
             step,
             samples,

@@ -15,6 +15,7 @@
 //! [`MeshBuilder::face`]: mesh::MeshBuilder::face
 
 mod circuit;
+mod city;
 mod mesh;
 mod plan;
 mod road;
@@ -27,13 +28,16 @@ mod views;
 
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::gltf_out::Doc;
 use circuit::Circuit;
+use city::{city, tunnel_view};
 use mesh::Scene;
 use road::{bridge_mesh, grid_slots, start_mesh, track_meshes};
 use scenery::{buildings, grandstands, trees};
+pub(crate) use spec::Layout;
+use spec::{CIRCUIT, CITY};
 use terrain::{Terrain, ground_meshes, hills_meshes};
 use textures::{Mats, write_textures};
 use util::Rng;
@@ -49,27 +53,44 @@ pub struct TrackInfo {
     pub views: Vec<(String, Vec3, Vec3)>,
 }
 
-/// Writes `circuit.gltf`, its `.bin`, textures and `centerline.json` into `dir`.
-pub fn generate(dir: &Path) -> std::io::Result<TrackInfo> {
-    let circuit = Circuit::new()?;
-    write_textures(dir)?;
+/// The courses `assetgen` writes, each into `track/<name>/`.
+pub(crate) const COURSES: [&Layout; 2] = [&CIRCUIT, &CITY];
+
+/// Writes the course `layout` into `dir`: `<name>.gltf`, its `.bin`, textures and `centerline.json`.
+pub fn generate(dir: &Path, layout: &'static Layout) -> std::io::Result<TrackInfo> {
+    let circuit = Circuit::new(layout)?;
+    write_textures(dir, layout.streets)?;
     let mut doc = Doc::new();
-    let mats = Mats::new(&mut doc);
+    let mats = Mats::new(&mut doc, layout.streets);
     let mut scene = Scene { doc, rng: Rng::new(0x5eed_7ac4), keep_out: vec![] };
     track_meshes(&mut scene, &mats, &circuit);
     bridge_mesh(&mut scene, &mats, &circuit);
     let grid = grid_slots(&circuit);
     start_mesh(&mut scene, &mats, &circuit, &grid);
-    let stands = grandstands(&mut scene, &mats, &circuit);
-    buildings(&mut scene, &mats, &circuit);
-    let terrain = Terrain::new(&circuit);
-    ground_meshes(&mut scene, &mats, &circuit, &terrain);
-    hills_meshes(&mut scene, &mats, &terrain);
-    trees(&mut scene, &mats, &circuit, &terrain);
-    let info = TrackInfo { views: views(&circuit, &grid, &stands), grid };
+    let terrain;
+    let info;
+    if layout.streets {
+        let mut list = views(&circuit, &grid, &[]);
+        list.push(tunnel_view(&circuit));
+        info = TrackInfo { views: list, grid };
+        // No building stands where a view's eye is.
+        scene.keep_out.extend(info.views.iter().map(|(_, eye, _)| (Vec2::new(eye.x, eye.z), 12.0)));
+        terrain = Terrain::new(&circuit);
+        city(&mut scene, &mats, &circuit, &terrain);
+        ground_meshes(&mut scene, &mats, &circuit, &terrain);
+        hills_meshes(&mut scene, &mats, &terrain);
+    } else {
+        let stands = grandstands(&mut scene, &mats, &circuit);
+        buildings(&mut scene, &mats, &circuit);
+        terrain = Terrain::new(&circuit);
+        ground_meshes(&mut scene, &mats, &circuit, &terrain);
+        hills_meshes(&mut scene, &mats, &terrain);
+        trees(&mut scene, &mats, &circuit, &terrain);
+        info = TrackInfo { views: views(&circuit, &grid, &stands), grid };
+    }
     let cameras = camera_nodes(&mut scene.doc, &info.views);
-    scene.doc.write(dir, "circuit")?;
-    add_cameras(&dir.join("circuit.gltf"), cameras)?;
+    scene.doc.write(dir, layout.name)?;
+    add_cameras(&dir.join(format!("{}.gltf", layout.name)), cameras)?;
     write_centerline(dir, &circuit)?;
     Ok(info)
 }

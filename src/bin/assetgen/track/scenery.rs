@@ -5,7 +5,7 @@ use serde_json::json;
 
 use super::circuit::Circuit;
 use super::mesh::{Block, MeshBuilder, Scene, node_yaw, uv};
-use super::spec::{BARRIER_OFFSET, GROUND_RADIUS, TREE_CLEARANCE, WHITE};
+use super::spec::{GROUND_RADIUS, TREE_CLEARANCE, WHITE};
 use super::terrain::Terrain;
 use super::textures::Mats;
 use super::util::r3;
@@ -95,7 +95,7 @@ fn grandstand_mesh(m: &Mats) -> MeshBuilder {
 }
 
 /// Lowest plan distance from the centreline of a footprint (corners and edge midpoints of a rectangle).
-fn footprint_clear(c: &Circuit, centre: Vec3, ax: Vec3, az: Vec3, half: Vec2) -> f32 {
+pub(super) fn footprint_clear(c: &Circuit, centre: Vec3, ax: Vec3, az: Vec3, half: Vec2) -> f32 {
     let mut d = f32::INFINITY;
     for (sx, sz) in
         [(-1.0, -1.0), (0.0, -1.0), (1.0, -1.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (-1.0, 1.0), (-1.0, 0.0)]
@@ -121,7 +121,7 @@ pub(super) fn grandstands(scene: &mut Scene, m: &Mats, c: &Circuit) -> Vec<(Vec3
         let front = Vec3::new(front.x, 0.0, front.z);
         let along = Vec3::new(-out.z, 0.0, out.x);
         let centre = front + out * 7.0;
-        if footprint_clear(c, centre, along, out, Vec2::new(40.0, 7.0)) < BARRIER_OFFSET + 3.0 {
+        if footprint_clear(c, centre, along, out, Vec2::new(40.0, 7.0)) < c.layout.barrier_offset + 3.0 {
             continue;
         }
         let transform = placed(front, node_yaw(-out));
@@ -156,7 +156,7 @@ pub(super) fn buildings(scene: &mut Scene, m: &Mats, c: &Circuit) {
         let centre = smp.p + out * reach;
         let base = Vec3::new(centre.x, -0.05, centre.z);
         let half = Vec2::new(len / 2.0, depth / 2.0);
-        if footprint_clear(c, base, smp.fwd, out, half) < BARRIER_OFFSET + 4.0 {
+        if footprint_clear(c, base, smp.fwd, out, half) < c.layout.barrier_offset + 4.0 {
             continue;
         }
         let mut mb = MeshBuilder::default();

@@ -8,32 +8,89 @@
 
 use glam::Vec3;
 
-// The plan.
+// The plans.
 
-/// Corner points of the plan (x, z in metres) and the radius of the arc that rounds each, in racing order.
-/// The straight into corner 0 climbs over the straight into corner 7 on a bridge.
-pub(super) const CORNERS: [(f32, f32, f32); 11] = [
-    (-130.0, 360.0, 45.0),   // 0: tight left onto the main straight
-    (670.0, 360.0, 170.0),   // 1: fast left at the end of the main straight
-    (760.0, 70.0, 220.0),    // 2: fast left over the first crest
-    (710.0, -200.0, 32.0),   // 3: hairpin
-    (535.0, -150.0, 70.0),   // 4: right
-    (390.0, -290.0, 60.0),   // 5: left
-    (120.0, -260.0, 150.0),  // 6: fast left onto the diagonal that passes under the bridge
-    (-300.0, 215.0, 35.0),   // 7: tight right
-    (-600.0, 260.0, 160.0),  // 8: long fast right
-    (-655.0, -170.0, 40.0),  // 9: tight right after the second crest
-    (-385.0, -285.0, 150.0), // 10: fast right onto the diagonal that climbs over the bridge
-];
-/// The straight (into this corner) that carries the bridge.
-pub(super) const BRIDGE_EDGE: usize = 0;
-/// The straight (into this corner) with the start line.
-pub(super) const START_EDGE: usize = 1;
-/// How far along the straight [`START_EDGE`] the start line is, in metres.
-pub(super) const START_AT: f32 = 250.0;
-/// Crests on embankments: (plan segment: 2k = straight into corner k, 2k+1 = arc of corner k), fraction along
-/// it, height, half-length of the top, length of each ramp.
-pub(super) const CRESTS: [(usize, f32, f32, f32, f32); 2] = [(5, 0.5, 5.0, 30.0, 150.0), (18, 0.5, 4.0, 20.0, 110.0)];
+/// What makes one course differ from another: its plan, heights, barriers and look.
+pub(crate) struct Layout {
+    /// The folder name under `assets/track/` and the file stem of its glTF.
+    pub(crate) name: &'static str,
+    /// Its title, and one sentence on what it is like (the menus and `scanline-racer courses` show them).
+    pub(super) title: &'static str,
+    pub(super) about: &'static str,
+    /// Corner points of the plan (x, z in metres) and the radius of the arc that rounds each, in racing order.
+    pub(super) corners: &'static [(f32, f32, f32)],
+    /// The straight (into this corner) that carries the bridge over another straight.
+    pub(super) bridge_edge: usize,
+    /// The straight (into this corner) with the start line.
+    pub(super) start_edge: usize,
+    /// How far along the straight `start_edge` the start line is, in metres.
+    pub(super) start_at: f32,
+    /// Crests on embankments: (plan segment: 2k = straight into corner k, 2k+1 = arc of corner k), fraction
+    /// along it, height, half-length of the top, length of each ramp.
+    pub(super) crests: &'static [(usize, f32, f32, f32, f32)],
+    /// Barrier offset from the centreline on straights.
+    pub(super) barrier_offset: f32,
+    /// Whether the barriers move out (over gravel) on the outside of tight corners.
+    pub(super) run_off: bool,
+    /// Whether the course is a street course: pavement for grass, buildings for trees.
+    pub(super) streets: bool,
+    /// The corners the "hairpin" and "sweeper" views look at.
+    pub(super) view_corners: [usize; 2],
+}
+
+/// The race circuit: a figure-eight of about 4.2 km in open country.
+pub(crate) const CIRCUIT: Layout = Layout {
+    name: "circuit",
+    title: "Green Valley Circuit",
+    about: "a fast figure-eight in open country: long straights, sweepers, two hairpins and a bridge",
+    corners: &[
+        (-130.0, 360.0, 45.0),   // 0: tight left onto the main straight
+        (670.0, 360.0, 170.0),   // 1: fast left at the end of the main straight
+        (760.0, 70.0, 220.0),    // 2: fast left over the first crest
+        (710.0, -200.0, 32.0),   // 3: hairpin
+        (535.0, -150.0, 70.0),   // 4: right
+        (390.0, -290.0, 60.0),   // 5: left
+        (120.0, -260.0, 150.0),  // 6: fast left onto the diagonal that passes under the bridge
+        (-300.0, 215.0, 35.0),   // 7: tight right
+        (-600.0, 260.0, 160.0),  // 8: long fast right
+        (-655.0, -170.0, 40.0),  // 9: tight right after the second crest
+        (-385.0, -285.0, 150.0), // 10: fast right onto the diagonal that climbs over the bridge
+    ],
+    bridge_edge: 0,
+    start_edge: 1,
+    start_at: 250.0,
+    crests: &[(5, 0.5, 5.0, 30.0, 150.0), (18, 0.5, 4.0, 20.0, 110.0)],
+    barrier_offset: 11.0,
+    run_off: true,
+    streets: false,
+    view_corners: [3, 8],
+};
+
+/// The street course: about 3.5 km of city blocks, tight corners, a tunnel, and an overpass where the road
+/// crosses itself.
+pub(crate) const CITY: Layout = Layout {
+    name: "city",
+    title: "Harbour Streets",
+    about: "a street course between buildings: tight corners, a tunnel and an overpass",
+    corners: &[
+        (0.0, 0.0, 18.0),       // 0: left out of the diagonal onto the harbour front
+        (620.0, 0.0, 20.0),     // 1: right at the end of the harbour front
+        (620.0, 380.0, 16.0),   // 2: right
+        (380.0, 380.0, 14.0),   // 3: right onto the avenue that climbs over the harbour front
+        (380.0, -320.0, 18.0),  // 4: left at the bottom of the overpass, onto the start straight
+        (-260.0, -320.0, 22.0), // 5: left into the tunnel street
+        (-260.0, 260.0, 16.0),  // 6: left
+        (-80.0, 260.0, 14.0),   // 7: tight left onto the diagonal
+    ],
+    bridge_edge: 4,
+    start_edge: 5,
+    start_at: 300.0,
+    crests: &[],
+    barrier_offset: 8.5,
+    run_off: false,
+    streets: true,
+    view_corners: [3, 6],
+};
 
 // The road and what stands beside it.
 
@@ -49,8 +106,6 @@ pub(super) const BRIDGE_HEIGHT: f32 = 8.3;
 pub(super) const DECK_DEPTH: f32 = 1.3;
 /// Kerb width outside the road edge.
 pub(super) const KERB_WIDTH: f32 = 1.2;
-/// Barrier offset from the centreline on straights.
-pub(super) const BARRIER_OFFSET: f32 = 11.0;
 /// Barrier offset from the centreline on embankments.
 pub(super) const BARRIER_OFFSET_RAISED: f32 = 8.0;
 /// Start grid size.

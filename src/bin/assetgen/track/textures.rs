@@ -27,11 +27,12 @@ pub(super) struct Mats {
 }
 
 impl Mats {
-    pub(super) fn new(doc: &mut Doc) -> Mats {
+    /// The materials; on a street course (`streets`) the "grass" is pavement.
+    pub(super) fn new(doc: &mut Doc, streets: bool) -> Mats {
         let mut tex = |name: &str, wrap| doc.texture(&format!("{name}.png"), wrap);
         let t_asphalt = tex("asphalt", WrapMode::Repeat);
         let t_kerb = tex("kerb", WrapMode::Repeat);
-        let t_grass = tex("grass", WrapMode::Repeat);
+        let t_grass = tex(if streets { "pavement" } else { "grass" }, WrapMode::Repeat);
         let t_gravel = tex("gravel", WrapMode::Repeat);
         let t_armco = tex("armco", WrapMode::Repeat);
         let t_tyres = tex("tyres", WrapMode::Repeat);
@@ -44,7 +45,7 @@ impl Mats {
         Mats {
             road: doc.material("asphalt", white, Some(t_asphalt), false, None),
             kerb: doc.material("kerb", white, Some(t_kerb), false, None),
-            grass: doc.material("grass", white, Some(t_grass), false, None),
+            grass: doc.material(if streets { "pavement" } else { "grass" }, white, Some(t_grass), false, None),
             gravel: doc.material("gravel", white, Some(t_gravel), false, None),
             armco: doc.material("armco", white, Some(t_armco), true, Some(0.5)),
             tyres: doc.material("tyre wall", white, Some(t_tyres), true, None),
@@ -79,7 +80,9 @@ fn grain(size: u32, base: [u8; 3], amp: i32, rng: &mut Rng) -> Canvas {
     c
 }
 
-pub(super) fn write_textures(dir: &Path) -> std::io::Result<()> {
+/// Writes the course's textures into `dir`: the circuit's set, and on a street course (`streets`) the
+/// pavement too.
+pub(super) fn write_textures(dir: &Path, streets: bool) -> std::io::Result<()> {
     let mut rng = Rng::new(0x7e57_0001);
     let rng = &mut rng;
     // Asphalt: 128 px across the 12 m road, white edge lines, darker wheel tracks.
@@ -130,7 +133,24 @@ pub(super) fn write_textures(dir: &Path) -> std::io::Result<()> {
     chequer.save(&dir.join("chequer.png"))?;
     crowd_texture(rng).save(&dir.join("crowd.png"))?;
     windows_texture(rng).save(&dir.join("windows.png"))?;
-    trees_texture(rng).save(&dir.join("trees.png"))
+    trees_texture(rng).save(&dir.join("trees.png"))?;
+    if streets {
+        pavement_texture(rng).save(&dir.join("pavement.png"))?;
+    }
+    Ok(())
+}
+
+/// Pavement: grey slabs of 16 px with darker joints and a little grain (a repeat of 20 m: 1.25 m slabs).
+fn pavement_texture(rng: &mut Rng) -> Canvas {
+    let mut c = grain(256, [150, 148, 144], 6, rng);
+    for y in 0..256 {
+        for x in 0..256 {
+            if x % 16 == 0 || y % 16 == 0 {
+                c.set(x, y, shade([112, 110, 108], rng.int(-4, 4)));
+            }
+        }
+    }
+    c
 }
 
 /// Armco: two steel rails on posts every 4 m; transparent between (alpha mask).

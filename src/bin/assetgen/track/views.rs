@@ -24,7 +24,8 @@ pub(super) fn views(c: &Circuit, grid: &[(Vec3, f32)], stands: &[(Vec3, Vec3)]) 
     let (lo, hi) = c.bounds();
     let mid = (lo + hi) * 0.5;
     v.push(("overview".to_string(), Vec3::new(mid.x, 1000.0, mid.y + 780.0), Vec3::new(mid.x, 0.0, mid.y - 30.0)));
-    let apex = c.at(c.apex[3]);
+    let [hairpin, sweeper] = c.layout.view_corners;
+    let apex = c.at(c.apex[hairpin]);
     let hairpin_eye = stands.get(1).map_or(apex.p + apex.right * 40.0 + Vec3::Y * 15.0, |&(front, to_track)| {
         front + to_track * 2.0 + Vec3::Y * 12.0
     });
@@ -33,7 +34,7 @@ pub(super) fn views(c: &Circuit, grid: &[(Vec3, f32)], stands: &[(Vec3, Vec3)]) 
         let fwd = Vec3::new(libm::sinf(yaw), 0.0, -libm::cosf(yaw));
         v.push(("onboard".to_string(), pole + Vec3::Y * 1.1, pole + fwd * 60.0 + Vec3::Y * 0.8));
     }
-    let (entry, apex8) = (c.at(c.apex[8] - 110.0), c.at(c.apex[8] - 30.0));
+    let (entry, apex8) = (c.at(c.apex[sweeper] - 110.0), c.at(c.apex[sweeper] - 30.0));
     v.push(("sweeper".to_string(), entry.p + entry.right * 3.0 + Vec3::Y * 3.0, apex8.p + Vec3::Y * 1.0));
     let under = c.at(c.lower_s - 90.0);
     v.push(("underpass".to_string(), under.p + Vec3::Y * 1.4, x + Vec3::Y * 2.0));
@@ -49,7 +50,8 @@ pub(super) fn camera_nodes(doc: &mut Doc, views: &[(String, Vec3, Vec3)]) -> Vec
         let r = f.cross(Vec3::Y).try_normalize().unwrap_or(Vec3::X);
         let u = r.cross(f);
         let q = Quat::from_mat3(&Mat3::from_cols(r, u, -f)).normalize();
-        let (znear, yfov) = if name == "onboard" || name == "underpass" { (0.3, 1.0) } else { (1.0, 0.9) };
+        let (znear, yfov) =
+            if name == "onboard" || name == "underpass" || name == "tunnel" { (0.3, 1.0) } else { (1.0, 0.9) };
         cameras.push(json!({"name": name, "type": "perspective", "perspective": {"yfov": yfov, "znear": znear, "zfar": 12000.0}}));
         doc.node(
             json!({
@@ -74,7 +76,7 @@ pub(super) fn add_cameras(path: &Path, cameras: Vec<Value>) -> std::io::Result<(
     std::fs::write(path, text)
 }
 
-/// `centerline.json`: lap length and a sample every ~5 m from the start line in racing order: road-surface
+/// `centerline.json`: the course's title and what it is like, lap length and a sample every ~5 m from the start line in racing order: road-surface
 /// centre `p`, `bank` (radians, positive raises the right side) and road `width`.
 pub(super) fn write_centerline(dir: &Path, c: &Circuit) -> std::io::Result<()> {
     let samples: Vec<Value> = c
@@ -89,7 +91,7 @@ pub(super) fn write_centerline(dir: &Path, c: &Circuit) -> std::io::Result<()> {
             })
         })
         .collect();
-    let v = json!({"length_m": r3(c.length), "samples": samples});
+    let v = json!({"title": c.layout.title, "about": c.layout.about, "length_m": r3(c.length), "samples": samples});
     let mut text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
     text.push('\n');
     std::fs::write(dir.join("centerline.json"), text)
