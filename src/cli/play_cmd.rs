@@ -25,7 +25,8 @@ const DEMO_SCENE: &[u8] = include_bytes!("../../tests/scenes/courtyard.gltf");
 /// Arguments of `play`.
 #[derive(Debug, Args)]
 pub struct PlayArgs {
-    /// The course to race: circuit, city, ... (`scanline-racer courses` lists them). Default: circuit.
+    /// The course to race: circuit, city, ... (`scanline-racer courses` lists them). Default: the settings
+    /// file's (the last chosen in the menu), else circuit.
     #[arg(long, value_name = "NAME", value_parser = values::course_name)]
     pub course: Option<String>,
     /// Window width in pixels (1 to 16384).
@@ -45,6 +46,11 @@ pub struct PlayArgs {
     /// change. Default: $SCANLINE_RACER_SETTINGS, else $XDG_CONFIG_HOME/scanline-racer/settings.json.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+    /// The records file (best laps and races; the time trial's ghosts are kept beside it). Default:
+    /// $SCANLINE_RACER_RECORDS, else $XDG_DATA_HOME/scanline-racer/records.json, else
+    /// ~/.local/share/scanline-racer/records.json.
+    #[arg(long, value_name = "FILE")]
+    pub records: Option<PathBuf>,
     /// Visibility method (keys 1-5 switch: zbuffer, sort, bucket-far, bucket-near, view-lists).
     #[arg(long, default_value_t = RenderOptions::default().method)]
     pub method: Method,
@@ -73,16 +79,18 @@ pub struct PlayArgs {
     /// Start racing at once instead of showing the main menu.
     #[arg(long)]
     pub no_menu: bool,
-    /// Laps in the race (1 to 99).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=values::MAX_LAPS))]
-    pub laps: u32,
-    /// Your car, 1 to 8 (each handles differently: `scanline-racer cars` lists them). Default: 1.
+    /// Laps in the race (1 to 99). Default: the settings file's, else 3.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=values::MAX_LAPS))]
+    pub laps: Option<u32>,
+    /// Your car, 1 to 8 (each handles differently: `scanline-racer cars` lists them). Default: the
+    /// settings file's (the last chosen in the menu), else 1.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::game::garage::CARS as i64))]
     pub car: Option<u32>,
-    /// The mode: race (against the AI) or time-trial (alone, against the ghost of your best lap). Default: race.
+    /// The mode: race (against the AI) or time-trial (alone, against the ghost of your best lap). Default:
+    /// the settings file's, else race.
     #[arg(long, value_parser = values::mode)]
     pub mode: Option<crate::game::Mode>,
-    /// How fast the AI drives: easy, normal or hard. Default: normal.
+    /// How fast the AI drives: easy, normal or hard. Default: the settings file's, else normal.
     #[arg(long, value_parser = values::difficulty)]
     pub difficulty: Option<crate::game::Difficulty>,
     /// Quit after this many frames (for tests and screenshots).
@@ -114,8 +122,9 @@ impl Default for PlayArgs {
             record: None,
             ghost: None,
             no_menu: false,
-            laps: 3,
+            laps: None,
             car: None,
+            records: None,
             mode: None,
             difficulty: None,
             exit_after_frames: None,
@@ -190,20 +199,37 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The race `play` starts with: the command line's choices, else the settings file's (the race last
+/// chosen in the menu); a course the settings name that `assets` do not hold gives way to the first
+/// course, said in one line.
+fn chosen_race(
+    args: &PlayArgs,
+    settings: &Settings,
+    assets: &crate::shell::race_scene::Assets,
+) -> (String, crate::game::RaceSetup) {
+    let course = match &args.course {
+        Some(c) => c.clone(),
+        None if assets.course_names().contains(&settings.course) => settings.course.clone(),
+        None => {
+            let first = crate::shell::race_scene::DEFAULT_COURSE;
+            say(&format!("note: the settings' course {:?} is not in these assets: {first} raced", settings.course));
+            first.to_string()
+        }
+    };
+    let setup = crate::game::RaceSetup {
+        mode: args.mode.unwrap_or(settings.mode),
+        laps: args.laps.unwrap_or(settings.laps),
+        car: args.car.unwrap_or(settings.car) as usize - 1,
+        difficulty: args.difficulty.unwrap_or(settings.difficulty),
+        ..crate::game::RaceSetup::default()
+    };
+    (course, setup)
+}
+
 /// Runs the race of `play`: the assets, the settings, the ghost and the recording, then the window; what
 /// was recorded is kept however the window closed.
 fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result<(), CliError> {
-    let course = args.course.as_deref().unwrap_or(crate::shell::race_scene::DEFAULT_COURSE);
-    let scene = RaceScene::open(&args.assets.find(), course)?;
     let path = args.settings.clone().or_else(settings::default_path);
-    let mut inputs = Inputs::new();
-    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
-    if let Some(p) = &path {
-        inputs.add(p, "the settings file");
-    }
-    outputs_not_inputs(args, &inputs, args.ghost.as_deref())?;
-    // The trace is checked now; its laps are searched on a background thread while the race runs.
-    let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone())).transpose()?;
     let (file, settings, note) = match path.as_deref().map(SettingsFile::load) {
         Some((file, settings, note)) => (Some(file), settings, note),
         None => (None, Settings::default(), None),
@@ -211,17 +237,33 @@ fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result
     if let Some(n) = &note {
         say(&format!("warning: {n}"));
     }
-    let setup = crate::game::RaceSetup {
-        mode: args.mode.unwrap_or_default(),
-        laps: args.laps,
-        car: args.car.map_or(0, |n| n as usize - 1),
-        difficulty: args.difficulty.unwrap_or_default(),
-        ..crate::game::RaceSetup::default()
-    };
+    let assets = args.assets.find();
+    let (course, setup) = chosen_race(args, &settings, &assets);
+    let scene = RaceScene::open(&assets, &course)?;
+    let mut inputs = Inputs::new();
+    inputs.add_all(&scene.scene().files, super::error::ASSET_FILE);
+    if let Some(p) = &path {
+        inputs.add(p, "the settings file");
+    }
+    let records = args.records.clone().or_else(crate::shell::records::default_path);
+    if let Some(p) = &records {
+        inputs.add(p, "the records file");
+    }
+    outputs_not_inputs(args, &inputs, args.ghost.as_deref())?;
+    // The trace is checked now; its laps are searched on a background thread while the race runs.
+    let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone())).transpose()?;
     let mut race = Race::new(scene, race_options(options, &settings, &args.picture), setup, !args.no_menu)
         .autopilot(args.autopilot)
         .with_settings(settings, file, args.scale, note)
+        .with_courses(assets)
         .with_sound();
+    if let Some(p) = &records {
+        let (file, problem) = crate::shell::records::RecordsFile::load(p);
+        if let Some(e) = problem {
+            say(&format!("warning: {e}"));
+        }
+        race = race.with_records(file);
+    }
     if let Some(search) = ghost {
         race = race.with_ghost_search(search);
     }

@@ -85,6 +85,54 @@ impl Difficulty {
     }
 }
 
+/// A name that is none of a choice's names (a mode or a difficulty).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {kind} {name:?} (accepted: {accepted})")]
+pub struct UnknownChoice {
+    /// What was being chosen: "mode", "difficulty".
+    pub kind: &'static str,
+    /// The name given (its first 40 characters).
+    pub name: String,
+    /// The names accepted, as the message lists them.
+    pub accepted: &'static str,
+}
+
+impl std::fmt::Display for Mode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Mode {
+    type Err = UnknownChoice;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Mode::from_name(s).ok_or_else(|| UnknownChoice {
+            kind: "mode",
+            name: s.chars().take(40).collect(),
+            accepted: "race or time-trial",
+        })
+    }
+}
+
+impl std::fmt::Display for Difficulty {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Difficulty {
+    type Err = UnknownChoice;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Difficulty::from_name(s).ok_or_else(|| UnknownChoice {
+            kind: "difficulty",
+            name: s.chars().take(40).collect(),
+            accepted: "easy, normal or hard",
+        })
+    }
+}
+
 /// Whose handling the cars have.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Handling {

@@ -216,6 +216,13 @@ impl Recording {
         &self.target
     }
 
+    /// Ends the recording without keeping it: the temporary file is removed and the target is untouched.
+    pub fn discard(&mut self) {
+        if self.writer.take().is_some() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+
     /// Ends the recording: renames the temporary file over the target when at least one tick was
     /// recorded, else removes it. Calling it again does nothing and returns [`Kept::Nothing`].
     pub fn finish(&mut self) -> Result<Kept, RecordError> {

@@ -8,6 +8,7 @@ pub mod image_file;
 pub mod keys;
 pub mod race;
 pub mod race_scene;
+pub mod records;
 pub mod settings;
 pub mod stop;
 pub mod ui;

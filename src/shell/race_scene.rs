@@ -205,6 +205,23 @@ impl RaceScene {
         renderer.render(frame, width, height, &camera_for(world, view), &self.draw_list(&instances), options)
     }
 
+    /// Draws the car select: the car of garage index `car` alone, turned `angle` radians, at its close model
+    /// whatever its size on screen, seen from three-quarters in front and a little above, into `frame`.
+    pub fn render_showroom(
+        &self,
+        renderer: &mut Renderer,
+        (car, angle): (usize, f32),
+        options: &RenderOptions,
+        frame: (&mut [u32], usize, usize),
+    ) -> Result<Stats, RenderError> {
+        let set = self.car_sets[car % self.car_sets.len()];
+        let instances = [Instance::of_lod_set(set, Mat4::from_rotation_y(-angle))];
+        let camera = Camera::look_at(Vec3::new(0.0, 2.4, 7.5), Vec3::new(0.0, 0.5, 0.0), 0.8, 0.3, None);
+        let options = RenderOptions { lod: crate::render::LodMode::Force(crate::render::Level::Close), ..*options };
+        let list = DrawList { view_lists: None, ..self.draw_list(&instances) };
+        renderer.render(frame.0, frame.1, frame.2, &camera, &list, &options)
+    }
+
     /// Builds what `method` needs before its first frame (the orders made in advance for `view-lists`).
     pub fn prepare(&self, method: Method) {
         if method == Method::ViewLists {

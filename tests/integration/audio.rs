@@ -516,6 +516,7 @@ fn the_window_plays_the_race_on_a_real_audio_server() {
         .env("DISPLAY", &display)
         .env_remove("WAYLAND_DISPLAY")
         .env("SCANLINE_RACER_SETTINGS", dir.join("no-settings.json"))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
         .spawn()

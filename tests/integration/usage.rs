@@ -20,7 +20,8 @@ fn run(args: &[&str], secs: u64) -> Output {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
-        .env("SCANLINE_RACER_SETTINGS", tmp("no-settings.json"));
+        .env("SCANLINE_RACER_SETTINGS", tmp("no-settings.json"))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"));
     run_bounded(&mut c, secs, &args.join(" "))
 }
 

@@ -51,6 +51,7 @@ impl Game {
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
             .env("SCANLINE_RACER_SETTINGS", settings)
+            .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(&stderr).unwrap())
             .spawn()

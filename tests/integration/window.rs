@@ -30,6 +30,7 @@ fn window_shows_the_same_frame_as_the_headless_renderer() {
         ])
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .env_remove("WAYLAND_DISPLAY")
         .output()
         .unwrap();
@@ -60,6 +61,7 @@ fn scaled_internal_resolution_and_a_user_scene() {
         .args(["--method", "bucket-near", "--exit-after-frames", "3", "--screenshot", shot.to_str().unwrap()])
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -87,6 +89,7 @@ fn the_race_runs_in_the_window_with_the_cars_on_the_circuit() {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -121,6 +124,7 @@ fn the_race_draws_the_settings_file_s_picture_unless_the_command_line_says_other
             .current_dir(env!("CARGO_MANIFEST_DIR"))
             .env("DISPLAY", &x.display)
             .env("SCANLINE_RACER_SETTINGS", settings)
+            .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
             .output()
             .unwrap();
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
@@ -174,6 +178,7 @@ fn a_replayed_race_in_the_window_shows_the_frame_the_headless_renderer_draws() {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", settings_file("default", None))
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -288,6 +293,7 @@ fn a_race_driven_with_rebound_keys_recorded_and_killed_replays_its_prefix_with_e
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", &settings)
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -374,6 +380,7 @@ fn settings_show_keys_as_keyboards_label_them_and_the_file_keeps_winit_s_names()
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", &x.display)
         .env("SCANLINE_RACER_SETTINGS", &settings)
+        .env("SCANLINE_RACER_RECORDS", std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .env(scanline_racer::shell::ui::UI_TEXT_ENV, &text)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -407,4 +414,72 @@ fn settings_show_keys_as_keyboards_label_them_and_the_file_keeps_winit_s_names()
     let _ = game.kill();
     let _ = game.wait();
     assert_eq!(std::fs::read_to_string(&settings).unwrap(), json, "the file keeps winit's names, untouched");
+}
+
+/// Clicks at the top-left corner of the text `(x, y, _)` of the window `wid`, a few pixels in.
+fn click_text(display: &str, wid: &str, (x, y, _): &(i32, i32, String)) {
+    let (cx, cy) = ((x + 6).to_string(), (y + 6).to_string());
+    xdotool(display, &["mousemove", "--window", wid, &cx, &cy, "click", "1"]);
+}
+
+/// The main menu picks the second course, the fifth car and Time Trial, and Race starts that race: alone on
+/// the city's grid in car 5 (the HUD says TIME TRIAL), and the settings file remembers the choices.
+#[test]
+fn the_menu_picks_a_course_a_car_and_time_trial_and_races_it() {
+    let Some(x) = Xvfb::start() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("window-menu-choices");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let settings = dir.join("settings.json");
+    let text = dir.join("ui.txt");
+    let mut game = Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+        .args(["play", "--width", "800", "--height", "600"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .env("SCANLINE_RACER_SETTINGS", &settings)
+        .env("SCANLINE_RACER_RECORDS", dir.join("records.json"))
+        .env(scanline_racer::shell::ui::UI_TEXT_ENV, &text)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let combo = wait_for_text(&text, &mut game, |s| s == "Green Valley Circuit");
+    let Some(wid) = xdotool(&x.display, &["search", "--sync", "--name", "scanline-racer"]) else {
+        let _ = game.kill();
+        return;
+    };
+    let wid = wid.lines().next().unwrap().to_string();
+    click_text(&x.display, &wid, &combo);
+    let city = wait_for_text(&text, &mut game, |s| s.starts_with("Harbour Streets ("));
+    click_text(&x.display, &wid, &city);
+    wait_for_text(&text, &mut game, |s| s == "Harbour Streets");
+    for n in 2..=5 {
+        let next = wait_for_text(&text, &mut game, |s| s == ">");
+        click_text(&x.display, &wid, &next);
+        let name = scanline_racer::game::garage::GARAGE[n - 1].name;
+        wait_for_text(&text, &mut game, |s| s == format!("{n} {name}"));
+    }
+    let trial = wait_for_text(&text, &mut game, |s| s == "Time Trial");
+    click_text(&x.display, &wid, &trial);
+    // The choices are saved as they are made.
+    let t = Instant::now();
+    while !std::fs::read_to_string(&settings).unwrap_or_default().contains("time-trial") {
+        assert!(t.elapsed() < Duration::from_secs(30), "settings: {:?}", std::fs::read_to_string(&settings));
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    // The Race button, below the mode's Race choice.
+    let race = ui_text(&text).into_iter().filter(|(_, _, s)| s == "Race").max_by_key(|l| l.1).unwrap();
+    click_text(&x.display, &wid, &race);
+    wait_for_text(&text, &mut game, |s| s == "TIME TRIAL");
+    std::thread::sleep(Duration::from_millis(500));
+    let shot = Command::new("xwd").args(["-root", "-silent", "-display", &x.display]).output().unwrap();
+    if let Some((px, w, h)) = read_xwd(&shot.stdout) {
+        write_png(&dir.join("time-trial.png"), &px, w, h);
+    }
+    let _ = game.kill();
+    let _ = game.wait();
+    let saved: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&settings).unwrap()).unwrap();
+    assert_eq!(saved["course"], "city", "{saved}");
+    assert_eq!(saved["car"], 5, "{saved}");
+    assert_eq!(saved["mode"], "time-trial", "{saved}");
 }

@@ -181,13 +181,14 @@ impl Control {
             PadEvent::Connected { name } => Some(Command::Notice(format!("gamepad connected: {name}"))),
             PadEvent::ActiveDisconnected => Some(Command::PadLost),
             PadEvent::Pressed(b @ (PadButton::Confirm | PadButton::Up | PadButton::Down))
-                if matches!(screen, Screen::Menu | Screen::Paused) || finished =>
+                if matches!(screen, Screen::Menu | Screen::Paused | Screen::Garage) || finished =>
             {
                 self.pad_menu_key(b);
                 None
             }
             PadEvent::Pressed(PadButton::Pause) => Some(Command::TogglePause),
             PadEvent::Pressed(PadButton::Back) if screen == Screen::Paused => Some(Command::Resume),
+            PadEvent::Pressed(PadButton::Back) if screen == Screen::Garage => Some(Command::TogglePause),
             PadEvent::Pressed(PadButton::View) => Some(Command::NextView),
             PadEvent::Pressed(_) => None,
         }
@@ -213,7 +214,8 @@ impl Control {
         match (code, action) {
             (KeyCode::Escape, _) if down => Some(match screen {
                 Screen::Menu | Screen::Frozen => Command::Quit,
-                Screen::Race | Screen::Paused => Command::TogglePause,
+                // In the car select, Esc goes back to the main menu (as the pause toggle's way out of it).
+                Screen::Race | Screen::Paused | Screen::Garage => Command::TogglePause,
             }),
             (KeyCode::Enter, _) if down && screen == Screen::Menu => Some(Command::StartRace),
             (_, Some(Action::SteerLeft)) => hold(&mut self.keys.left, down),

@@ -20,7 +20,12 @@ pub(super) fn hud(
     let me = &race.standings[0];
     let big = |t: String, size: f32| egui::RichText::new(t).size(size).strong().color(egui::Color32::WHITE);
     egui::Area::new(egui::Id::unique("hud-left")).anchor(egui::Align2::LEFT_TOP, [16.0, 12.0]).show(ctx, |ui| {
-        ui.label(big(format!("P{} / {}", race.position(0), race.standings.len()), 30.0));
+        // Alone on the course (a time trial) there is no position to show.
+        let place = match race.standings.len() {
+            1 => "TIME TRIAL".to_string(),
+            n => format!("P{} / {n}", race.position(0)),
+        };
+        ui.label(big(place, 30.0));
         ui.label(big(format!("LAP {} / {}", (me.laps + 1).min(race.laps), race.laps), 18.0));
         let now = if race.holding() { 0 } else { world.tick.saturating_sub(me.lap_start) };
         ui.label(big(format!("TIME {}", format_ticks(now)), 16.0));

@@ -7,13 +7,14 @@
 use winit::keyboard::KeyCode;
 
 use super::screen::Drawing;
+use crate::game::RaceSetup;
 use crate::game::rules::format_ticks;
 use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
 use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions, TextureMode};
 use crate::shell::keys::key_label;
 use crate::shell::race_scene::View;
-use crate::shell::settings::{Settings, SettingsFile, VOLUME_RANGE};
+use crate::shell::settings::{LAPS_RANGE, Settings, SettingsFile, VOLUME_RANGE};
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
 
 /// How loud the race's sound is: what the settings hold and the mixer is told each frame.
@@ -31,6 +32,30 @@ impl Default for SoundLevels {
     fn default() -> Self {
         let d = Settings::default();
         Self { volume: d.volume, effects: d.effects_volume, muted: d.muted }
+    }
+}
+
+/// The race chosen in the main menu (or on the command line): its course and setup, as the settings file
+/// keeps them.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Chosen<'a> {
+    /// The course's name.
+    pub(super) course: &'a str,
+    /// Its mode, laps, car and difficulty.
+    pub(super) setup: &'a RaceSetup,
+}
+
+impl Chosen<'_> {
+    /// `settings` with the race's choices in it (laps beyond the menu's 9 saved as 9).
+    fn into_settings(self, settings: Settings) -> Settings {
+        Settings {
+            course: self.course.to_string(),
+            car: self.setup.car as u32 + 1,
+            mode: self.setup.mode,
+            difficulty: self.setup.difficulty,
+            laps: self.setup.laps.clamp(1, *LAPS_RANGE.end()),
+            ..settings
+        }
     }
 }
 
@@ -71,12 +96,14 @@ impl Prefs {
     /// overrides it) and saves changes made in Settings to `file`; `options` are the race's drawing options
     /// as the caller chose them, whose picture (anti-aliasing, filter, mip levels) counts as saved, so that
     /// only a change made in Settings is written.
+    /// The race on the grid (`chosen`: its course and setup, from the command line or the settings) counts
+    /// as saved too.
     pub(super) fn apply(
         &mut self,
         settings: Settings,
         file: Option<SettingsFile>,
         scale: Option<u32>,
-        options: &RenderOptions,
+        (options, chosen): (&RenderOptions, Chosen<'_>),
         pads: &mut Gamepads,
     ) {
         self.bindings = settings.keys.clone();
@@ -89,20 +116,21 @@ impl Prefs {
         let scale = scale.unwrap_or(settings.scale);
         self.scale = (scale, Some(scale));
         self.file = file.map(|mut f| {
-            f.assume_saved(Settings {
+            f.assume_saved(chosen.into_settings(Settings {
                 scale,
                 antialias: options.antialias,
                 filter: options.filter,
                 mip: options.mip,
                 ..settings
-            });
+            }));
             f
         });
     }
 
-    /// The settings as they stand now, the gamepad's from `pads`, the picture choices from `options`.
-    fn current(&self, pads: &Gamepads, options: &RenderOptions) -> Settings {
-        Settings {
+    /// The settings as they stand now, the gamepad's from `pads`, the picture choices from `options`, the
+    /// race's from `chosen`.
+    fn current(&self, pads: &Gamepads, options: &RenderOptions, chosen: Chosen<'_>) -> Settings {
+        chosen.into_settings(Settings {
             keys: self.bindings.clone(),
             deadzone: pads.deadzone,
             curve: pads.curve,
@@ -114,14 +142,21 @@ impl Prefs {
             antialias: options.antialias,
             filter: options.filter,
             mip: options.mip,
-        }
+            ..Settings::default()
+        })
     }
 
-    /// Saves the settings (the gamepad's from `pads`, the picture choices from `options`) if they changed
-    /// since the last save; a failure is not fatal: it is shown in `notice` and said in one warning line
-    /// (once: a change that failed counts as saved, and a file that no longer parses is not written again).
-    pub(super) fn save(&mut self, pads: &Gamepads, options: &RenderOptions, notice: &mut Option<String>) {
-        let now = self.current(pads, options);
+    /// Saves the settings (the gamepad's from `pads`, the picture choices from `options`, the race's from
+    /// `chosen`) if they changed since the last save; a failure is not fatal: it is shown in `notice` and
+    /// said in one warning line (once: a change that failed counts as saved, and a file that no longer
+    /// parses is not written again).
+    pub(super) fn save(
+        &mut self,
+        pads: &Gamepads,
+        (options, chosen): (&RenderOptions, Chosen<'_>),
+        notice: &mut Option<String>,
+    ) {
+        let now = self.current(pads, options, chosen);
         if let Some(file) = &mut self.file
             && let Err(e) = file.save(&now)
         {

@@ -20,6 +20,8 @@ pub(super) enum Screen {
     Paused,
     /// A replay stopped at its `--stop-at` tick: the frame stays, nothing moves, no menu.
     Frozen,
+    /// The car select: the chosen car turning on its own, drawn at its close model, with its figures.
+    Garage,
 }
 
 /// How frames are drawn.

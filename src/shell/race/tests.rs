@@ -1,8 +1,11 @@
 //! The race session's own tests: pausing, restarting, settings and recording as the window drives them.
 
-use super::*;
+use super::Race;
+use super::screen::Screen;
+use crate::render::RenderOptions;
 use crate::render::{Antialias, Filter, MipMode};
 use crate::shell::race_scene::DEFAULT_COURSE;
+use crate::shell::race_scene::RaceScene;
 use crate::shell::settings::SettingsFile;
 
 /// A race on the main menu with the shipped assets.
@@ -106,4 +109,55 @@ fn the_pause_toggle_switches_only_between_racing_and_paused() {
         race.toggle_pause();
         assert_eq!(race.screen, to, "{from:?}");
     }
+}
+
+/// A time trial raced to the flag is a record in the records file, and its trace is kept as the ghost of
+/// that course and car, whose fastest lap is the record; a slower session does not replace it (and leaves
+/// no file behind), and the next time trial is handed the ghost to race against.
+#[test]
+fn a_time_trial_finish_is_a_record_and_its_ghost_is_raced_next_time() {
+    use super::trial::Trials;
+    use crate::game::ai::{Driver, drive};
+    use crate::game::{Difficulty, Mode, RaceSetup, World};
+    use crate::input::ghost::best_lap_of_trace;
+    use crate::input::replay::step_recorded;
+    use crate::shell::records::{RecordKey, RecordsFile};
+    let dir = std::env::temp_dir().join(format!("trial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let records = dir.join("records.json");
+    let assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let track = RaceScene::load(&assets, "city").unwrap().track;
+    let setup = RaceSetup { mode: Mode::TimeTrial, laps: 1, car: 4, ..RaceSetup::default() };
+    let run = |pace: f32| {
+        let mut trials = Trials::default();
+        trials.file = Some(RecordsFile::load(&records).0);
+        let mut world = World::for_race(track.clone(), &setup);
+        let mut notice = None;
+        let ghost = trials.restart(&world, ("city", &setup), false, &mut notice);
+        let driver = Driver::field(1).with_pace(pace);
+        while world.race.standings[0].finished.is_none() && world.tick < 120 * 200 {
+            let c = drive(&driver, 0, &world.cars, &world.track, &world.params[0]);
+            let c = step_recorded(&mut world, c, None, 120).unwrap();
+            trials.tick(&world, c);
+            trials.observe(&world, ("city", &setup), true, &mut notice);
+        }
+        (world.race.standings[0].best_lap.expect("a lap"), ghost.is_some(), notice)
+    };
+    let (lap, raced_a_ghost, notice) = run(1.0);
+    assert!(!raced_a_ghost, "no ghost yet");
+    assert_eq!(notice.as_deref(), Some("a new record: your best lap"));
+    let key = RecordKey::new("city", 4, Mode::TimeTrial, Difficulty::Normal);
+    let file = RecordsFile::load(&records).0;
+    assert_eq!(file.records.best_lap(&key), Some(lap));
+    assert_eq!(file.records.races.len(), 1);
+    let ghost = file.ghost_path(&key);
+    assert_eq!(best_lap_of_trace(&ghost, track.clone()).unwrap().map(|g| g.ticks()), Some(lap));
+    let before = std::fs::read(&ghost).unwrap();
+    let (slower, raced_a_ghost, _) = run(0.9);
+    assert!(slower > lap && raced_a_ghost, "{slower} vs {lap}");
+    assert_eq!(std::fs::read(&ghost).unwrap(), before, "a slower lap keeps the ghost");
+    let left: Vec<_> = std::fs::read_dir(ghost.parent().unwrap()).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(left.len(), 1, "no temporary file is left: {left:?}");
+    assert_eq!(RecordsFile::load(&records).0.records.best_lap(&key), Some(lap));
+    let _ = std::fs::remove_dir_all(&dir);
 }

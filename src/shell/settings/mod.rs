@@ -22,7 +22,7 @@ mod values;
 pub use file::{SettingsFile, default_path};
 pub use read::UnusableSettings;
 pub use save::SettingsError;
-pub use values::{DEFAULT_VOLUME, Settings, VOLUME_RANGE};
+pub use values::{DEFAULT_VOLUME, LAPS_RANGE, Settings, VOLUME_RANGE};
 
 #[cfg(test)]
 mod tests {

@@ -139,6 +139,21 @@ fn named<T: FromStr<Err = UnknownName> + std::fmt::Display>(
     }
 }
 
+/// Sets `slot` from the field `name` of `doc` like [`named`], for the race's choices (`"time-trial"`).
+fn chosen<T: FromStr<Err = crate::game::setup::UnknownChoice> + std::fmt::Display>(
+    doc: &Map<String, Value>,
+    name: &str,
+    slot: &mut T,
+    notes: &mut Vec<String>,
+) {
+    if let Some(v) = doc.get(name) {
+        match T::from_str(v.as_str().unwrap_or("")) {
+            Ok(x) => *slot = x,
+            Err(e) => notes.push(format!("{name} {} is not {}: {slot} used", shown(v), e.accepted)),
+        }
+    }
+}
+
 /// The key bindings of the `keys` field, action by action: an entry that is not a known action with a list
 /// of key names is dropped and said (the action then gets its default keys, see [`Bindings::repaired`]).
 fn keys_of(v: &Value, notes: &mut Vec<String>) -> Bindings {
@@ -183,6 +198,11 @@ impl Settings {
         named(doc, "antialias", &mut s.antialias, &mut notes);
         named(doc, "filter", &mut s.filter, &mut notes);
         named(doc, "mip", &mut s.mip, &mut notes);
+        field(doc, "course", &mut s.course, "a course's name", &mut notes);
+        field(doc, "car", &mut s.car, &format!("a whole number from 1 to {}", crate::game::garage::CARS), &mut notes);
+        chosen(doc, "mode", &mut s.mode, &mut notes);
+        chosen(doc, "difficulty", &mut s.difficulty, &mut notes);
+        field(doc, "laps", &mut s.laps, "a whole number from 1 to 9", &mut notes);
         notes.extend(unknown_keys(doc));
         (s, notes)
     }

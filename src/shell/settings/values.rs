@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::game::garage::CARS;
+use crate::game::{Difficulty, Mode};
 use crate::input::bindings::Bindings;
 use crate::input::gamepad::{DEFAULT_CURVE, DEFAULT_DEADZONE};
 use crate::render::{Antialias, Filter, MipMode, RenderOptions};
@@ -19,6 +21,9 @@ pub const VOLUME_RANGE: std::ops::RangeInclusive<f32> = 0.0..=1.0;
 pub const DEADZONE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=0.3;
 /// The range the steering response exponent must be in (1 linear).
 pub const CURVE_RANGE: std::ops::RangeInclusive<f32> = 1.0..=3.0;
+
+/// The laps a race chosen in the menu may have.
+pub const LAPS_RANGE: std::ops::RangeInclusive<u32> = 1..=9;
 
 /// A range as the warnings write it (`0-0.3`).
 #[must_use]
@@ -55,6 +60,18 @@ pub struct Settings {
     /// Where the race's mip levels are chosen, by its command-line name (`"pixel"`).
     #[serde(with = "by_name")]
     pub mip: MipMode,
+    /// The course raced last (its folder under `track/`).
+    pub course: String,
+    /// The player's car, 1 to 8.
+    pub car: u32,
+    /// The mode: `race` or `time-trial`.
+    #[serde(with = "by_name")]
+    pub mode: Mode,
+    /// The AI's pace: `easy`, `normal` or `hard`.
+    #[serde(with = "by_name")]
+    pub difficulty: Difficulty,
+    /// Laps, 1 to 9.
+    pub laps: u32,
 }
 
 impl Default for Settings {
@@ -71,6 +88,11 @@ impl Default for Settings {
             antialias: RenderOptions::default().antialias,
             filter: RenderOptions::default().filter,
             mip: RenderOptions::default().mip,
+            course: crate::shell::course::DEFAULT_COURSE.to_string(),
+            car: 1,
+            mode: Mode::Race,
+            difficulty: Difficulty::Normal,
+            laps: 3,
         }
     }
 }
@@ -116,6 +138,25 @@ impl Settings {
                 notes.push(format!("{name} {value} out of {}: {default} used", shown_range(&range)));
                 *value = default;
             }
+        }
+        if !(1..=CARS as u32).contains(&self.car) {
+            notes.push(format!("car {} out of 1-{CARS}: 1 used", self.car));
+            self.car = 1;
+        }
+        if !LAPS_RANGE.contains(&self.laps) {
+            notes.push(format!(
+                "laps {} out of {}-{}: {} used",
+                self.laps,
+                LAPS_RANGE.start(),
+                LAPS_RANGE.end(),
+                d.laps
+            ));
+            self.laps = d.laps;
+        }
+        if !crate::shell::course::is_course_name(&self.course) {
+            let shown: String = self.course.chars().take(40).collect();
+            notes.push(format!("course {shown:?} is not a course name: {} used", d.course));
+            self.course = d.course.clone();
         }
         if !(MIN_SCALE..=MAX_SCALE).contains(&self.scale) {
             notes.push(format!("scale {} out of {MIN_SCALE}-{MAX_SCALE}: {MIN_SCALE} used", self.scale));
