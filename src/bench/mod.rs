@@ -207,22 +207,23 @@ pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<b
         .collect()
 }
 
-/// The rows as CSV, with a header line. Columns after `vis_pareto`: `seq_flip_mean` (FLIP mean over the
+/// The rows of each course (`(course, rows)`) as CSV, with a header line; the first column is the course.
+/// Columns after `vis_pareto`: `seq_flip_mean` (FLIP mean over the
 /// stability sequence), `shimmer_rms` and `shimmer_pct` (its shimmer), `stability_pareto` (on the front of
 /// time against shimmer RMS), `lod_pops_per_min` (0 for forced levels: they never switch).
 #[must_use]
-pub fn csv(rows: &[Row], threads: usize) -> String {
+pub fn csv(courses: &[(&str, &[Row])], threads: usize) -> String {
     let mut s = String::from(
-        "group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
+        "course,group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
     );
-    for r in rows {
+    for (course, r) in courses.iter().flat_map(|(c, rows)| rows.iter().map(move |r| (*c, r))) {
         let o = &r.config.options;
         let lod = match o.lod {
             LodMode::Auto => "auto",
             LodMode::Force(l) => l.name(),
         };
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
+            "{course},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
             r.config.group,
             r.config.label,
             o.method,
@@ -336,7 +337,8 @@ mod tests {
         r.config.label = "lod auto +1".into();
         let mut forced = row(1.0, 0.1);
         forced.config.label = "lod long".into();
-        let text = csv(&[r, forced], 1);
+        let rows = [r, forced];
+        let text = csv(&[("circuit", &rows[..])], 1);
         let mut lines = text.lines();
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
         for name in ["seq_flip_mean", "shimmer_rms", "shimmer_pct", "stability_pareto", "lod_pops_per_min"] {

@@ -51,6 +51,20 @@ pub enum CliError {
         #[source]
         problem: crate::userfile::WriteProblem,
     },
+    /// `bench --course NAME` names a course with no demo race in the assets folder.
+    #[error("bench: no demo race of the course {course} in {} (a replays/demo-*.trace whose header names it)", folder.display())]
+    NoDemoTrace {
+        /// The course.
+        course: String,
+        /// The folder looked in.
+        folder: std::path::PathBuf,
+    },
+    /// `courses` found none.
+    #[error("no courses in {place} (a course is a folder NAME holding NAME.gltf and centerline.json)")]
+    NoCourses {
+        /// Where they were looked for.
+        place: String,
+    },
     /// `bench` has no trace to measure: none named, and the assets are the built-in ones (no folder with
     /// the demo traces).
     #[error("bench: name a trace to measure with --trace FILE (the built-in assets hold no demo trace)")]

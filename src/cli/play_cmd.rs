@@ -210,16 +210,19 @@ fn chosen_race(
     let course = match &args.course {
         Some(c) => c.clone(),
         None if assets.course_names().contains(&settings.course) => settings.course.clone(),
-        None => {
-            let first = crate::shell::race_scene::DEFAULT_COURSE;
-            say(&format!("note: the settings' course {:?} is not in these assets: {first} raced", settings.course));
-            first.to_string()
-        }
+        None => match assets.course_names().into_iter().next() {
+            Some(first) => {
+                say(&format!("note: the settings' course {:?} is not in these assets: {first} raced", settings.course));
+                first
+            }
+            // None at all: loading says so, naming the folder.
+            None => settings.course.clone(),
+        },
     };
     let setup = crate::game::RaceSetup {
         mode: args.mode.unwrap_or(settings.mode),
         laps: args.laps.unwrap_or(settings.laps),
-        car: args.car.unwrap_or(settings.car) as usize - 1,
+        car: args.car.unwrap_or(settings.car).saturating_sub(1) as usize,
         difficulty: args.difficulty.unwrap_or(settings.difficulty),
         ..crate::game::RaceSetup::default()
     };
@@ -251,6 +254,9 @@ fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result
     }
     outputs_not_inputs(args, &inputs, args.ghost.as_deref())?;
     // The trace is checked now; its laps are searched on a background thread while the race runs.
+    if let Some(p) = args.ghost.as_deref() {
+        crate::input::replay::TraceSource::open(p)?.check_course(&scene.course)?;
+    }
     let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone())).transpose()?;
     let mut race = Race::new(scene, race_options(options, &settings, &args.picture), setup, !args.no_menu)
         .autopilot(args.autopilot)

@@ -28,14 +28,20 @@ pub struct CoursesArgs {
 
 /// Prints one line per course: its name, lap length, title and what it is like.
 pub fn courses_command(args: &CoursesArgs) -> Result<(), CliError> {
-    let courses = args.assets.find().courses();
+    let assets = args.assets.find();
+    let courses = assets.courses();
+    if courses.is_empty() {
+        return Err(CliError::NoCourses {
+            place: match &assets {
+                crate::shell::race_scene::Assets::Folder(dir) => dir.join("track").display().to_string(),
+                crate::shell::race_scene::Assets::BuiltIn => "the built-in assets".to_string(),
+            },
+        });
+    }
     let mut out = String::new();
     for c in &courses {
         let about = if c.about.is_empty() { String::new() } else { format!(": {}", c.about) };
         out.push_str(&format!("{:<12} {:>5.2} km  {}{about}\n", c.name, c.length_m / 1000.0, c.title));
-    }
-    if courses.is_empty() {
-        out.push_str("no courses in these assets\n");
     }
     print(out.as_bytes())
 }

@@ -95,7 +95,7 @@ impl Header {
             return Some(HeaderProblem::Mode { found: self.mode.chars().take(40).collect() });
         };
         if mode == Mode::TimeTrial && self.cars != 1 {
-            return Some(HeaderProblem::Cars { found: self.cars });
+            return Some(HeaderProblem::TrialCars { found: self.cars });
         }
         if Difficulty::from_name(&self.difficulty).is_none() {
             return Some(HeaderProblem::Difficulty { found: self.difficulty.chars().take(40).collect() });
@@ -130,7 +130,7 @@ pub fn is_course_name(name: &str) -> bool {
         && !name.starts_with('-')
 }
 
-/// What is wrong with a trace's self.
+/// What is wrong with a trace's header.
 #[derive(Debug, Error)]
 pub enum HeaderProblem {
     /// The file ends before the header does.
@@ -148,28 +148,34 @@ pub enum HeaderProblem {
     /// Another simulation tick rate.
     #[error("tick rate {found} Hz differs from this build's {} Hz", crate::game::TICK_HZ)]
     TickRate {
-        /// The rate in the self.
+        /// The rate in the header.
         found: u32,
     },
     /// A number of cars this build cannot race (1-64; a time trial races 1).
-    #[error("{found} cars is out of range 1-64 (a time trial races 1)")]
+    #[error("{found} cars is out of range 1-64")]
     Cars {
-        /// Cars in the self.
+        /// Cars in the header.
         found: u32,
     },
     /// A number of laps this build cannot race.
     #[error("{found} laps is out of range 1-99")]
     Laps {
-        /// Laps in the self.
+        /// Laps in the header.
         found: u32,
     },
     /// No ticks between checksums.
     #[error("checksum interval 0 is out of range")]
     ChecksumInterval,
+    /// A time trial of more than one car.
+    #[error("a time trial races 1 car, this header has {found}")]
+    TrialCars {
+        /// Cars in the header.
+        found: u32,
+    },
     /// A car the garage does not have.
     #[error("car {found} is out of range 1-{CARS}")]
     Car {
-        /// The car in the self.
+        /// The car in the header.
         found: u32,
     },
     /// A mode this build does not have.

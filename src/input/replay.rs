@@ -32,6 +32,16 @@ pub enum ReplayError {
         /// Tick of the world.
         expected: u64,
     },
+    /// The trace was recorded on another course.
+    #[error("{path}: recorded on the course {found}, this race is on {expected}")]
+    Course {
+        /// The trace file.
+        path: String,
+        /// The course in the header.
+        found: String,
+        /// The course of this race.
+        expected: String,
+    },
     /// The trace was recorded on another circuit.
     #[error("{path}: recorded on a track of {found} mm per lap, this track is {expected} mm")]
     Track {
@@ -65,6 +75,18 @@ impl TraceSource {
     pub fn from_reader(name: &str, input: Box<dyn std::io::Read + Send>) -> Result<Self, ReplayError> {
         let (header, reader) = TraceReader::from_reader(name, input)?;
         Ok(Self { header, reader, path: name.to_string(), verified: 0 })
+    }
+
+    /// Checks that the trace was recorded on the course named `course`.
+    pub fn check_course(&self, course: &str) -> Result<(), ReplayError> {
+        if self.header.course != course {
+            return Err(ReplayError::Course {
+                path: self.path.clone(),
+                found: self.header.course.clone(),
+                expected: course.to_string(),
+            });
+        }
+        Ok(())
     }
 
     /// Checks that the trace was recorded on `world`'s track.

@@ -55,6 +55,8 @@ pub const MAX_CENTRE_LINE_BYTES: u64 = 16 * 1024 * 1024;
 
 /// Most courses listed from one folder: a folder of thousands of sub-folders is not a list anyone reads.
 const MAX_COURSES: usize = 64;
+/// Most entries of `track/` looked at (a budget on the folder's reading, far above any real tree).
+const MAX_ENTRIES: usize = 4096;
 
 /// One course as the menus and the `courses` command show it.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,13 +150,13 @@ pub fn built_in_text(path: &str) -> Option<&'static str> {
 }
 
 /// The courses of an assets folder: folders of `dir/track` with a plain name holding the file `NAME.gltf`
-/// and something named `centerline.json` (at most 4 times [`MAX_COURSES`] entries of `track/` are looked
-/// at).
+/// and something named `centerline.json` (of the first [`MAX_ENTRIES`] entries of `track/`, so that the
+/// list, sorted after, is the same on every run for any folder of a sane size).
 fn folder_courses(dir: &Path) -> Vec<String> {
     let Ok(entries) = std::fs::read_dir(dir.join("track")) else { return vec![] };
     entries
         .flatten()
-        .take(4 * MAX_COURSES)
+        .take(MAX_ENTRIES)
         .filter_map(|e| e.file_name().to_str().map(str::to_string))
         .filter(|name| {
             is_course_name(name) && {

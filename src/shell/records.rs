@@ -32,9 +32,11 @@ pub struct RecordKey {
 }
 
 impl RecordKey {
-    /// The key of a race on `course` in `car` (its garage index) of `mode` and `difficulty`.
+    /// The key of a race on `course` in `car` (its garage index) of `mode` and `difficulty`; a time trial
+    /// has no AI, so its difficulty is always `normal` (one record, and one ghost, per course and car).
     #[must_use]
     pub fn new(course: &str, car: usize, mode: Mode, difficulty: Difficulty) -> Self {
+        let difficulty = if mode == Mode::TimeTrial { Difficulty::Normal } else { difficulty };
         Self {
             course: course.to_string(),
             car: car as u32 + 1,
@@ -66,8 +68,10 @@ pub struct RaceRecord {
     pub ticks: u64,
 }
 
-/// Every record.
+/// Every record. A file with any other top-level key is not a records file (so that another JSON file
+/// named by mistake is refused, never overwritten).
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Records {
     /// The best laps, one per key.
     #[serde(default)]
@@ -78,6 +82,16 @@ pub struct Records {
 }
 
 impl Records {
+    /// Takes every record of `other` (a faster one replaces the one here).
+    pub fn merge(&mut self, other: &Records) {
+        for r in &other.laps {
+            self.lap(&r.key, r.ticks);
+        }
+        for r in &other.races {
+            self.race(&r.key, r.laps, r.ticks);
+        }
+    }
+
     /// The best lap of `key`, if any.
     #[must_use]
     pub fn best_lap(&self, key: &RecordKey) -> Option<u64> {
@@ -93,8 +107,8 @@ impl Records {
                 true
             }
             None => {
-                self.laps.push(LapRecord { key: key.clone(), ticks });
                 trim(&mut self.laps, |r| r.ticks);
+                self.laps.push(LapRecord { key: key.clone(), ticks });
                 true
             }
         }
@@ -109,8 +123,8 @@ impl Records {
                 true
             }
             None => {
-                self.races.push(RaceRecord { key: key.clone(), laps, ticks });
                 trim(&mut self.races, |r| r.ticks);
+                self.races.push(RaceRecord { key: key.clone(), laps, ticks });
                 true
             }
         }
@@ -126,11 +140,11 @@ impl Records {
     }
 }
 
-/// Keeps the [`MAX_RECORDS`] fastest.
+/// Makes room for one more record: keeps the fastest [`MAX_RECORDS`] - 1 (the one added next always stays).
 fn trim<T>(list: &mut Vec<T>, ticks: impl Fn(&T) -> u64) {
-    if list.len() > MAX_RECORDS {
+    if list.len() >= MAX_RECORDS {
         list.sort_by_key(&ticks);
-        list.truncate(MAX_RECORDS);
+        list.truncate(MAX_RECORDS - 1);
     }
 }
 
@@ -220,12 +234,25 @@ impl RecordsFile {
         crate::userfile::folder_of(&self.path).join("ghosts").join(format!("{}-car-{}.trace", key.course, key.car))
     }
 
-    /// Writes the records through a temporary file renamed over the file (making its folder); a file that
-    /// did not parse when read is not written.
-    pub fn save(&self) -> Result<(), RecordsError> {
+    /// Whether the file may be written (it parsed, or there was none).
+    #[must_use]
+    pub fn writable(&self) -> bool {
+        self.writable
+    }
+
+    /// Writes the records through a temporary file renamed over the file (making its folder), merged with
+    /// the file as it is now (another run's records, or a hand edit, are kept; the faster of two stays); a
+    /// file that did not parse, when read or now, is not written.
+    pub fn save(&mut self) -> Result<(), RecordsError> {
         if !self.writable {
             return Ok(());
         }
+        let (now, problem) = RecordsFile::load(&self.path);
+        if let Some(e) = problem {
+            self.writable = false;
+            return Err(e);
+        }
+        self.records.merge(&now.records);
         let folder = crate::userfile::folder_of(&self.path);
         std::fs::create_dir_all(folder)
             .map_err(|source| RecordsError::Folder { path: folder.to_path_buf(), source })?;
@@ -289,12 +316,15 @@ mod tests {
         assert!(matches!(e, Some(RecordsError::File(_))), "{e:?}");
         let big = d.join("big.json");
         std::fs::write(&big, vec![b' '; MAX_RECORDS_BYTES as usize + 1]).unwrap();
-        let (f, e) = RecordsFile::load(&big);
+        let (mut f, e) = RecordsFile::load(&big);
         assert!(matches!(e, Some(RecordsError::File(_))), "{e:?}");
         f.save().unwrap();
         assert_eq!(std::fs::metadata(&big).unwrap().len(), MAX_RECORDS_BYTES + 1, "not written either");
-        // Wrong types inside valid JSON do not parse either.
+        // Wrong types inside valid JSON do not parse either, and another JSON file (a settings file named
+        // by mistake) is no records file.
         std::fs::write(&path, "{\"laps\": [{\"course\": 3}]}").unwrap();
+        assert!(matches!(RecordsFile::load(&path).1, Some(RecordsError::Json { .. })));
+        std::fs::write(&path, "{\"scale\": 2}").unwrap();
         assert!(matches!(RecordsFile::load(&path).1, Some(RecordsError::Json { .. })));
     }
 
@@ -312,10 +342,15 @@ mod tests {
         assert!(e.is_none());
         assert_eq!(g.records.best_lap(&key("city", 0)), Some(100));
         assert_eq!(std::fs::read(&path).unwrap(), before);
-        // The next save replaces the file whole.
+        // The next save replaces the file whole, merged with what another run saved meanwhile.
         let (mut g, _) = RecordsFile::load(&path);
+        let (mut other, _) = RecordsFile::load(&path);
+        other.records.lap(&key("circuit", 2), 70);
+        other.save().unwrap();
         g.records.lap(&key("city", 0), 90);
         g.save().unwrap();
-        assert_eq!(RecordsFile::load(&path).0.records.best_lap(&key("city", 0)), Some(90));
+        let now = RecordsFile::load(&path).0.records;
+        assert_eq!(now.best_lap(&key("city", 0)), Some(90));
+        assert_eq!(now.best_lap(&key("circuit", 2)), Some(70), "the other run's record is kept");
     }
 }

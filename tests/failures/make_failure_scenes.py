@@ -7,7 +7,7 @@ Run from anywhere: python3 tests/failures/make_failure_scenes.py  (deterministic
 
 Conventions: Y up, metres, camera looks down its local -Z. Every surface has its own saturated flat
 colour (material baseColorFactor), so a visibility error shows as a colour change; all materials are
-opaque and double-sided. Each scene has a perspective camera node "main" (the best single view) and two
+opaque and double-sided (but city-blocks', one-sided as the game's buildings). Each scene has a perspective camera node "main" (the best single view) and two
 nodes "start" and "end": moving linearly from start to end (eye and look target, also stored in each
 camera node's extras) is a slow move that keeps the interesting part in view.
 
@@ -40,6 +40,16 @@ near-plane.gltf -- Ground and a wall running from behind the camera to far ahead
     Polygons reaching behind the camera get sort keys near zero (drawn last: the ground's near
     triangle paints over the foot of the wall and of the marker box 6 m ahead) and must be clipped at
     the near plane, not projected through the eye.
+tunnel.gltf -- The street course's tunnel: a road into a tunnel whose walls and ceiling are single long
+    polygons reaching from 5 m behind the camera to 60 m ahead, the left wall 2.3 m from the eye, a car
+    ahead by the left wall and a sign hanging from the ceiling. Clipped at the near plane, the walls'
+    and the ceiling's nearest depth is the near distance: sorted by nearest depth they come last and
+    paint over the car and the sign; by average or farthest depth they come first, as they should.
+city-blocks.gltf -- The street course's occluders: a street between two rows of buildings, taller blocks
+    behind them, a tower rising over the far end and a cross street, the long facades along the street
+    reaching from beside the camera to far ahead. One-sided materials, as the game's buildings have. Most of what lies in the view is hidden (the z-buffer
+    rejects more pixels than it keeps); a painter's order must still get every facade in front of the
+    blocks behind it.
 slivers.gltf -- A fan of 40 triangles under 0.02 m wide (about a pixel) meeting at one point, and a
     grid of quads with T-junctions (a vertex in the middle of a neighbour's edge but not one of its
     vertices), all in one plane 10 m ahead with nothing behind. Not an ordering failure but the
@@ -71,10 +81,11 @@ class Builder(mts.Builder):
         super().write(os.path.join(HERE, name))
 
     def mat(self, color):
-        """A double-sided opaque material of this colour, one per distinct colour."""
+        """An opaque material of this colour, one per distinct colour: double-sided, unless the scene asked
+        for one-sided materials (`self.one_sided`, as the game's buildings are)."""
         key = tuple(color)
         if key not in self.mats:
-            self.mats[key] = self.material(color=key, double=True)
+            self.mats[key] = self.material(color=key, double=not getattr(self, "one_sided", False))
         return self.mats[key]
 
     def cameras(self, main, start, end):
@@ -288,6 +299,50 @@ def near_plane():
     b.finish("near-plane.gltf")
 
 
+def tunnel():
+    b = Builder()
+    road = quad([(-2.5, 0, 5), (6.5, 0, 5), (6.5, 0, -60), (-2.5, 0, -60)], b.mat(rgb(0, 0, 0.4)))
+    b.node(name="road", mesh=b.mesh([road]))
+    left = quad([(-2.3, 0, 5), (-2.3, 0, -60), (-2.3, 5, -60), (-2.3, 5, 5)], b.mat(rgb(0.1, 0.6, 0.7)))
+    right = quad([(6.3, 0, -60), (6.3, 0, 5), (6.3, 5, 5), (6.3, 5, -60)], b.mat(rgb(0.15, 0.6, 0.6)))
+    ceiling = quad([(-2.3, 5, 5), (-2.3, 5, -60), (6.3, 5, -60), (6.3, 5, 5)], b.mat(rgb(0.05, 0.5, 0.5)))
+    b.node(name="walls", mesh=b.mesh([left, right]))
+    b.node(name="ceiling", mesh=b.mesh([ceiling]))
+    b.node(name="car by the wall", mesh=b.mesh(box(b, (-2.2, 0, -13), (-0.4, 1.3, -9), shades(0.0))))
+    b.node(name="sign", mesh=b.mesh(box(b, (-1.5, 3.6, -20.3), (4.5, 4.99, -20), shades(0.6))))
+    b.node(name="exit", mesh=b.mesh(box(b, (-2.3, 0, -61), (6.3, 5, -60), rgb(0.55, 0.3, 1.0))))
+    b.cameras(main=((0.0, 1.2, 0.0), (0.0, 1.5, -20.0)),
+              start=((0.2, 1.2, 2.0), (0.0, 1.5, -20.0)),
+              end=((-0.2, 1.2, -2.0), (0.2, 1.5, -20.0)))
+    b.finish("tunnel.gltf")
+
+
+def city_blocks():
+    b = Builder()
+    b.one_sided = True  # as the game's buildings: a box's inner faces are culled, never drawn
+    road = quad([(-6, 0, 5), (6, 0, 5), (6, 0, -200), (-6, 0, -200)], b.mat(rgb(0, 0, 0.4)))
+    cross = quad([(-80, 0.0, -70), (80, 0.0, -70), (80, 0.0, -82), (-80, 0.0, -82)], b.mat(rgb(0, 0, 0.35)))
+    b.node(name="street", mesh=b.mesh([road]))
+    b.node(name="cross street", mesh=b.mesh([cross]))
+    k = 0
+    for side in (-1, 1):
+        # The front row: long blocks from beside the camera to the cross street, and on past it.
+        for (z0, z1, h) in ((8, -30, 18), (-30, -70, 26), (-82, -130, 22), (-130, -200, 30)):
+            x0, x1 = (8, 24) if side > 0 else (-24, -8)
+            b.node(name=f"front {k}", mesh=b.mesh(box(b, (x0, 0, z1), (x1, h, z0), shades(0.07 * k))))
+            k += 1
+        # The row behind, taller, hidden but for what rises over the front row.
+        for (z0, z1, h) in ((0, -40, 34), (-40, -68, 44), (-84, -150, 40)):
+            x0, x1 = (30, 50) if side > 0 else (-50, -30)
+            b.node(name=f"behind {k}", mesh=b.mesh(box(b, (x0, 0, z1), (x1, h, z0), shades(0.07 * k))))
+            k += 1
+    b.node(name="tower", mesh=b.mesh(box(b, (-15, 0, -240), (15, 120, -210), shades(0.5))))
+    b.cameras(main=((2.0, 1.5, 0.0), (0.0, 4.0, -60.0)),
+              start=((3.0, 1.5, 3.0), (0.0, 4.0, -60.0)),
+              end=((-2.0, 1.5, -3.0), (0.0, 4.0, -60.0)))
+    b.finish("city-blocks.gltf")
+
+
 def slivers():
     b = Builder()
     z = -10.0
@@ -335,4 +390,6 @@ if __name__ == "__main__":
     crossing()
     bucket_boundary()
     near_plane()
+    tunnel()
+    city_blocks()
     slivers()

@@ -7,7 +7,9 @@ use std::process::{Command, Output};
 use crate::common::*;
 
 fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_scanline-racer"))
+    let mut c = Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
+    c.env("SCANLINE_RACER_RECORDS", Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"));
+    c
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -291,9 +293,9 @@ fn glb_with_embedded_images_renders_like_the_gltf() {
     }
 }
 
-/// `bench --quick` writes the CSV and the three charts; the z-buffer has no visibility error, every method
-/// and the view-lists levels are there, a Pareto front is marked, the stability measures are numbers, and
-/// only the automatic LOD choice pops.
+/// `bench --quick` measures every course's demo race: one CSV with a course column and three charts per
+/// course; the z-buffer has no visibility error, every method and the view-lists levels are there, a
+/// Pareto front is marked, the stability measures are numbers, and only the automatic LOD choice pops.
 #[test]
 fn bench_quick_writes_csv_and_charts() {
     let out = tmp("bench");
@@ -305,9 +307,13 @@ fn bench_quick_writes_csv_and_charts() {
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert!(rows.len() >= 25, "{} rows", rows.len());
-    for m in ["zbuffer", "sort", "bucket-far", "bucket-near", "view-lists"] {
-        assert!(rows.iter().any(|r| r[col("method")] == m), "{m} missing");
+    assert!(rows.len() >= 50, "{} rows", rows.len());
+    for course in ["circuit", "city"] {
+        let of: Vec<&Vec<&str>> = rows.iter().filter(|r| r[col("course")] == course).collect();
+        assert!(of.len() >= 25, "{course}: {} rows", of.len());
+        for m in ["zbuffer", "sort", "bucket-far", "bucket-near", "view-lists"] {
+            assert!(of.iter().any(|r| r[col("method")] == m), "{course}: {m} missing");
+        }
     }
     let zb = rows.iter().find(|r| r[col("label")] == "zbuffer").unwrap();
     assert_eq!(zb[col("vis_wrong_pct")].parse::<f64>().unwrap(), 0.0);
@@ -325,13 +331,22 @@ fn bench_quick_writes_csv_and_charts() {
     }
     assert!(number(zb, "shimmer_rms") > 0.0 && number(zb, "lod_pops_per_min") > 0.0);
     assert!(rows.iter().any(|r| r[col("stability_pareto")] == "true"));
-    for chart in ["bench", "visibility", "stability"] {
+    for chart in ["bench", "visibility", "stability"].iter().flat_map(|c| [format!("{c}-circuit"), format!("{c}-city")])
+    {
         let (px, w, h) = read_png(&out.join(format!("{chart}.png"))).unwrap();
         assert_eq!((w, h), (1200, 760));
         assert!(px.iter().filter(|&&p| p != 0xffffff).count() > 5000, "{chart}.png has a plot");
         let svg = std::fs::read_to_string(out.join(format!("{chart}.svg"))).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("Pareto front"));
     }
+    // One course, by name: its rows only.
+    let one = tmp("bench-city");
+    let _ = std::fs::remove_dir_all(&one);
+    let o = run(&["bench", "--quick", "--course", "city", "--out", one.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(one.join("bench.csv")).unwrap();
+    assert!(csv.lines().skip(1).all(|l| l.starts_with("city,")), "{csv}");
+    assert!(one.join("bench-city.png").is_file() && !one.join("bench-circuit.png").exists());
 }
 
 /// `export-frame` writes a GLB that any glTF reader opens, and drawing it from its own camera gives the

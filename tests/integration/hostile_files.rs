@@ -27,6 +27,7 @@ fn game(dir: &Path, args: &[&str]) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
     c.args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("SCANLINE_RACER_RECORDS", Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
         .env_remove("SCANLINE_RACER_ASSETS")

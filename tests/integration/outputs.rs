@@ -20,6 +20,7 @@ fn run(args: &[&str]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_scanline-racer"));
     c.args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("SCANLINE_RACER_RECORDS", Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
         .env("SCANLINE_RACER_SETTINGS", folder("settings").join("none.json"));

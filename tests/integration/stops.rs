@@ -28,6 +28,7 @@ fn racing(display: &str, target: &Path, extra: &[&str]) -> Child {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("DISPLAY", display)
         .env("SCANLINE_RACER_SETTINGS", settings)
+        .env("SCANLINE_RACER_RECORDS", Path::new(env!("CARGO_TARGET_TMPDIR")).join("records.json"))
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())

@@ -155,7 +155,9 @@ impl Content for Race {
             });
             hud::hud(ctx, &self.world, self.notice.as_deref(), replay, &self.drawing);
         }
-        if self.world.race.phase == Phase::Finished && self.choose(menus::results(ctx, &self.world.race)) {
+        if self.world.race.phase == Phase::Finished
+            && self.choose(menus::results(ctx, &self.world.race, &self.world.models))
+        {
             quit = true;
         }
         quit

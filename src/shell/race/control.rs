@@ -122,6 +122,16 @@ impl Replaying {
         Ok(Self { source, path: path.to_path_buf() })
     }
 
+    /// The course the trace was raced on.
+    pub(super) fn course(&self) -> &str {
+        &self.source.header.course
+    }
+
+    /// Refuses the trace unless it was raced on `course`.
+    pub(super) fn check_course(&self, course: &str) -> Result<(), ReplayError> {
+        self.source.check_course(course)
+    }
+
     /// The race the trace recorded: the race replaying it is set up as it.
     pub(super) fn setup(&self) -> crate::game::RaceSetup {
         self.source.header.setup()
@@ -139,9 +149,11 @@ impl Control {
         self.replay.as_ref().map(|r| r.path.clone())
     }
 
-    /// Takes the player's controls from `replay` from now on, once its track is that of `world` (the
-    /// world on the grid, set up for the trace's laps); on a refusal the controls come from where they came.
-    pub(super) fn replay(&mut self, replay: Replaying, world: &World) -> Result<(), ReplayError> {
+    /// Takes the player's controls from `replay` from now on, once its course is `course` and its track that
+    /// of `world` (the world on the grid, set up for the trace's race); on a refusal the controls come from
+    /// where they came.
+    pub(super) fn replay(&mut self, replay: Replaying, world: &World, course: &str) -> Result<(), ReplayError> {
+        replay.source.check_course(course)?;
         replay.source.check_track(world)?;
         self.replay = Some(replay);
         Ok(())

@@ -105,7 +105,11 @@ impl Offer<'_> {
             });
             ui.end_row();
             ui.label("Laps");
-            ui.add(egui::Slider::new(&mut s.laps, crate::shell::settings::LAPS_RANGE));
+            // The menu offers 1-9; more laps from the command line stay as they are until the slider moves.
+            ui.add(
+                egui::Slider::new(&mut s.laps, crate::shell::settings::LAPS_RANGE)
+                    .clamping(egui::SliderClamping::Edits),
+            );
             ui.end_row();
         });
         ui.label(figures(s.car));
@@ -248,8 +252,9 @@ pub(super) fn pause_menu(ctx: &egui::Context) -> Vec<Choice> {
     chose
 }
 
-/// The results table of `race`, with Race again, Main menu and Quit.
-pub(super) fn results(ctx: &egui::Context, race: &RaceProgress) -> Vec<Choice> {
+/// The results table of `race` (each car named by its garage index in `models`), with Race again, Main menu
+/// and Quit.
+pub(super) fn results(ctx: &egui::Context, race: &RaceProgress, models: &[usize]) -> Vec<Choice> {
     let mut chose = vec![];
     centred("Results").show(ctx, |ui| {
         egui::Grid::new("results").striped(true).show(ui, |ui| {
@@ -259,7 +264,8 @@ pub(super) fn results(ctx: &egui::Context, race: &RaceProgress) -> Vec<Choice> {
             ui.end_row();
             for (k, &car) in race.order().iter().enumerate() {
                 ui.label(format!("{}", k + 1));
-                ui.label(if car == 0 { "You".to_string() } else { format!("Car {}", car + 1) });
+                let name = models.get(car).and_then(|&m| GARAGE.get(m)).map_or("", |c| c.name);
+                ui.label(if car == 0 { format!("You ({name})") } else { name.to_string() });
                 ui.label(race.standings[car].best_lap.map_or_else(|| "-".into(), format_ticks));
                 ui.end_row();
             }

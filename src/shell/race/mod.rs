@@ -11,6 +11,7 @@
 //! - `hud`: what is drawn over the race, and the title bar's status line;
 //! - `record`: recording races to a trace, with the header and checksum interval every trace has;
 //! - `ghost`: the ghost car and the lap it drives;
+//! - `trial`: the player's records at the finish, and the time trial's recording kept as its ghost;
 //! - `sound`: the race's sound, a mixer shown every world stepped to, played on the audio device.
 //!
 //! `session` ties them together: the race's builders, the tick, and carrying out what the keys and the pad

@@ -71,10 +71,12 @@ pub struct Race {
     pub(super) trials: Trials,
     /// How far the car in the car select has turned (radians).
     pub(super) showroom: f32,
+    /// The player's course and race while a trace chosen in the menu replays (what the settings keep).
+    pub(super) player_choice: Option<(String, RaceSetup)>,
 }
 
 impl Race {
-    /// A race of `laps` laps on the grid, the player last, behind the main menu (or racing at once).
+    /// The race `setup` on the grid, the player last, behind the main menu (or racing at once).
     #[must_use]
     pub fn new(scene: RaceScene, options: RenderOptions, setup: RaceSetup, menu: bool) -> Self {
         let world = World::for_race(scene.track.clone(), &setup);
@@ -96,6 +98,7 @@ impl Race {
             courses: None,
             trials: Trials::default(),
             showroom: 0.0,
+            player_choice: None,
         }
     }
 
@@ -143,7 +146,21 @@ impl Race {
         scale: Option<u32>,
         note: Option<String>,
     ) -> Self {
-        let chosen = Chosen { course: &self.scene.course, setup: &self.setup };
+        if self.player_choice.is_some() {
+            // A replay: the race the settings keep is the player's, not the trace's.
+            let setup = RaceSetup {
+                mode: settings.mode,
+                laps: settings.laps,
+                car: (settings.car.saturating_sub(1)) as usize,
+                difficulty: settings.difficulty,
+                ..RaceSetup::default()
+            };
+            self.player_choice = Some((settings.course.clone(), setup));
+        }
+        let chosen = match &self.player_choice {
+            Some((course, setup)) => Chosen { course, setup },
+            None => Chosen { course: &self.scene.course, setup: &self.setup },
+        };
         self.prefs.apply(settings, file, scale, (&self.drawing.options, chosen), &mut self.control.pads);
         if note.is_some() {
             self.notice = note;
@@ -243,15 +260,18 @@ impl Race {
                 return;
             }
         };
-        match step_recorded(
+        // Quantized here, as the recording will be, so that the time trial's ghost gets the tick's controls
+        // even when the recording's write fails.
+        let c = crate::input::trace::quantize(c);
+        if let Err(e) = step_recorded(
             &mut self.world,
             c,
             self.recording.recorder.as_mut().and_then(Recording::writer),
             CHECKSUM_EVERY,
         ) {
-            Ok(c) => self.trials.tick(&self.world, c),
-            Err(e) => self.recording.end(&format!("recording stopped: {e}"), &mut self.notice),
+            self.recording.end(&format!("recording stopped: {e}"), &mut self.notice);
         }
+        self.trials.tick(&self.world, c, &mut self.notice);
         let counts = !self.control.replaying() && !self.control.autopilot;
         self.trials.observe(&self.world, (&self.scene.course, &self.setup), counts, &mut self.notice);
         self.sound.world(&self.world);
@@ -259,14 +279,20 @@ impl Race {
         self.ghost.observe(&self.world, &mut self.notice);
     }
 
-    /// Switches to replaying the trace at `path` from its start; refuses a file that is not a trace of
-    /// this track and field.
+    /// Switches to replaying the trace at `path` from its start, on its course (loaded when it is not the
+    /// one raced); refuses a file that is not a trace of a course there is. The player's own choice of race
+    /// is what the settings keep meanwhile.
     pub(super) fn start_replay(&mut self, path: &Path) -> Result<(), ReplayError> {
         let replay = Replaying::open(path)?;
+        if replay.course() != self.scene.course {
+            self.change_course(replay.course());
+        }
+        replay.check_course(&self.scene.course)?;
+        self.player_choice.get_or_insert_with(|| (self.scene.course.clone(), self.setup));
         self.setup = replay.setup();
         self.restart();
         self.trials.end();
-        self.control.replay(replay, &self.world)?;
+        self.control.replay(replay, &self.world, &self.scene.course)?;
         self.screen = Screen::Race;
         Ok(())
     }
@@ -277,7 +303,8 @@ impl Race {
         self.screen = Screen::Race;
     }
 
-    /// Pauses a race being raced, resumes a paused one; any other screen stays as it is.
+    /// Pauses a race being raced, resumes a paused one, leaves the car select for the main menu; any other
+    /// screen stays as it is.
     pub(super) fn toggle_pause(&mut self) {
         self.screen = match self.screen {
             Screen::Race => Screen::Paused,
@@ -287,7 +314,7 @@ impl Race {
         };
     }
 
-    /// A fresh start on the grid with the current number of laps.
+    /// A fresh start on the grid of the race chosen (`setup`), the time trial's recording started anew.
     pub(super) fn restart(&mut self) {
         self.world = World::for_race(self.scene.track.clone(), &self.setup);
         self.clock.accumulator = 0.0;
@@ -305,7 +332,10 @@ impl Race {
 
     /// Saves the settings if they changed since the last save (a failure is shown in the notice).
     pub(super) fn save_settings(&mut self) {
-        let chosen = Chosen { course: &self.scene.course, setup: &self.setup };
+        let chosen = match &self.player_choice {
+            Some((course, setup)) => Chosen { course, setup },
+            None => Chosen { course: &self.scene.course, setup: &self.setup },
+        };
         self.prefs.save(&self.control.pads, (&self.drawing.options, chosen), &mut self.notice);
     }
 

@@ -95,7 +95,7 @@ fn picture_choices_made_in_settings_are_saved_and_command_line_ones_are_not() {
 }
 
 /// P, the pad's Start button and Esc toggle between racing and the pause menu through one function,
-/// which leaves the other screens alone.
+/// which takes the car select back to the main menu and leaves the other screens alone.
 #[test]
 fn the_pause_toggle_switches_only_between_racing_and_paused() {
     let mut race = race_on_the_menu();
@@ -104,6 +104,7 @@ fn the_pause_toggle_switches_only_between_racing_and_paused() {
         (Screen::Paused, Screen::Race),
         (Screen::Menu, Screen::Menu),
         (Screen::Frozen, Screen::Frozen),
+        (Screen::Garage, Screen::Menu),
     ] {
         race.screen = from;
         race.toggle_pause();
@@ -138,7 +139,7 @@ fn a_time_trial_finish_is_a_record_and_its_ghost_is_raced_next_time() {
         while world.race.standings[0].finished.is_none() && world.tick < 120 * 200 {
             let c = drive(&driver, 0, &world.cars, &world.track, &world.params[0]);
             let c = step_recorded(&mut world, c, None, 120).unwrap();
-            trials.tick(&world, c);
+            trials.tick(&world, c, &mut notice);
             trials.observe(&world, ("city", &setup), true, &mut notice);
         }
         (world.race.standings[0].best_lap.expect("a lap"), ghost.is_some(), notice)

@@ -54,14 +54,16 @@ impl Trials {
         search
     }
 
-    /// Records the controls `c` the world just stepped with (and its checksum on the trace's interval).
-    pub(super) fn tick(&mut self, world: &World, c: Controls) {
+    /// Records the controls `c` the world just stepped with (and its checksum on the trace's interval); a
+    /// failed write ends the recording, said in `notice`.
+    pub(super) fn tick(&mut self, world: &World, c: Controls, notice: &mut Option<String>) {
         let Some(w) = self.recording.as_mut().and_then(Recording::writer) else { return };
         let every = u64::from(super::record::CHECKSUM_EVERY);
         let written = w.controls(c).and_then(|()| {
             if world.tick.is_multiple_of(every) { w.checksum(world.tick, world.checksum()) } else { Ok(()) }
         });
-        if written.is_err() {
+        if let Err(e) = written {
+            *notice = Some(format!("the time trial's ghost is not saved: {e}"));
             self.end();
         }
     }
@@ -86,12 +88,14 @@ impl Trials {
         let key = RecordKey::new(course, setup.car, setup.mode, setup.difficulty);
         let lap_record = me.best_lap.is_some_and(|lap| file.records.lap(&key, lap));
         let race_record = file.records.race(&key, world.race.laps, done.saturating_sub(world.race.start_tick));
-        if let Err(e) = file.save() {
-            *notice = Some(e.to_string());
-        } else if lap_record || race_record {
-            *notice = Some(format!("a new record{}", if lap_record { ": your best lap" } else { "" }));
+        if lap_record || race_record {
+            match file.save() {
+                Err(e) => *notice = Some(e.to_string()),
+                Ok(()) => *notice = Some(format!("a new record{}", if lap_record { ": your best lap" } else { "" })),
+            }
         }
-        match (self.recording.as_mut(), lap_record) {
+        // The ghost is replaced only by a record the file keeps (one it could not read knows no records).
+        match (self.recording.as_mut(), lap_record && file.writable()) {
             (Some(r), true) => {
                 if let Err(e) = r.finish() {
                     *notice = Some(format!("the time trial's ghost is not saved: {e}"));

@@ -37,8 +37,15 @@ impl Xvfb {
             // own Xvfb, started in this process outside the lock, takes numbers from 300 to 899, so these
             // start above, so the two never race for one number.
             let num = 1000 + (std::process::id() as usize * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 800;
-            if Path::new(&format!("/tmp/.X{num}-lock")).exists() {
-                continue;
+            let lock = format!("/tmp/.X{num}-lock");
+            if Path::new(&lock).exists() {
+                // A server killed without its cleanup (the stop tests kill some on purpose) leaves its lock:
+                // one whose process is gone is removed with its socket, and the number is taken.
+                if !stale_lock(&lock) {
+                    continue;
+                }
+                let _ = std::fs::remove_file(&lock);
+                let _ = std::fs::remove_file(format!("/tmp/.X11-unix/X{num}"));
             }
             // `-noreset`: by default the server resets when its last client leaves, refusing connections
             // meanwhile; the probe below and every xdotool call are such clients, so a game starting just
@@ -82,6 +89,14 @@ impl Xvfb {
         }
         panic!("no Xvfb display came up");
     }
+}
+
+/// Whether the X lock file `path` names a process that is gone (`/proc/PID` missing).
+fn stale_lock(path: &str) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| t.trim().parse::<u32>().ok())
+        .is_some_and(|pid| !Path::new(&format!("/proc/{pid}")).exists())
 }
 
 impl Drop for Xvfb {

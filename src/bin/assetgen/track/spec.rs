@@ -14,8 +14,9 @@ use glam::Vec3;
 pub(crate) struct Layout {
     /// The folder name under `assets/track/` and the file stem of its glTF.
     pub(crate) name: &'static str,
-    /// Its title, and one sentence on what it is like (the menus and `scanline-racer courses` show them).
+    /// Its title (the menus and `scanline-racer courses` show it).
     pub(super) title: &'static str,
+    /// One sentence on what it is like (shown beside the title).
     pub(super) about: &'static str,
     /// Corner points of the plan (x, z in metres) and the radius of the arc that rounds each, in racing order.
     pub(super) corners: &'static [(f32, f32, f32)],

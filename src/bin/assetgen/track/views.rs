@@ -76,8 +76,9 @@ pub(super) fn add_cameras(path: &Path, cameras: Vec<Value>) -> std::io::Result<(
     std::fs::write(path, text)
 }
 
-/// `centerline.json`: the course's title and what it is like, lap length and a sample every ~5 m from the start line in racing order: road-surface
-/// centre `p`, `bank` (radians, positive raises the right side) and road `width`.
+/// `centerline.json`: the course's title and what it is like, lap length and a sample every ~5 m from the
+/// start line in racing order: road-surface centre `p`, `bank` (radians, positive raises the right side),
+/// road `width` and `barrier` offsets.
 pub(super) fn write_centerline(dir: &Path, c: &Circuit) -> std::io::Result<()> {
     let samples: Vec<Value> = c
         .samples
@@ -91,7 +92,8 @@ pub(super) fn write_centerline(dir: &Path, c: &Circuit) -> std::io::Result<()> {
             })
         })
         .collect();
-    let v = json!({"title": c.layout.title, "about": c.layout.about, "length_m": r3(c.length), "samples": samples});
+    let (title, about) = (c.layout.title, c.layout.about);
+    let v = json!({"title": title, "about": about, "length_m": r3(c.length), "samples": samples});
     let mut text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
     text.push('\n');
     std::fs::write(dir.join("centerline.json"), text)
