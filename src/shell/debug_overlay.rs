@@ -5,6 +5,11 @@ use std::collections::VecDeque;
 
 use crate::render::Stats;
 
+/// When this environment variable names a file, every frame's render time in milliseconds and its
+/// polygons drawn are written to it, a line each (`ms polygons`): F3's numbers for a whole run, for
+/// measuring a course's frame times in the window (created anew; written as frames are drawn).
+pub const FRAME_TIMES_ENV: &str = "SCANLINE_RACER_FRAME_TIMES";
+
 /// Frames kept for the plot.
 const HISTORY: usize = 240;
 /// Buckets are summed into this many bars.
@@ -18,6 +23,8 @@ pub struct DebugOverlay {
     frame_ms: VecDeque<f32>,
     stats: Stats,
     occupancy: Vec<u32>,
+    /// The frame-time log ([`FRAME_TIMES_ENV`]): `None` before the first frame, then the file if any.
+    log: Option<Option<std::io::BufWriter<std::fs::File>>>,
 }
 
 impl DebugOverlay {
@@ -29,6 +36,17 @@ impl DebugOverlay {
         self.frame_ms.push_back(ms as f32);
         self.stats = stats.clone();
         self.occupancy = occupancy;
+        let log = self.log.get_or_insert_with(|| {
+            let path = std::env::var_os(FRAME_TIMES_ENV).filter(|p| !p.is_empty())?;
+            std::fs::File::create(path).ok().map(std::io::BufWriter::new)
+        });
+        if let Some(w) = log {
+            use std::io::Write;
+            // A failed write ends the log (a full disk must not stop the game).
+            if writeln!(w, "{ms:.4} {}", stats.polygons_drawn).is_err() {
+                self.log = Some(None);
+            }
+        }
     }
 
     /// Draws the overlay in a corner window.
