@@ -5,6 +5,7 @@
 //! - `demo-race.trace`: a one-lap race of the full field (8 cars) with the player's car driven by the AI
 //!   (the attract-mode driver), from the lights to three seconds after the player finishes (about 90 s).
 //! - `demo-city.trace`: the same on the city's streets.
+//! - `demo-mountain.trace`: the same on the mountain course.
 //! - `scuffle.trace`: 30 s of a three-lap race driven by a clumsy script: too brave for the grip, braking
 //!   late and weaving, so it runs into the pack and the barriers (contacts, spins, recoveries).
 
@@ -75,6 +76,8 @@ pub fn generate(dir: &Path, track_dir: &Path) -> std::io::Result<()> {
     demo_race(&dir.join("demo-race.trace"), "circuit", &track)?;
     let city = track_of(track_dir, "city")?;
     demo_race(&dir.join("demo-city.trace"), "city", &city)?;
+    let mountain = track_of(track_dir, "mountain")?;
+    demo_race(&dir.join("demo-mountain.trace"), "mountain", &mountain)?;
 
     let clumsy = Driver { pace: 1.12, brake_margin: -4.0, apex: 4.5, pass_side: 0.0 };
     record(&dir.join("scuffle.trace"), ("circuit", &track), 3, |w| {

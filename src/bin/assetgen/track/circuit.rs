@@ -26,6 +26,8 @@ pub(super) struct Sample {
     kappa_raw: f32,
     /// Height of the embankment under the road.
     pub(super) h: f32,
+    /// The ground's level under the road (0 on the plain).
+    pub(super) base: f32,
     /// Barrier offsets from the centreline, left and right.
     pub(super) bo: [f32; 2],
     /// Gravel run-off (outside of tight corners), left and right.
@@ -41,14 +43,14 @@ impl Sample {
         s: f32,
         (pos, dir): (Vec2, Vec2),
         (kappa, kappa_raw): (f32, f32),
-        h: f32,
+        (h, base): (f32, f32),
         bank: f32,
     ) -> Sample {
         let fwd = Vec3::new(dir.x, 0.0, dir.y);
         let right = Vec3::new(-dir.y, 0.0, dir.x);
         let lat = right * libm::cosf(bank) + Vec3::Y * libm::sinf(bank);
         // The roll pivots about the lower edge, so that edge stays at the lift above the ground.
-        let p = Vec3::new(pos.x, h + ROAD_LIFT + HALF_WIDTH * libm::sinf(bank).abs(), pos.y);
+        let p = Vec3::new(pos.x, h + ROAD_LIFT + HALF_WIDTH * libm::sinf(bank).abs() + base, pos.y);
         let extra = if layout.run_off { 10.0 * ((kappa.abs() - 0.006) * 80.0).clamp(0.0, 1.0) } else { 0.0 };
         let outside = usize::from(kappa > 0.0);
         let mut bo = [layout.barrier_offset; 2];
@@ -57,7 +59,7 @@ impl Sample {
         gravel[outside] = extra > 2.0;
         let raised = smoothstep(0.4, 2.0, h);
         let bo = bo.map(|b| b + (BARRIER_OFFSET_RAISED - b) * raised);
-        Sample { s, p, fwd, right, lat, bank, kappa, kappa_raw, h, bo, gravel }
+        Sample { s, p, fwd, right, lat, bank, kappa, kappa_raw, h, base, bo, gravel }
     }
 
     pub(super) fn edge(&self, side: usize) -> Vec3 {
@@ -72,6 +74,25 @@ impl Sample {
     pub(super) fn verge(&self, side: usize) -> Vec3 {
         self.edge(side) + self.out(side) * (self.bo[side] - HALF_WIDTH)
     }
+}
+
+/// The ground level under the road at each of the `n` samples `step` apart from the start line (raw plan
+/// distance `start`): linear between the relief's knots, 0 outside them, smoothed over 120 m so that the
+/// grade changes gently; all 0 on a course without relief.
+fn base_levels(layout: &Layout, plan: &Plan, start: f32, n: usize, step: f32) -> Vec<f32> {
+    let Some(relief) = layout.relief else { return vec![0.0; n] };
+    let race = |raw: f32| (raw - start).rem_euclid(plan.length);
+    let knots: Vec<(f32, f32)> = relief.knots.iter().map(|&(seg, f, h)| (race(plan.at_segment(seg, f)), h)).collect();
+    let linear = |s: f32| {
+        let k = knots.partition_point(|&(ks, _)| ks <= s);
+        match (k.checked_sub(1).map(|j| knots[j]), knots.get(k)) {
+            (Some((s0, h0)), Some(&(s1, h1))) => h0 + (h1 - h0) * (s - s0) / (s1 - s0).max(1e-3),
+            _ => 0.0,
+        }
+    };
+    let raw: Vec<f32> = (0..n).map(|i| linear(i as f32 * step)).collect();
+    let half = (60.0 / step).round() as usize;
+    (0..n).map(|i| (0..=2 * half).map(|j| raw[(i + n + j - half) % n]).sum::<f32>() / (2 * half + 1) as f32).collect()
 }
 
 /// A position and frame on the centreline.
@@ -99,6 +120,8 @@ pub(super) struct Circuit {
     span: usize,
     /// Offset along the upper road of the pier rows either side of the lower road.
     pub(super) pier_offset: f32,
+    /// Start-line distances where the viaduct's open span begins and ends (an empty range on the plain).
+    pub(super) viaduct: (f32, f32),
     /// Start-line distances of the corners' apexes.
     pub(super) apex: Vec<f32>,
     /// How far from the centreline each sample's grass apron reaches, left and right.
@@ -127,6 +150,7 @@ impl Circuit {
         let raw: Vec<(Vec2, Vec2, f32)> = (0..n).map(|i| plan.eval(start + i as f32 * step)).collect();
         let upper_s = race(up_raw);
         let lower_s = race(low_raw);
+        let bases = base_levels(layout, &plan, start, n, step);
         let mut samples = Vec::with_capacity(n);
         for (i, &(pos, dir, kappa_raw)) in raw.iter().enumerate() {
             let s = i as f32 * step;
@@ -135,7 +159,8 @@ impl Circuit {
             let calm = smoothstep(60.0, 100.0, loop_dist(s, upper_s, length))
                 * smoothstep(40.0, 80.0, loop_dist(s, lower_s, length));
             let bank = (kappa * 24.0).clamp(-0.18, 0.18) * calm;
-            samples.push(Sample::new(layout, s, (pos, dir), (kappa, kappa_raw), profile.height(start + s), bank));
+            let levels = (profile.height(start + s), bases[i]);
+            samples.push(Sample::new(layout, s, (pos, dir), (kappa, kappa_raw), levels, bank));
         }
         let upper_i = (upper_s / step).round() as usize % n;
         let lower_i = (lower_s / step).round() as usize % n;
@@ -148,6 +173,10 @@ impl Circuit {
         let span = (abutment / step).ceil() as usize;
         let apex = (0..layout.corners.len()).map(|k| race(plan.at_segment(2 * k + 1, 0.5))).collect();
         let tile = |t: f32| length / (length / t).round();
+        let viaduct = layout.relief.map_or((0.0, 0.0), |r| {
+            let (seg, f0, f1) = r.viaduct;
+            (race(plan.at_segment(seg, f0)), race(plan.at_segment(seg, f1)))
+        });
         let mut c = Circuit {
             layout,
             length,
@@ -159,6 +188,7 @@ impl Circuit {
             upper_i,
             span,
             pier_offset,
+            viaduct,
             apex,
             road_tile: tile(12.0),
             kerb_tile: tile(3.0),
@@ -174,13 +204,23 @@ impl Circuit {
     /// Half-width of the corridor kept free of ground on one side of sample `i`: to the barrier line, or to
     /// the embankment's foot.
     pub(super) fn reach(&self, i: usize, side: usize) -> f32 {
-        let y = self.samples[i].verge(side).y;
+        let y = self.samples[i].verge(side).y - self.samples[i].base;
         self.samples[i].bo[side] + if y > 0.15 { self.foot(i, y) } else { 0.0 }
     }
 
-    /// Whether no ground may lie within the corridor of sample `i` (everything but the open span).
-    fn on_ground(&self, i: usize) -> bool {
-        !self.in_span(i)
+    /// Whether no ground may lie within the corridor of sample `i` (everything but the open spans).
+    pub(super) fn on_ground(&self, i: usize) -> bool {
+        !self.open(i)
+    }
+
+    /// Whether sample `i` is on the viaduct's open span.
+    pub(super) fn in_viaduct(&self, i: usize) -> bool {
+        (self.viaduct.0..self.viaduct.1).contains(&self.samples[i].s)
+    }
+
+    /// Whether sample `i` is carried by a deck with nothing under it (the bridge's span or the viaduct).
+    pub(super) fn open(&self, i: usize) -> bool {
+        self.in_span(i) || self.in_viaduct(i)
     }
 
     /// The corridor around sample `j` as a plan rectangle, grown by `margin`: centre, ahead and right unit

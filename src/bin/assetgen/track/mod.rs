@@ -18,6 +18,7 @@ mod circuit;
 mod city;
 mod mesh;
 mod plan;
+mod relief;
 mod road;
 mod scenery;
 mod spec;
@@ -34,14 +35,15 @@ use crate::gltf_out::Doc;
 use circuit::Circuit;
 use city::{city, tunnel_view};
 use mesh::Scene;
+use relief::{boulders, viaduct_piers};
 use road::{bridge_mesh, grid_slots, start_mesh, track_meshes};
-use scenery::{buildings, grandstands, trees};
+use scenery::{PARKLAND, Planting, buildings, grandstands, trees};
 pub(crate) use spec::Layout;
-use spec::{CIRCUIT, CITY};
+use spec::{CIRCUIT, CITY, MOUNTAIN};
 use terrain::{Terrain, ground_meshes, hills_meshes};
 use textures::{Mats, write_textures};
 use util::Rng;
-use views::{add_cameras, camera_nodes, views, write_centerline};
+use views::{add_cameras, camera_nodes, mountain_views, views, write_centerline};
 
 /// What other generators need to know about the circuit.
 #[derive(Clone, Debug, Default)]
@@ -54,20 +56,20 @@ pub struct TrackInfo {
 }
 
 /// The courses `assetgen` writes, each into `track/<name>/`.
-pub(crate) const COURSES: [&Layout; 2] = [&CIRCUIT, &CITY];
+pub(crate) const COURSES: [&Layout; 3] = [&CIRCUIT, &CITY, &MOUNTAIN];
 
 /// Writes the course `layout` into `dir`: `<name>.gltf`, its `.bin`, textures and `centerline.json`.
 pub fn generate(dir: &Path, layout: &'static Layout) -> std::io::Result<TrackInfo> {
     let circuit = Circuit::new(layout)?;
-    write_textures(dir, layout.streets)?;
+    write_textures(dir, layout.streets, layout.relief.is_some())?;
     let mut doc = Doc::new();
-    let mats = Mats::new(&mut doc, layout.streets);
+    let mats = Mats::new(&mut doc, layout.streets, layout.relief.is_some());
     let mut scene = Scene { doc, rng: Rng::new(0x5eed_7ac4), keep_out: vec![] };
-    track_meshes(&mut scene, &mats, &circuit);
+    let terrain = Terrain::new(&circuit);
+    track_meshes(&mut scene, &mats, &circuit, &terrain);
     bridge_mesh(&mut scene, &mats, &circuit);
     let grid = grid_slots(&circuit);
     start_mesh(&mut scene, &mats, &circuit, &grid);
-    let terrain;
     let info;
     if layout.streets {
         let mut list = views(&circuit, &grid, &[]);
@@ -75,17 +77,30 @@ pub fn generate(dir: &Path, layout: &'static Layout) -> std::io::Result<TrackInf
         info = TrackInfo { views: list, grid };
         // No building stands where a view's eye is.
         scene.keep_out.extend(info.views.iter().map(|(_, eye, _)| (Vec2::new(eye.x, eye.z), 12.0)));
-        terrain = Terrain::new(&circuit);
         city(&mut scene, &mats, &circuit, &terrain);
         ground_meshes(&mut scene, &mats, &circuit, &terrain);
         hills_meshes(&mut scene, &mats, &terrain);
+    } else if let Some(relief) = layout.relief {
+        let stands = grandstands(&mut scene, &mats, &circuit);
+        ground_meshes(&mut scene, &mats, &circuit, &terrain);
+        hills_meshes(&mut scene, &mats, &terrain);
+        viaduct_piers(&mut scene, &mats, &circuit, |p| terrain.height(p));
+        boulders(&mut scene, &mats, &circuit, relief.boulders, |p| terrain.height(p));
+        let forest = Planting { clumps: 500, scattered: 1500, most: relief.trees, margin: 1500.0, roadside: 5000 };
+        trees(&mut scene, &mats, &circuit, &terrain, &forest);
+        let mut list = views(&circuit, &grid, &stands);
+        // The views off the road keep their eyes above the ground.
+        list.extend(mountain_views(&circuit).into_iter().map(|(name, eye, target)| {
+            let ground = terrain.height(Vec2::new(eye.x, eye.z)) + 2.0;
+            (name, Vec3::new(eye.x, eye.y.max(ground), eye.z), target)
+        }));
+        info = TrackInfo { views: list, grid };
     } else {
         let stands = grandstands(&mut scene, &mats, &circuit);
         buildings(&mut scene, &mats, &circuit);
-        terrain = Terrain::new(&circuit);
         ground_meshes(&mut scene, &mats, &circuit, &terrain);
         hills_meshes(&mut scene, &mats, &terrain);
-        trees(&mut scene, &mats, &circuit, &terrain);
+        trees(&mut scene, &mats, &circuit, &terrain, &PARKLAND);
         info = TrackInfo { views: views(&circuit, &grid, &stands), grid };
     }
     let cameras = camera_nodes(&mut scene.doc, &info.views);

@@ -6,41 +6,45 @@ use glam::{Vec2, Vec3};
 use super::circuit::Circuit;
 use super::mesh::{Block, MeshBuilder, Scene, uv, world_uvs};
 use super::spec::{BARRIER_OFFSET_RAISED, DECK_DEPTH, GRASS_UV, GRID_SLOTS, HALF_WIDTH, KERB_WIDTH, WHITE};
+use super::terrain::Terrain;
 use super::textures::Mats;
 
+/// How far below the road the viaduct's abutment walls reach (below the ground kept under its deck).
+const ABUTMENT_DEPTH: f32 = 7.0;
+
 /// The road ribbon with kerbs, verges, barriers and embankments, in chunks of consecutive segments.
-pub(super) fn track_meshes(scene: &mut Scene, m: &Mats, c: &Circuit) {
+pub(super) fn track_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
     let idx = c.road_indices();
     let segs: Vec<(usize, usize)> = (0..idx.len()).map(|k| (idx[k], idx[(k + 1) % idx.len()])).collect();
     for (k, chunk) in segs.chunks(24).enumerate() {
         let mut mb = MeshBuilder::default();
         for &(a, b) in chunk {
-            track_segment(&mut mb, m, c, a, b);
+            track_segment(&mut mb, (m, t), c, a, b);
         }
         scene.add(&format!("track {k:02}"), &mb);
     }
 }
 
-fn track_segment(mb: &mut MeshBuilder, m: &Mats, c: &Circuit, a: usize, b: usize) {
+fn track_segment(mb: &mut MeshBuilder, (m, t): (&Mats, &Terrain), c: &Circuit, a: usize, b: usize) {
     let (sa, sb) = (&c.samples[a], &c.samples[b]);
     let s = (sa.s, if b == 0 { c.length } else { sb.s });
     let (va, vb) = (s.0 / c.road_tile, s.1 / c.road_tile);
     let (la, ra, lb, rb) = (sa.edge(0), sa.edge(1), sb.edge(0), sb.edge(1));
     mb.face(m.road, &[la, sa.p, sb.p, lb], &[uv(0.0, va), uv(0.5, va), uv(0.5, vb), uv(0.0, vb)], Vec3::Y, WHITE);
     mb.face(m.road, &[sa.p, ra, rb, sb.p], &[uv(0.5, va), uv(1.0, va), uv(1.0, vb), uv(0.5, vb)], Vec3::Y, WHITE);
-    let open = c.in_span(a) && c.in_span(b);
+    let open = c.open(a) && c.open(b);
     for side in 0..2 {
-        roadside(mb, m, c, (a, b), side, s, open);
+        roadside(mb, (m, t), c, (a, b), side, s, open);
     }
     if open {
         let d = Vec3::Y * DECK_DEPTH;
         let pts = [sa.verge(0) - d, sa.verge(1) - d, sb.verge(1) - d, sb.verge(0) - d];
         mb.face(m.concrete, &pts, &world_uvs(&pts, 4.0), Vec3::NEG_Y, WHITE);
     }
-    if c.in_span(a) && !c.in_span(b) {
+    if c.open(a) && !c.open(b) {
         end_wall(mb, m, c, a, -sa.fwd);
     }
-    if !c.in_span(a) && c.in_span(b) {
+    if !c.open(a) && c.open(b) {
         end_wall(mb, m, c, b, sb.fwd);
     }
 }
@@ -48,7 +52,7 @@ fn track_segment(mb: &mut MeshBuilder, m: &Mats, c: &Circuit, a: usize, b: usize
 /// One side of a segment: kerb, verge, barrier, and the embankment side or the bridge deck's fascia.
 fn roadside(
     mb: &mut MeshBuilder,
-    m: &Mats,
+    (m, t): (&Mats, &Terrain),
     c: &Circuit,
     (a, b): (usize, usize),
     side: usize,
@@ -71,7 +75,7 @@ fn roadside(
     let metres = if gravel { 8.0 } else { GRASS_UV };
     mb.face(if gravel { m.gravel } else { m.grass }, &verge, &world_uvs(&verge, metres), Vec3::Y, WHITE);
     let (ua, ub) = (s.0 / c.barrier_tile, s.1 / c.barrier_tile);
-    let (mat, bh) = if c.bridge_zone(a) && sa.h.max(sb.h) > 0.8 {
+    let (mat, bh) = if (c.bridge_zone(a) && sa.h.max(sb.h) > 0.8) || c.in_viaduct(a) || c.in_viaduct(b) {
         (m.parapet, 1.0)
     } else if gravel {
         (m.tyres, 1.0)
@@ -91,10 +95,11 @@ fn roadside(
             oa + ob,
             WHITE,
         );
-    } else if wa.y.max(wb.y) > 0.15 {
+    } else if (wa.y - sa.base).max(wb.y - sb.base) > 0.15 {
         let foot = |i: usize, w: Vec3, o: Vec3| {
-            let f = w + o * c.foot(i, w.y);
-            Vec3::new(f.x, -0.05, f.z)
+            let base = c.samples[i].base;
+            let f = w + o * c.foot(i, w.y - base);
+            Vec3::new(f.x, base - 0.05, f.z)
         };
         let (fa, fb) = (foot(a, wa, oa), foot(b, wb, ob));
         let pts = [wa, wb, fb, fa];
@@ -104,20 +109,28 @@ fn roadside(
         } else {
             mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), oa + ob + Vec3::Y, WHITE);
         }
-        apron(mb, m, c, (a, b), side, [fa * Vec3::new(1.0, 0.0, 1.0), fb * Vec3::new(1.0, 0.0, 1.0)]);
+        let ground = |f: Vec3, i: usize| Vec3::new(f.x, c.samples[i].base, f.z);
+        apron(mb, (m, t), c, (a, b), side, [ground(fa, a), ground(fb, b)]);
     } else {
-        apron(mb, m, c, (a, b), side, [wa, wb]);
+        apron(mb, (m, t), c, (a, b), side, [wa, wb]);
     }
 }
 
 /// The grass beside the corridor, from `inner` (the barrier line or the embankment's foot) out to the
 /// sample's apron extent at ground level: a narrow strip along the barrier, then the rest (narrow polygons
 /// next to the barriers keep the painter's order close to right).
-fn apron(mb: &mut MeshBuilder, m: &Mats, c: &Circuit, (a, b): (usize, usize), side: usize, inner: [Vec3; 2]) {
+fn apron(
+    mb: &mut MeshBuilder,
+    (m, t): (&Mats, &Terrain),
+    c: &Circuit,
+    (a, b): (usize, usize),
+    side: usize,
+    inner: [Vec3; 2],
+) {
     let at = |i: usize, lateral: f32| {
         let s = &c.samples[i];
         let q = s.p + s.out(side) * lateral.min(c.apron[i][side]);
-        Vec3::new(q.x, 0.0, q.z)
+        Vec3::new(q.x, t.apron_level(Vec2::new(q.x, q.z)), q.z)
     };
     let mid = [at(a, c.reach(a, side) + 8.0), at(b, c.reach(b, side) + 8.0)];
     let outer = [at(a, f32::INFINITY), at(b, f32::INFINITY)];
@@ -135,17 +148,19 @@ fn apron(mb: &mut MeshBuilder, m: &Mats, c: &Circuit, (a, b): (usize, usize), si
     }
 }
 
-/// The end of an embankment at the open span: a wall across it, from the verges down to the ground.
+/// The end of an embankment at an open span: a wall across it, from the verges down to the ground (at the
+/// viaduct, below the ground kept under its deck).
 fn end_wall(mb: &mut MeshBuilder, m: &Mats, c: &Circuit, i: usize, facing: Vec3) {
     let s = &c.samples[i];
     let drop = Vec3::Y * 0.02;
+    let depth = if c.in_span(i) { 0.05 } else { ABUTMENT_DEPTH };
     let foot = |side: usize| {
         let w = s.verge(side);
-        let f = w + s.out(side) * c.foot(i, w.y);
-        Vec3::new(f.x, -0.05, f.z)
+        let f = w + s.out(side) * c.foot(i, w.y - s.base);
+        Vec3::new(f.x, s.base - depth, f.z)
     };
     let pts = [foot(0), foot(1), s.verge(1) - drop, s.verge(0) - drop];
-    let top = s.p.y / 4.0;
+    let top = if c.in_span(i) { s.p.y / 4.0 } else { (s.p.y - s.base + depth) / 4.0 };
     let w = pts[0].distance(pts[1]) / 8.0;
     mb.face(m.concrete, &pts, &[uv(-w, top), uv(w, top), uv(w * 0.6, 0.0), uv(-w * 0.6, 0.0)], facing, WHITE);
 }

@@ -118,7 +118,7 @@ pub(super) fn grandstands(scene: &mut Scene, m: &Mats, c: &Circuit) -> Vec<(Vec3
         let smp = &c.samples[i];
         let out = smp.out(side);
         let front = smp.p + out * (smp.bo[0].max(smp.bo[1]) + gap);
-        let front = Vec3::new(front.x, 0.0, front.z);
+        let front = Vec3::new(front.x, smp.base, front.z);
         let along = Vec3::new(-out.z, 0.0, out.x);
         let centre = front + out * 7.0;
         if footprint_clear(c, centre, along, out, Vec2::new(40.0, 7.0)) < c.layout.barrier_offset + 3.0 {
@@ -194,11 +194,26 @@ fn tree_meshes(doc: &mut Doc, m: &Mats) -> [[usize; 3]; 2] {
     out
 }
 
-/// About 250 trees in clumps and scattered, clear of the track, buildings and grandstands, each a LOD node.
-pub(super) fn trees(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
+/// How trees are planted: clumps, trees scattered between them, the most trees, and how far beyond the
+/// track's plan bounds they may stand.
+pub(super) struct Planting {
+    pub(super) clumps: usize,
+    pub(super) scattered: usize,
+    pub(super) most: usize,
+    pub(super) margin: f32,
+    /// Trees tried in the band 32 to 220 m either side of the road, before the rest (the view from the road
+    /// is where trees are seen from close by).
+    pub(super) roadside: usize,
+}
+
+/// The circuit's trees: about 250 in clumps and scattered within 300 m of the track.
+pub(super) const PARKLAND: Planting = Planting { clumps: 20, scattered: 70, most: 260, margin: 300.0, roadside: 0 };
+
+/// Trees in clumps and scattered, clear of the track, buildings and grandstands, each a LOD node.
+pub(super) fn trees(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain, plant: &Planting) {
     let meshes = tree_meshes(&mut scene.doc, m);
     let (lo, hi) = c.bounds();
-    let (lo, hi) = (lo - Vec2::splat(300.0), hi + Vec2::splat(300.0));
+    let (lo, hi) = (lo - Vec2::splat(plant.margin), hi + Vec2::splat(plant.margin));
     let mut placed_trees: Vec<Vec2> = vec![];
     let ok = |p: Vec2, trees: &[Vec2], keep_out: &[(Vec2, f32)]| {
         p.distance(t.centre) < GROUND_RADIUS - 250.0
@@ -208,7 +223,12 @@ pub(super) fn trees(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
     };
     let mut candidates = vec![];
     let rng = &mut scene.rng;
-    for _ in 0..20 {
+    for _ in 0..plant.roadside {
+        let smp = &c.samples[rng.int(0, c.n() as i32 - 1) as usize];
+        let lateral = rng.range(32.0, 220.0) * if rng.unit() < 0.5 { -1.0 } else { 1.0 };
+        candidates.push(Vec2::new(smp.p.x + smp.right.x * lateral, smp.p.z + smp.right.z * lateral));
+    }
+    for _ in 0..plant.clumps {
         let centre = Vec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         let count = rng.int(8, 16);
         for _ in 0..count * 2 {
@@ -216,11 +236,11 @@ pub(super) fn trees(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
             candidates.push(centre + Vec2::new(libm::cosf(a), libm::sinf(a)) * r);
         }
     }
-    for _ in 0..70 {
+    for _ in 0..plant.scattered {
         candidates.push(Vec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y)));
     }
     for p in candidates {
-        if placed_trees.len() >= 260 || !ok(p, &placed_trees, &scene.keep_out) {
+        if placed_trees.len() >= plant.most || !ok(p, &placed_trees, &scene.keep_out) {
             continue;
         }
         placed_trees.push(p);

@@ -37,6 +37,27 @@ pub(crate) struct Layout {
     pub(super) streets: bool,
     /// The corners the "hairpin" and "sweeper" views look at.
     pub(super) view_corners: [usize; 2],
+    /// The heights of a course in the hills (none: the course lies on the plain at y = 0).
+    pub(super) relief: Option<&'static Relief>,
+}
+
+/// The heights of a course in the hills: the road's level along the lap, its viaduct, and the ground's peaks
+/// and gorge away from the road.
+pub(super) struct Relief {
+    /// The ground level under the road at knots (plan segment, fraction along it, metres), in racing order:
+    /// linear between knots, then smoothed; the plain (0 m) before the first knot and after the last.
+    pub(super) knots: &'static [(usize, f32, f32)],
+    /// The viaduct: (plan segment, fraction where it leaves the ground, fraction where it lands).
+    pub(super) viaduct: (usize, f32, f32),
+    /// The ground's peaks away from the road: (x, z, height, radius) of a Gaussian bump.
+    pub(super) peaks: &'static [(f32, f32, f32, f32)],
+    /// The gorge under the viaduct: its line's two ends (x, z), its depth (deepest at the middle of the
+    /// line) and its half-width.
+    pub(super) gorge: ((f32, f32), (f32, f32), f32, f32),
+    /// How many trees stand on the slopes.
+    pub(super) trees: usize,
+    /// How many boulders lie on the slopes near the road.
+    pub(super) boulders: usize,
 }
 
 /// The race circuit: a figure-eight of about 4.2 km in open country.
@@ -65,6 +86,7 @@ pub(crate) const CIRCUIT: Layout = Layout {
     run_off: true,
     streets: false,
     view_corners: [3, 8],
+    relief: None,
 };
 
 /// The street course: about 3.5 km of city blocks, tight corners, a tunnel, and an overpass where the road
@@ -91,6 +113,57 @@ pub(crate) const CITY: Layout = Layout {
     run_off: false,
     streets: true,
     view_corners: [3, 6],
+    relief: None,
+};
+
+/// The mountain course: about 5.7 km from a plain up a mountainside by two hairpins, along a ridge 100 m up
+/// with the plain laid out below, and down over a viaduct to a bridge across the start straight.
+pub(crate) const MOUNTAIN: Layout = Layout {
+    name: "mountain",
+    title: "Eagle Pass",
+    about: "a mountain road: a climb by two hairpins, a ridge with a view, a viaduct over a gorge",
+    corners: &[
+        (-400.0, -400.0, 55.0), // 0: right onto the start straight
+        (380.0, 380.0, 70.0),   // 1: left at the foot of the climb
+        (560.0, 740.0, 26.0),   // 2: left onto the first climbing leg
+        (180.0, 830.0, 24.0),   // 3: right hairpin
+        (600.0, 930.0, 26.0),   // 4: left hairpin onto the ridge
+        (-450.0, 1000.0, 140.0), // 5: fast left at the end of the ridge
+        (-640.0, 560.0, 90.0),  // 6: left onto the viaduct, down to the bridge
+        (420.0, -420.0, 50.0),  // 7: right at the bottom
+        (0.0, -700.0, 110.0),   // 8: fast right back to the start
+    ],
+    bridge_edge: 7,
+    start_edge: 1,
+    start_at: 250.0,
+    crests: &[],
+    barrier_offset: 10.0,
+    run_off: true,
+    streets: false,
+    view_corners: [3, 5],
+    relief: Some(&Relief {
+        knots: &[
+            (3, 0.5, 0.0),
+            (5, 0.5, 28.0),
+            (7, 0.5, 54.0),
+            (9, 0.5, 74.0),
+            (10, 0.45, 104.0),
+            (11, 0.5, 92.0),
+            (13, 0.5, 56.0),
+            (14, 0.42, 0.0),
+        ],
+        viaduct: (14, 0.03, 0.29),
+        peaks: &[
+            (0.0, 1750.0, 520.0, 420.0),
+            (-1150.0, 1250.0, 400.0, 360.0),
+            (1150.0, 1400.0, 380.0, 380.0),
+            (1000.0, -1000.0, 140.0, 420.0),
+            (-1150.0, -800.0, 110.0, 380.0),
+        ],
+        gorge: ((-935.0, -121.0), (-250.0, 620.0), 45.0, 120.0),
+        trees: 8000,
+        boulders: 1400,
+    }),
 };
 
 // The road and what stands beside it.

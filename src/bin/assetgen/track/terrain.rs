@@ -1,12 +1,21 @@
 //! The ground: grass tiles around the circuit and the ring of distant hills.
+//!
+//! On the plain the ground near the track is flat (y = 0) and its finer tiles overlap the coarse ones. On a
+//! course in the hills the heights come from the relief's [`Field`], and the finer tiles near the track meet
+//! the coarse tiles edge to edge: a fine vertex on the border with a coarse tile lies on the coarse tile's
+//! edge, so no crack opens between them however the ground curves.
 
 use glam::{Vec2, Vec3};
 
 use super::circuit::Circuit;
 use super::mesh::{MeshBuilder, Scene, world_uvs};
+use super::relief::Field;
 use super::spec::{FINE_TILE, GRASS_UV, GROUND_RADIUS, TILE, WHITE};
 use super::textures::Mats;
 use super::util::{Rng, smoothstep};
+
+/// Fine tiles along a coarse tile's side.
+const SPLIT: usize = (TILE / FINE_TILE) as usize;
 
 /// Ground heights on a square grid of `TILE` m: flat near the circuit, rolling further out, rising toward
 /// the hills. Each tile is drawn as two triangles split from its (-x, -z) corner to its (+x, +z) corner.
@@ -15,10 +24,29 @@ pub(super) struct Terrain {
     n: usize,
     heights: Vec<f32>,
     pub(super) centre: Vec2,
+    /// The relief's heights, on a course in the hills.
+    field: Option<Field>,
+    /// Which coarse tiles are drawn as fine tiles (in the hills; on the plain the tiles decide as drawn).
+    split: Vec<bool>,
 }
 
 impl Terrain {
     pub(super) fn new(c: &Circuit) -> Terrain {
+        let Some(relief) = c.layout.relief else { return Self::plain(c) };
+        let field = Field::new(c, relief);
+        let (lo, hi) = c.bounds();
+        let centre = ((lo + hi) * 0.5 / TILE).round() * TILE;
+        let n = (2.0 * (GROUND_RADIUS / TILE).ceil()) as usize + 2;
+        let origin = centre - Vec2::splat(n as f32 * TILE / 2.0);
+        let corner = |i: usize, j: usize| origin + Vec2::new(i as f32, j as f32) * TILE;
+        let heights = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).map(|(i, j)| field.height(corner(i, j)));
+        let heights = heights.collect();
+        let split = (0..n * n).map(|k| c.touches(corner(k % n, k / n), corner(k % n + 1, k / n + 1))).collect();
+        Terrain { origin, n, heights, centre, field: Some(field), split }
+    }
+
+    /// The ground of a course on the plain.
+    fn plain(c: &Circuit) -> Terrain {
         let (lo, hi) = c.bounds();
         let centre = ((lo + hi) * 0.5 / TILE).round() * TILE;
         let n = (2.0 * (GROUND_RADIUS / TILE).ceil()) as usize + 2;
@@ -35,7 +63,41 @@ impl Terrain {
                 heights.push(away * (roll + rise));
             }
         }
-        Terrain { origin, n, heights, centre }
+        Terrain { origin, n, heights, centre, field: None, split: vec![] }
+    }
+
+    /// Whether coarse tile (`i`, `j`) is drawn as fine tiles (false outside the grid).
+    fn is_split(&self, i: Option<usize>, j: Option<usize>) -> bool {
+        match (i, j) {
+            (Some(i), Some(j)) if i < self.n && j < self.n => self.split.get(j * self.n + i) == Some(&true),
+            _ => false,
+        }
+    }
+
+    /// The height of vertex (`fi`, `fj`) of the fine tiles of coarse tile (`i`, `j`): on a side shared with
+    /// a coarse tile, on that tile's edge; elsewhere the relief's height.
+    fn fine_height(&self, (i, j): (usize, usize), (fi, fj): (usize, usize)) -> f32 {
+        let h = |a: usize, b: usize| self.heights[b * (self.n + 1) + a];
+        let (u, v) = (fi as f32 / SPLIT as f32, fj as f32 / SPLIT as f32);
+        if fi == 0 && !self.is_split(i.checked_sub(1), Some(j)) {
+            return h(i, j) + (h(i, j + 1) - h(i, j)) * v;
+        }
+        if fi == SPLIT && !self.is_split(Some(i + 1), Some(j)) {
+            return h(i + 1, j) + (h(i + 1, j + 1) - h(i + 1, j)) * v;
+        }
+        if fj == 0 && !self.is_split(Some(i), j.checked_sub(1)) {
+            return h(i, j) + (h(i + 1, j) - h(i, j)) * u;
+        }
+        if fj == SPLIT && !self.is_split(Some(i), Some(j + 1)) {
+            return h(i, j + 1) + (h(i + 1, j + 1) - h(i, j + 1)) * u;
+        }
+        let p = self.origin + Vec2::new(i as f32 * TILE + fi as f32 * FINE_TILE, j as f32 * TILE + fj as f32 * FINE_TILE);
+        self.field.as_ref().map_or(0.0, |f| f.height(p))
+    }
+
+    /// The level of the ground beside the road at `p`: the plain's 0, or the relief's height in the hills.
+    pub(super) fn apron_level(&self, p: Vec2) -> f32 {
+        self.field.as_ref().map_or(0.0, |f| f.height(p))
     }
 
     fn vertex(&self, i: usize, j: usize) -> Vec3 {
@@ -49,6 +111,15 @@ impl Terrain {
         let (i, j) = (g.x.floor().clamp(0.0, self.n as f32 - 1.0), g.y.floor().clamp(0.0, self.n as f32 - 1.0));
         let (fx, fz) = ((g.x - i).clamp(0.0, 1.0), (g.y - j).clamp(0.0, 1.0));
         let (i, j) = (i as usize, j as usize);
+        if self.is_split(Some(i), Some(j)) {
+            let k = SPLIT as f32;
+            let (fi, fj) = ((fx * k).floor().min(k - 1.0), (fz * k).floor().min(k - 1.0));
+            let (u, v) = (fx * k - fi, fz * k - fj);
+            let (fi, fj) = (fi as usize, fj as usize);
+            let h = |a: usize, b: usize| self.fine_height((i, j), (a, b));
+            let (a, b, cc, d) = (h(fi, fj), h(fi + 1, fj), h(fi + 1, fj + 1), h(fi, fj + 1));
+            return if v >= u { a + v * (d - a) + u * (cc - d) } else { a + u * (b - a) + v * (cc - b) };
+        }
         let a = self.vertex(i, j).y;
         let b = self.vertex(i + 1, j).y;
         let cc = self.vertex(i + 1, j + 1).y;
@@ -62,6 +133,9 @@ impl Terrain {
 /// no ground lies under the road; the finer tiles overlap their neighbours by 1 m so that no crack opens where
 /// their corners meet the coarse tiles' edges.
 pub(super) fn ground_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
+    if t.field.is_some() {
+        return relief_ground(scene, m, c, t);
+    }
     for bj in (0..t.n).step_by(8) {
         for bi in (0..t.n).step_by(8) {
             let mut mb = MeshBuilder::default();
@@ -97,6 +171,58 @@ pub(super) fn ground_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrai
             scene.add(&format!("ground {:02} {:02}", bj / 8, bi / 8), &mb);
         }
     }
+}
+
+/// The ground of a course in the hills, in blocks of 8 x 8 coarse tiles: coarse tiles away from the track,
+/// fine tiles meeting them edge to edge near it, none within the track's corridor.
+fn relief_ground(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
+    for bj in (0..t.n).step_by(8) {
+        for bi in (0..t.n).step_by(8) {
+            let mut mb = MeshBuilder::default();
+            for j in bj..(bj + 8).min(t.n) {
+                for i in bi..(bi + 8).min(t.n) {
+                    let (a, b, cc, d) =
+                        (t.vertex(i, j), t.vertex(i + 1, j), t.vertex(i + 1, j + 1), t.vertex(i, j + 1));
+                    let (lo, hi) = (Vec2::new(a.x, a.z), Vec2::new(cc.x, cc.z));
+                    if ((lo + hi) * 0.5).distance(t.centre) > GROUND_RADIUS {
+                        continue;
+                    }
+                    if !t.is_split(Some(i), Some(j)) {
+                        let pts = [a, d, cc, b];
+                        mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+                        continue;
+                    }
+                    for fj in 0..SPLIT {
+                        for fi in 0..SPLIT {
+                            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE;
+                            let f1 = f0 + Vec2::splat(FINE_TILE);
+                            if c.touches(f0 - Vec2::ONE, f1 + Vec2::ONE) {
+                                continue;
+                            }
+                            let at = |x: f32, z: f32, k: (usize, usize)| Vec3::new(x, t.fine_height((i, j), k), z);
+                            let pts = [
+                                at(f0.x, f0.y, (fi, fj)),
+                                at(f0.x, f1.y, (fi, fj + 1)),
+                                at(f1.x, f1.y, (fi + 1, fj + 1)),
+                                at(f1.x, f0.y, (fi + 1, fj)),
+                            ];
+                            mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+                        }
+                    }
+                }
+            }
+            scene.add(&format!("ground {:02} {:02}", bj / 8, bi / 8), &mb);
+        }
+    }
+}
+
+/// What covers a piece of ground in the hills: rock where it is steep (a slope of more than about 40
+/// degrees) or high (above 230 m), grass elsewhere.
+fn cover(m: &Mats, pts: &[Vec3]) -> usize {
+    let (a, b, c) = (pts[0], pts[1], pts[2]);
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    let high = pts.iter().map(|p| p.y).sum::<f32>() / pts.len() as f32 > 230.0;
+    if n.y.abs() < 0.75 || high { m.rock } else { m.grass }
 }
 
 /// A ring of low, coarse hills beyond the ground's edge, in four meshes.

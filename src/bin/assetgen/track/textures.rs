@@ -24,11 +24,14 @@ pub(super) struct Mats {
     pub(super) paint: usize,
     pub(super) tree: usize,
     pub(super) hills: usize,
+    /// Bare rock on steep and high ground (the grass where the course has none).
+    pub(super) rock: usize,
 }
 
 impl Mats {
-    /// The materials; on a street course (`streets`) the "grass" is pavement.
-    pub(super) fn new(doc: &mut Doc, streets: bool) -> Mats {
+    /// The materials; on a street course (`streets`) the "grass" is pavement, and a course in the hills
+    /// (`rocky`) has rock.
+    pub(super) fn new(doc: &mut Doc, streets: bool, rocky: bool) -> Mats {
         let mut tex = |name: &str, wrap| doc.texture(&format!("{name}.png"), wrap);
         let t_asphalt = tex("asphalt", WrapMode::Repeat);
         let t_kerb = tex("kerb", WrapMode::Repeat);
@@ -41,8 +44,9 @@ impl Mats {
         let t_crowd = tex("crowd", WrapMode::Repeat);
         let t_windows = tex("windows", WrapMode::Repeat);
         let t_tree = tex("trees", WrapMode::Clamp);
+        let t_rock = rocky.then(|| tex("rock", WrapMode::Repeat));
         let white = glam::Vec4::ONE;
-        Mats {
+        let mut mats = Mats {
             road: doc.material("asphalt", white, Some(t_asphalt), false, None),
             kerb: doc.material("kerb", white, Some(t_kerb), false, None),
             grass: doc.material(if streets { "pavement" } else { "grass" }, white, Some(t_grass), false, None),
@@ -59,7 +63,10 @@ impl Mats {
             paint: doc.material("paint", glam::Vec4::new(0.95, 0.95, 0.93, 1.0), None, false, None),
             tree: doc.material("trees", white, Some(t_tree), true, Some(0.5)),
             hills: doc.material("hills", white, None, false, None),
-        }
+            rock: 0,
+        };
+        mats.rock = t_rock.map_or(mats.grass, |t| doc.material("rock", white, Some(t), false, None));
+        mats
     }
 }
 
@@ -82,7 +89,7 @@ fn grain(size: u32, base: [u8; 3], amp: i32, rng: &mut Rng) -> Canvas {
 
 /// Writes the course's textures into `dir`: the circuit's set, and on a street course (`streets`) the
 /// pavement too.
-pub(super) fn write_textures(dir: &Path, streets: bool) -> std::io::Result<()> {
+pub(super) fn write_textures(dir: &Path, streets: bool, rocky: bool) -> std::io::Result<()> {
     let mut rng = Rng::new(0x7e57_0001);
     let rng = &mut rng;
     // Asphalt: 128 px across the 12 m road, white edge lines, darker wheel tracks.
@@ -136,6 +143,18 @@ pub(super) fn write_textures(dir: &Path, streets: bool) -> std::io::Result<()> {
     trees_texture(rng).save(&dir.join("trees.png"))?;
     if streets {
         pavement_texture(rng).save(&dir.join("pavement.png"))?;
+    }
+    if rocky {
+        // Rock: grey-brown grain crossed by darker and lighter strata.
+        let mut rock = grain(64, [132, 124, 112], 14, rng);
+        for _ in 0..10 {
+            let (y, d) = (rng.int(0, 63), rng.int(-34, 22));
+            for x in 0..64 {
+                let wave = y + (x / 9) % 2;
+                rock.set(x, wave, shade([132, 124, 112], d + rng.int(-6, 6)));
+            }
+        }
+        rock.save(&dir.join("rock.png"))?;
     }
     Ok(())
 }

@@ -41,6 +41,24 @@ pub(super) fn views(c: &Circuit, grid: &[(Vec3, f32)], stands: &[(Vec3, Vec3)]) 
     v
 }
 
+/// The views of a course in the hills: across the plain from the ridge's highest point ("vista"), and the
+/// viaduct from the gorge below it ("viaduct"), and the whole course from the plain with the mountains
+/// behind ("panorama").
+pub(super) fn mountain_views(c: &Circuit) -> Vec<(String, Vec3, Vec3)> {
+    let top = c.samples.iter().max_by(|a, b| a.base.total_cmp(&b.base)).map_or(c.at(0.0).p, |s| s.p);
+    let (lo, hi) = c.bounds();
+    let middle = (lo + hi) * 0.5;
+    let below = Vec3::new(middle.x, 0.0, lo.y - 600.0);
+    let (s0, s1) = c.viaduct;
+    let mid = c.at((s0 + s1) * 0.5);
+    let under = mid.p - mid.right * 160.0 - mid.fwd * 60.0;
+    vec![
+        ("vista".to_string(), top + Vec3::Y * 3.0, below),
+        ("viaduct".to_string(), Vec3::new(under.x, mid.p.y - 25.0, under.z), mid.p - Vec3::Y * 10.0),
+        ("panorama".to_string(), Vec3::new(lo.x - 300.0, 160.0, lo.y - 500.0), Vec3::new(middle.x, 60.0, hi.y)),
+    ]
+}
+
 /// Adds one perspective camera node per view; returns the cameras for [`add_cameras`].
 pub(super) fn camera_nodes(doc: &mut Doc, views: &[(String, Vec3, Vec3)]) -> Vec<Value> {
     let round = |v: f32| (f64::from(v) * 1e6).round() / 1e6 + 0.0;
