@@ -33,7 +33,8 @@ fn committed_assets_are_exactly_what_the_generator_makes() {
         fa.iter().filter(|(k, v)| committed.get(*k) != Some(*v)).map(|(k, _)| k.display().to_string()).collect();
     assert!(stale.is_empty(), "stale assets {stale:?}: regenerate with `cargo run --release --bin assetgen`");
     let total: usize = committed.values().map(Vec::len).sum();
-    assert!(total < 10 << 20, "assets/ is {total} bytes, over 10 MB");
+    // Three courses, the mountain's thousands of trees and boulders as LOD nodes among them: 11 MB.
+    assert!(total < 12 << 20, "assets/ is {total} bytes, over 12 MB");
 }
 
 fn car_files() -> Vec<PathBuf> {

@@ -245,11 +245,29 @@ impl Doc {
         if !self.extensions_used.is_empty() {
             g["extensionsUsed"] = json!(self.extensions_used);
         }
-        let mut text = serde_json::to_string_pretty(&g).map_err(std::io::Error::other)?;
-        text.push('\n');
-        std::fs::write(dir.join(format!("{name}.gltf")), text)?;
+        std::fs::write(dir.join(format!("{name}.gltf")), gltf_text(&g)?)?;
         std::fs::write(dir.join(bin_name), &self.bin)
     }
+}
+
+/// A glTF document's text: one top-level member per line, and one element per line in the arrays of
+/// objects (nodes, meshes, accessors...), each compact. A scene of thousands of nodes stays a few megabytes
+/// (indenting every number takes several times that), and a change to one node is a change to one line.
+pub fn gltf_text(g: &Value) -> std::io::Result<String> {
+    let compact = |v: &Value| serde_json::to_string(v).map_err(std::io::Error::other);
+    let Value::Object(members) = g else { return compact(g) };
+    let mut lines = vec![];
+    for (key, value) in members {
+        let key = compact(&Value::String(key.clone()))?;
+        match value {
+            Value::Array(items) if items.iter().all(Value::is_object) && !items.is_empty() => {
+                let items: Vec<String> = items.iter().map(compact).collect::<Result<_, _>>()?;
+                lines.push(format!("{key}: [\n{}\n]", items.join(",\n")));
+            }
+            _ => lines.push(format!("{key}: {}", compact(value)?)),
+        }
+    }
+    Ok(format!("{{\n{}\n}}\n", lines.join(",\n")))
 }
 
 /// A node transform as glTF JSON (translation and a rotation about +Y).

@@ -206,7 +206,6 @@ pub fn generate(out: &Path, cars: &[CarInfo], track: &TrackInfo) -> std::io::Res
             g[key] = v;
         }
     }
-    let mut text = serde_json::to_string_pretty(&g).map_err(std::io::Error::other)?;
-    text.push('\n');
+    let text = crate::gltf_out::gltf_text(&g)?;
     std::fs::write(out.join("grid.gltf"), text)
 }

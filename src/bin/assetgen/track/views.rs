@@ -89,8 +89,7 @@ pub(super) fn add_cameras(path: &Path, cameras: Vec<Value>) -> std::io::Result<(
     let text = std::fs::read_to_string(path)?;
     let mut g: Value = serde_json::from_str(&text).map_err(std::io::Error::other)?;
     g["cameras"] = json!(cameras);
-    let mut text = serde_json::to_string_pretty(&g).map_err(std::io::Error::other)?;
-    text.push('\n');
+    let text = crate::gltf_out::gltf_text(&g)?;
     std::fs::write(path, text)
 }
 
