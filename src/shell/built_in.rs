@@ -16,6 +16,8 @@ mod tests {
             "track/circuit/centerline.json",
             "track/city/city.gltf",
             "track/city/centerline.json",
+            "track/mountain/mountain.gltf",
+            "track/mountain/rock.png",
             "cars/car_8.gltf",
         ] {
             assert!(names.contains(&want), "{want} in {names:?}");

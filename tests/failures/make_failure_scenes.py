@@ -50,6 +50,12 @@ city-blocks.gltf -- The street course's occluders: a street between two rows of 
     reaching from beside the camera to far ahead. One-sided materials, as the game's buildings have. Most of what lies in the view is hidden (the z-buffer
     rejects more pixels than it keeps); a painter's order must still get every facade in front of the
     blocks behind it.
+viaduct.gltf -- The mountain course's long sight line: a viaduct's deck 40 m up across a valley on
+    tall piers that stand a metre into the valley's sloping sides, the valley's ground in 60 m polygons
+    rising both ways from its floor, and 300 flat trees on the slopes from 300 m to 1.8 km away (the far
+    plane at 3 km). Seen from a slope under the deck: the long deck's polygons span the piers' depths, the
+    piers cut into ground polygons larger than themselves, and at a kilometre a depth bucket holds many
+    trees that overlap each other.
 slivers.gltf -- A fan of 40 triangles under 0.02 m wide (about a pixel) meeting at one point, and a
     grid of quads with T-junctions (a vertex in the middle of a neighbour's edge but not one of its
     vertices), all in one plane 10 m ahead with nothing behind. Not an ordering failure but the
@@ -88,10 +94,10 @@ class Builder(mts.Builder):
             self.mats[key] = self.material(color=key, double=not getattr(self, "one_sided", False))
         return self.mats[key]
 
-    def cameras(self, main, start, end):
-        """Camera nodes main, start and end, each (eye, target)."""
+    def cameras(self, main, start, end, zfar=ZFAR):
+        """Camera nodes main, start and end, each (eye, target), seeing as far as zfar."""
         self.g["cameras"] = [{"type": "perspective", "name": "lens",
-                              "perspective": {"yfov": YFOV, "znear": ZNEAR, "zfar": ZFAR}}]
+                              "perspective": {"yfov": YFOV, "znear": ZNEAR, "zfar": zfar}}]
         for name, (eye, target) in (("main", main), ("start", start), ("end", end)):
             self.node(name=name, camera=0, matrix=look_at_matrix(eye, target),
                       extras={"eye": list(eye), "target": list(target)})
@@ -343,6 +349,41 @@ def city_blocks():
     b.finish("city-blocks.gltf")
 
 
+def viaduct():
+    b = Builder()
+    ground_y = lambda x: 0.25 * abs(x) - 40.0
+    tiles = []
+    for z0 in range(140, -1900, -60):
+        for x0 in range(-480, 480, 60):
+            x1, z1 = x0 + 60, z0 - 60
+            tiles.append(((x0, ground_y(x0), z0), (x1, ground_y(x1), z0), (x1, ground_y(x1), z1), (x0, ground_y(x0), z1)))
+    for k in range(2):
+        b.node(name=f"valley {k}", mesh=b.mesh([quads(tiles[k::2], b.mat(rgb(0.3 + 0.05 * k, 0.8, 0.7)))]))
+    b.node(name="deck", mesh=b.mesh(box(b, (-400, -1.5, -126), (400, 0.0, -114), shades(0.08))))
+    b.node(name="parapets", mesh=b.mesh(box(b, (-400, 0.0, -126), (400, 1.0, -125.6), rgb(0.6, 0.5, 1.0))
+                                           + box(b, (-400, 0.0, -114.4), (400, 1.0, -114), rgb(0.62, 0.5, 1.0))))
+    for k, x in enumerate(range(-360, 361, 40)):
+        foot = ground_y(x) - 1.0
+        if foot < -1.5:
+            b.node(name=f"pier {k}", mesh=b.mesh(box(b, (x - 1.1, foot, -121.6), (x + 1.1, -1.5, -118.4),
+                                                       shades(0.9 + 0.013 * k))))
+    seed = 12345
+    trees = []
+    for k in range(300):
+        seed = (seed * 1103515245 + 12345) % (1 << 31)
+        z = -300.0 - 1500.0 * (seed / (1 << 31))
+        seed = (seed * 1103515245 + 12345) % (1 << 31)
+        x = (seed / (1 << 31)) * 900.0 - 450.0
+        y = ground_y(x) - 0.3
+        trees.append(((x - 4, y, z), (x + 4, y, z), (x + 4, y + 12, z), (x - 4, y + 12, z)))
+    for k in range(3):
+        b.node(name=f"trees {k}", mesh=b.mesh([quads(trees[k::3], b.mat(rgb(0.15 + 0.1 * k, 1.0, 0.5)))]))
+    b.cameras(main=((-60.0, -23.0, 60.0), (30.0, -8.0, -300.0)),
+              start=((-70.0, -25.0, 70.0), (20.0, -8.0, -300.0)),
+              end=((-50.0, -20.0, 50.0), (40.0, -6.0, -300.0)), zfar=3000.0)
+    b.finish("viaduct.gltf")
+
+
 def slivers():
     b = Builder()
     z = -10.0
@@ -392,4 +433,5 @@ if __name__ == "__main__":
     near_plane()
     tunnel()
     city_blocks()
+    viaduct()
     slivers()

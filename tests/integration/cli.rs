@@ -307,8 +307,8 @@ fn bench_quick_writes_csv_and_charts() {
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert!(rows.len() >= 50, "{} rows", rows.len());
-    for course in ["circuit", "city"] {
+    assert!(rows.len() >= 75, "{} rows", rows.len());
+    for course in ["circuit", "city", "mountain"] {
         let of: Vec<&Vec<&str>> = rows.iter().filter(|r| r[col("course")] == course).collect();
         assert!(of.len() >= 25, "{course}: {} rows", of.len());
         for m in ["zbuffer", "sort", "bucket-far", "bucket-near", "view-lists"] {
@@ -424,12 +424,16 @@ fn courses_lists_every_course_and_play_refuses_a_bad_course_name() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     let lines: Vec<&str> = text.lines().collect();
-    assert!(lines.len() >= 2, "{text}");
+    assert_eq!(lines.len(), 3, "{text}");
     assert!(
         lines[0].starts_with("circuit ") && lines[0].contains("4.16 km") && lines[0].contains("Green Valley Circuit"),
         "{text}"
     );
     assert!(lines[1].starts_with("city ") && lines[1].contains("Harbour Streets"), "{text}");
+    assert!(
+        lines[2].starts_with("mountain ") && lines[2].contains("5.75 km") && lines[2].contains("Eagle Pass"),
+        "{text}"
+    );
     let o = run(&["play", "--course", "../track", "--exit-after-frames", "1"]);
     assert_one_line_error(&o, 2, "a course is named by its folder");
 }

@@ -50,6 +50,9 @@ const BOUNDS: &[(&str, [f64; 4], [f64; 4])] = &[
     // know on which side of a block the camera stands, and the street runs between the blocks it orders,
     // so the rows behind paint over the street's facades.
     ("city-blocks", [0.14, 0.14, 0.14, 44.0], [0.05, 0.05, 0.05, 0.10]),
+    // Measured: 0.100% (sort), 1.129% (far, near), 0.842% (lists): with the far plane at 3 km, 1,024
+    // buckets are 3 m deep, and trees on the far slopes that overlap each other share one.
+    ("viaduct", [0.18, 1.46, 1.46, 1.1], [0.09, 0.12, 0.12, 0.11]),
 ];
 
 fn scene(name: &str) -> LoadedScene {

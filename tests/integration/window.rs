@@ -422,8 +422,9 @@ fn click_text(display: &str, wid: &str, (x, y, _): &(i32, i32, String)) {
     xdotool(display, &["mousemove", "--window", wid, &cx, &cy, "click", "1"]);
 }
 
-/// The main menu picks the second course, the fifth car and Time Trial, and Race starts that race: alone on
-/// the city's grid in car 5 (the HUD says TIME TRIAL), and the settings file remembers the choices.
+/// The main menu picks the third course, the fifth car and Time Trial, and Race starts that race: alone on
+/// the mountain course's grid in car 5 (the HUD says TIME TRIAL), and the settings file remembers the
+/// choices.
 #[test]
 fn the_menu_picks_a_course_a_car_and_time_trial_and_races_it() {
     let Some(x) = Xvfb::start() else { return };
@@ -450,9 +451,9 @@ fn the_menu_picks_a_course_a_car_and_time_trial_and_races_it() {
     };
     let wid = wid.lines().next().unwrap().to_string();
     click_text(&x.display, &wid, &combo);
-    let city = wait_for_text(&text, &mut game, |s| s.starts_with("Harbour Streets ("));
-    click_text(&x.display, &wid, &city);
-    wait_for_text(&text, &mut game, |s| s == "Harbour Streets");
+    let third = wait_for_text(&text, &mut game, |s| s.starts_with("Eagle Pass ("));
+    click_text(&x.display, &wid, &third);
+    wait_for_text(&text, &mut game, |s| s == "Eagle Pass");
     for n in 2..=5 {
         let next = wait_for_text(&text, &mut game, |s| s == ">");
         click_text(&x.display, &wid, &next);
@@ -479,7 +480,7 @@ fn the_menu_picks_a_course_a_car_and_time_trial_and_races_it() {
     let _ = game.kill();
     let _ = game.wait();
     let saved: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&settings).unwrap()).unwrap();
-    assert_eq!(saved["course"], "city", "{saved}");
+    assert_eq!(saved["course"], "mountain", "{saved}");
     assert_eq!(saved["car"], 5, "{saved}");
     assert_eq!(saved["mode"], "time-trial", "{saved}");
 }

@@ -127,7 +127,8 @@ pub(super) fn viaduct_piers(scene: &mut Scene, m: &Mats, c: &Circuit, ground: im
             let q = f.p + f.right * lat;
             let foot = ground(Vec2::new(q.x, q.z)) - 1.0;
             let base = Vec3::new(q.x, foot, q.z);
-            let block = Block { base, ax: f.right, az: f.fwd, half: Vec2::new(1.1, 1.6), height: underside - cap - foot };
+            let block =
+                Block { base, ax: f.right, az: f.fwd, half: Vec2::new(1.1, 1.6), height: underside - cap - foot };
             mb.cuboid(m.concrete, None, &block, 4.0, WHITE);
         }
         let base = Vec3::new(f.p.x, underside - cap, f.p.z);

@@ -123,15 +123,15 @@ pub(crate) const MOUNTAIN: Layout = Layout {
     title: "Eagle Pass",
     about: "a mountain road: a climb by two hairpins, a ridge with a view, a viaduct over a gorge",
     corners: &[
-        (-400.0, -400.0, 55.0), // 0: right onto the start straight
-        (380.0, 380.0, 70.0),   // 1: left at the foot of the climb
-        (560.0, 740.0, 26.0),   // 2: left onto the first climbing leg
-        (180.0, 830.0, 24.0),   // 3: right hairpin
-        (600.0, 930.0, 26.0),   // 4: left hairpin onto the ridge
+        (-400.0, -400.0, 55.0),  // 0: right onto the start straight
+        (380.0, 380.0, 70.0),    // 1: left at the foot of the climb
+        (560.0, 740.0, 26.0),    // 2: left onto the first climbing leg
+        (180.0, 830.0, 24.0),    // 3: right hairpin
+        (600.0, 930.0, 26.0),    // 4: left hairpin onto the ridge
         (-450.0, 1000.0, 140.0), // 5: fast left at the end of the ridge
-        (-640.0, 560.0, 90.0),  // 6: left onto the viaduct, down to the bridge
-        (420.0, -420.0, 50.0),  // 7: right at the bottom
-        (0.0, -700.0, 110.0),   // 8: fast right back to the start
+        (-640.0, 560.0, 90.0),   // 6: left onto the viaduct, down to the bridge
+        (420.0, -420.0, 50.0),   // 7: right at the bottom
+        (0.0, -700.0, 110.0),    // 8: fast right back to the start
     ],
     bridge_edge: 7,
     start_edge: 1,

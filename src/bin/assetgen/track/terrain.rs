@@ -91,7 +91,8 @@ impl Terrain {
         if fj == SPLIT && !self.is_split(Some(i), Some(j + 1)) {
             return h(i, j + 1) + (h(i + 1, j + 1) - h(i, j + 1)) * u;
         }
-        let p = self.origin + Vec2::new(i as f32 * TILE + fi as f32 * FINE_TILE, j as f32 * TILE + fj as f32 * FINE_TILE);
+        let p =
+            self.origin + Vec2::new(i as f32 * TILE + fi as f32 * FINE_TILE, j as f32 * TILE + fj as f32 * FINE_TILE);
         self.field.as_ref().map_or(0.0, |f| f.height(p))
     }
 
