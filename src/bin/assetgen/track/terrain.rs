@@ -96,9 +96,10 @@ impl Terrain {
         self.field.as_ref().map_or(0.0, |f| f.height(p))
     }
 
-    /// The level of the ground beside the road at `p`: the plain's 0, or the relief's height in the hills.
+    /// The level of the ground beside the road at `p`: the plain's 0, or in the hills the ground as drawn
+    /// (so that the strips beside the road meet the tiles they overlap without a crack).
     pub(super) fn apron_level(&self, p: Vec2) -> f32 {
-        self.field.as_ref().map_or(0.0, |f| f.height(p))
+        if self.field.is_some() { self.height(p) } else { 0.0 }
     }
 
     fn vertex(&self, i: usize, j: usize) -> Vec3 {
