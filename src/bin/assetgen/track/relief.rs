@@ -72,7 +72,7 @@ impl Field {
             .sum();
         let ((x0, z0), (x1, z1), depth, half) = self.relief.gorge;
         let (a, b) = (Vec2::new(x0, z0), Vec2::new(x1, z1));
-        let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+        let t = ((p - a).dot(b - a) / (b - a).length_squared().max(1e-6)).clamp(0.0, 1.0);
         let across = p.distance(a + (b - a) * t);
         let cut = depth * libm::sinf(std::f32::consts::PI * t) * (1.0 - smoothstep(0.0, half, across));
         peaks - cut

@@ -132,41 +132,23 @@ impl Terrain {
 
 /// Grass tiles in blocks of 8 x 8 (one mesh each), within the ground radius. Tiles near the track are split
 /// into finer tiles and those reaching into the track's corridor are left out (the aprons cover the rest), so
-/// no ground lies under the road; the finer tiles overlap their neighbours by 1 m so that no crack opens where
-/// their corners meet the coarse tiles' edges.
+/// no ground lies under the road. On the plain the finer tiles overlap their neighbours by 1 m so that no
+/// crack opens where their corners meet the coarse tiles' edges; in the hills they meet them edge to edge.
 pub(super) fn ground_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
-    if t.field.is_some() {
-        return relief_ground(scene, m, c, t);
-    }
     for bj in (0..t.n).step_by(8) {
         for bi in (0..t.n).step_by(8) {
             let mut mb = MeshBuilder::default();
             for j in bj..(bj + 8).min(t.n) {
                 for i in bi..(bi + 8).min(t.n) {
-                    let (a, b, cc, d) =
-                        (t.vertex(i, j), t.vertex(i + 1, j), t.vertex(i + 1, j + 1), t.vertex(i, j + 1));
-                    let (lo, hi) = (Vec2::new(a.x, a.z), Vec2::new(cc.x, cc.z));
+                    let corners = [t.vertex(i, j), t.vertex(i + 1, j), t.vertex(i + 1, j + 1), t.vertex(i, j + 1)];
+                    let (lo, hi) = (Vec2::new(corners[0].x, corners[0].z), Vec2::new(corners[2].x, corners[2].z));
                     if ((lo + hi) * 0.5).distance(t.centre) > GROUND_RADIUS {
                         continue;
                     }
-                    if !c.touches(lo, hi) {
-                        // Counter-clockwise from above, fanned from `a` (the split the height function assumes).
-                        let pts = [a, d, cc, b];
-                        mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
-                        continue;
-                    }
-                    let k = (TILE / FINE_TILE) as usize;
-                    for fj in 0..k {
-                        for fi in 0..k {
-                            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE - Vec2::ONE;
-                            let f1 = f0 + Vec2::splat(FINE_TILE + 2.0);
-                            if c.touches(f0, f1) {
-                                continue;
-                            }
-                            let at = |x: f32, z: f32| Vec3::new(x, t.height(Vec2::new(x, z)), z);
-                            let pts = [at(f0.x, f0.y), at(f0.x, f1.y), at(f1.x, f1.y), at(f1.x, f0.y)];
-                            mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
-                        }
+                    if t.field.is_some() {
+                        relief_tile(&mut mb, (m, c, t), (i, j), corners);
+                    } else {
+                        plain_tile(&mut mb, (m, c, t), corners);
                     }
                 }
             }
@@ -175,45 +157,59 @@ pub(super) fn ground_meshes(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrai
     }
 }
 
-/// The ground of a course in the hills, in blocks of 8 x 8 coarse tiles: coarse tiles away from the track,
-/// fine tiles meeting them edge to edge near it, none within the track's corridor.
-fn relief_ground(scene: &mut Scene, m: &Mats, c: &Circuit, t: &Terrain) {
-    for bj in (0..t.n).step_by(8) {
-        for bi in (0..t.n).step_by(8) {
-            let mut mb = MeshBuilder::default();
-            for j in bj..(bj + 8).min(t.n) {
-                for i in bi..(bi + 8).min(t.n) {
-                    let (a, b, cc, d) =
-                        (t.vertex(i, j), t.vertex(i + 1, j), t.vertex(i + 1, j + 1), t.vertex(i, j + 1));
-                    let (lo, hi) = (Vec2::new(a.x, a.z), Vec2::new(cc.x, cc.z));
-                    if ((lo + hi) * 0.5).distance(t.centre) > GROUND_RADIUS {
-                        continue;
-                    }
-                    if !t.is_split(Some(i), Some(j)) {
-                        let pts = [a, d, cc, b];
-                        mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
-                        continue;
-                    }
-                    for fj in 0..SPLIT {
-                        for fi in 0..SPLIT {
-                            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE;
-                            let f1 = f0 + Vec2::splat(FINE_TILE);
-                            if c.touches(f0 - Vec2::ONE, f1 + Vec2::ONE) {
-                                continue;
-                            }
-                            let at = |x: f32, z: f32, k: (usize, usize)| Vec3::new(x, t.fine_height((i, j), k), z);
-                            let pts = [
-                                at(f0.x, f0.y, (fi, fj)),
-                                at(f0.x, f1.y, (fi, fj + 1)),
-                                at(f1.x, f1.y, (fi + 1, fj + 1)),
-                                at(f1.x, f0.y, (fi + 1, fj)),
-                            ];
-                            mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
-                        }
-                    }
-                }
+/// One coarse tile on the plain: whole, or as the finer tiles clear of the track's corridor.
+fn plain_tile(mb: &mut MeshBuilder, (m, c, t): (&Mats, &Circuit, &Terrain), [a, b, cc, d]: [Vec3; 4]) {
+    let (lo, hi) = (Vec2::new(a.x, a.z), Vec2::new(cc.x, cc.z));
+    if !c.touches(lo, hi) {
+        // Counter-clockwise from above, fanned from `a` (the split the height function assumes).
+        let pts = [a, d, cc, b];
+        mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+        return;
+    }
+    for fj in 0..SPLIT {
+        for fi in 0..SPLIT {
+            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE - Vec2::ONE;
+            let f1 = f0 + Vec2::splat(FINE_TILE + 2.0);
+            if c.touches(f0, f1) {
+                continue;
             }
-            scene.add(&format!("ground {:02} {:02}", bj / 8, bi / 8), &mb);
+            let at = |x: f32, z: f32| Vec3::new(x, t.height(Vec2::new(x, z)), z);
+            let pts = [at(f0.x, f0.y), at(f0.x, f1.y), at(f1.x, f1.y), at(f1.x, f0.y)];
+            mb.face(m.grass, &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+        }
+    }
+}
+
+/// One coarse tile in the hills: whole away from the track, or as the finer tiles clear of its corridor,
+/// their vertices on the relief (on a coarse neighbour's edge where they meet one).
+fn relief_tile(
+    mb: &mut MeshBuilder,
+    (m, c, t): (&Mats, &Circuit, &Terrain),
+    (i, j): (usize, usize),
+    corners: [Vec3; 4],
+) {
+    let [a, b, cc, d] = corners;
+    if !t.is_split(Some(i), Some(j)) {
+        let pts = [a, d, cc, b];
+        mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
+        return;
+    }
+    let lo = Vec2::new(a.x, a.z);
+    for fj in 0..SPLIT {
+        for fi in 0..SPLIT {
+            let f0 = lo + Vec2::new(fi as f32, fj as f32) * FINE_TILE;
+            let f1 = f0 + Vec2::splat(FINE_TILE);
+            if c.touches(f0 - Vec2::ONE, f1 + Vec2::ONE) {
+                continue;
+            }
+            let at = |x: f32, z: f32, k: (usize, usize)| Vec3::new(x, t.fine_height((i, j), k), z);
+            let pts = [
+                at(f0.x, f0.y, (fi, fj)),
+                at(f0.x, f1.y, (fi, fj + 1)),
+                at(f1.x, f1.y, (fi + 1, fj + 1)),
+                at(f1.x, f0.y, (fi + 1, fj)),
+            ];
+            mb.face(cover(m, &pts), &pts, &world_uvs(&pts, GRASS_UV), Vec3::Y, WHITE);
         }
     }
 }
