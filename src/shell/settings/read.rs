@@ -122,9 +122,28 @@ fn written(n: &serde_json::Number) -> String {
     if x != 0.0 && !(1e-4..1e16).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
 }
 
+/// A refused name that knows the names it could have been (for the settings file's notes).
+trait Accepted {
+    /// The names accepted, as a note lists them.
+    fn accepted(&self) -> &'static str;
+}
+
+impl Accepted for UnknownName {
+    fn accepted(&self) -> &'static str {
+        self.expected
+    }
+}
+
+impl Accepted for crate::game::setup::UnknownChoice {
+    fn accepted(&self) -> &'static str {
+        self.accepted
+    }
+}
+
 /// Sets `slot` from the field `name` of `doc` when it is there and is one of the choice's command-line
-/// names (`"4x"`); else leaves the default in `slot` and says so in `notes`, naming the choices.
-fn named<T: FromStr<Err = UnknownName> + std::fmt::Display>(
+/// names (`"4x"`, `"time-trial"`); else leaves the default in `slot` and says so in `notes`, naming the
+/// choices.
+fn named<T: FromStr<Err: Accepted> + std::fmt::Display>(
     doc: &Map<String, Value>,
     name: &str,
     slot: &mut T,
@@ -134,22 +153,7 @@ fn named<T: FromStr<Err = UnknownName> + std::fmt::Display>(
         // A value that is not a string is refused as an unknown name is: no choice is named "".
         match T::from_str(v.as_str().unwrap_or("")) {
             Ok(x) => *slot = x,
-            Err(e) => notes.push(format!("{name} {} is not {}: {slot} used", shown(v), e.expected)),
-        }
-    }
-}
-
-/// Sets `slot` from the field `name` of `doc` like [`named`], for the race's choices (`"time-trial"`).
-fn chosen<T: FromStr<Err = crate::game::setup::UnknownChoice> + std::fmt::Display>(
-    doc: &Map<String, Value>,
-    name: &str,
-    slot: &mut T,
-    notes: &mut Vec<String>,
-) {
-    if let Some(v) = doc.get(name) {
-        match T::from_str(v.as_str().unwrap_or("")) {
-            Ok(x) => *slot = x,
-            Err(e) => notes.push(format!("{name} {} is not {}: {slot} used", shown(v), e.accepted)),
+            Err(e) => notes.push(format!("{name} {} is not {}: {slot} used", shown(v), e.accepted())),
         }
     }
 }
@@ -200,8 +204,8 @@ impl Settings {
         named(doc, "mip", &mut s.mip, &mut notes);
         field(doc, "course", &mut s.course, "a course's name", &mut notes);
         field(doc, "car", &mut s.car, &format!("a whole number from 1 to {}", crate::game::garage::CARS), &mut notes);
-        chosen(doc, "mode", &mut s.mode, &mut notes);
-        chosen(doc, "difficulty", &mut s.difficulty, &mut notes);
+        named(doc, "mode", &mut s.mode, &mut notes);
+        named(doc, "difficulty", &mut s.difficulty, &mut notes);
         field(doc, "laps", &mut s.laps, "a whole number from 1 to 9", &mut notes);
         notes.extend(unknown_keys(doc));
         (s, notes)
