@@ -178,15 +178,15 @@ impl Renderer {
         let t = Instant::now();
         self.geometry.run(layout, camera, list, options, stats);
         let t_order = Instant::now();
-        let keys = &self.geometry.main.keys;
-        debug_assert!(keys.is_empty() || keys.len() == self.geometry.main.polys.len());
+        let keys = &self.geometry.set_up.main.keys;
+        debug_assert!(keys.is_empty() || keys.len() == self.geometry.set_up.main.polys.len());
         self.order.run(keys, options);
         stats.ms_order = ms_since(t_order);
         let t_fill = Instant::now();
         let polygons = Polygons {
-            main: &self.geometry.main,
-            batches: &self.geometry.batches,
-            stretches: &self.geometry.stretches,
+            main: &self.geometry.set_up.main,
+            batches: &self.geometry.set_up.batches,
+            stretches: &self.geometry.set_up.stretches,
             order: &self.order.order,
         };
         let counts = self.fill.run(frame, layout, &polygons, list, options);

@@ -5,7 +5,8 @@
 
 use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
-use super::span_lanes::{self, Source, Tex};
+use super::span_lanes::{self, Source};
+use super::texel::Tex;
 use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};

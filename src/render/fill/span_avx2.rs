@@ -20,7 +20,7 @@ use std::arch::x86_64::{
 };
 
 use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
-use super::span_lanes::Tex;
+use super::texel::Tex;
 use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
 use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
 use crate::render::simd::Avx2;

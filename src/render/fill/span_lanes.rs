@@ -14,7 +14,7 @@ use super::row::{
     COVERAGE, DEPTH_TEST, DROPPED, FLAT, LANES, OVERWRITE, Row, Run, Setup, SpanCounts, TEXEL, TINTED, Visibility,
 };
 use super::scanline::Span;
-pub(crate) use super::texel::Tex;
+use super::texel::Tex;
 use crate::render::core::vertex::slot;
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;

@@ -76,43 +76,65 @@ impl LodState {
         self.levels.clear();
     }
 
-    /// Picks the mesh instance `index` draws this frame: its own, or the level of its LOD set for its
-    /// projected size (seed 003's rule), remembered for the next frame's hysteresis; `None` when it names a
-    /// set or a close model that does not exist. `y_scale_px` is the projected diameter in pixels of a unit
-    /// radius at unit depth.
+    /// The level slots of instances `0..n` (a slot without history holds no level), for
+    /// [`pick_level`] on each, possibly on several threads.
+    pub(crate) fn slots(&mut self, n: usize) -> &mut [u8] {
+        if self.levels.len() < n {
+            self.levels.resize(n, NO_LEVEL);
+        }
+        &mut self.levels[..n]
+    }
+
+    /// Picks the mesh instance `index` draws this frame ([`pick_level`] on its slot).
     pub(crate) fn pick(
         &mut self,
         index: usize,
         inst: &Instance,
         list: &DrawList<'_>,
-        (camera, y_scale_px): (&Camera, f32),
+        view: (&Camera, f32),
         options: &RenderOptions,
         stats: &mut Stats,
     ) -> Option<usize> {
-        let Some(set) = inst.lod.map(|s| list.lod_sets.get(s)) else {
-            return Some(inst.mesh);
-        };
-        let set = set?;
-        let close = list.meshes.get(set.meshes[0])?;
-        let level = match options.lod {
-            LodMode::Force(level) => level,
-            LodMode::Auto => {
-                let (center, radius) = world_sphere(close.bounds(), &inst.model);
-                let size = projected_size((center, radius), camera, y_scale_px) * libm::exp2f(options.lod_bias);
-                choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, self.previous(index))
-            }
-        };
-        self.set(index, level);
-        let chosen = set.meshes[level as usize];
-        match level {
-            Level::Close => stats.lod_close += 1,
-            Level::Mid => stats.lod_mid += 1,
-            Level::Long => stats.lod_long += 1,
-        }
-        let used = list.meshes.get(chosen).map_or(0, |m| m.polygons().len());
-        stats.polygons_saved_by_lod += close.polygons().len().saturating_sub(used) as u64;
-        Some(chosen)
+        let slot = self.slots(index + 1).last_mut()?;
+        pick_level(slot, inst, list, view, options, stats)
     }
+}
+
+/// Picks the mesh an instance draws this frame: its own, or the level of its LOD set for its projected size
+/// (seed 003's rule), remembered in `slot` (the level drawn last frame) for the next frame's hysteresis;
+/// `None` when it names a set or a close model that does not exist. `y_scale_px` is the projected diameter
+/// in pixels of a unit radius at unit depth.
+pub(crate) fn pick_level(
+    slot: &mut u8,
+    inst: &Instance,
+    list: &DrawList<'_>,
+    (camera, y_scale_px): (&Camera, f32),
+    options: &RenderOptions,
+    stats: &mut Stats,
+) -> Option<usize> {
+    let Some(set) = inst.lod.map(|s| list.lod_sets.get(s)) else {
+        return Some(inst.mesh);
+    };
+    let set = set?;
+    let close = list.meshes.get(set.meshes[0])?;
+    let level = match options.lod {
+        LodMode::Force(level) => level,
+        LodMode::Auto => {
+            let (center, radius) = world_sphere(close.bounds(), &inst.model);
+            let size = projected_size((center, radius), camera, y_scale_px) * libm::exp2f(options.lod_bias);
+            choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, Level::from_index(*slot))
+        }
+    };
+    *slot = level as u8;
+    let chosen = set.meshes[level as usize];
+    match level {
+        Level::Close => stats.lod_close += 1,
+        Level::Mid => stats.lod_mid += 1,
+        Level::Long => stats.lod_long += 1,
+    }
+    let used = list.meshes.get(chosen).map_or(0, |m| m.polygons().len());
+    stats.polygons_saved_by_lod += close.polygons().len().saturating_sub(used) as u64;
+    Some(chosen)
 }
 
 /// The projected height in pixels of a sphere (world `center`, `radius`) seen by `camera`: infinite when the
