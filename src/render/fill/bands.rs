@@ -8,8 +8,8 @@ use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
 use super::scanline::{Span, fill_spans, fill_spans_first};
 use super::small::{self, NextFlat};
-use super::span::{Shading, draw_prepared};
-use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
+use super::span::{Prepared, Shading, draw_prepared};
+use super::span_lanes::{Fill, Paint, Source, dispatch, span_run, walk};
 use crate::render::core::band::Band;
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
@@ -18,6 +18,7 @@ use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
 use crate::render::core::samples::SamplePattern;
 use crate::render::core::small::{SmallTriangle, TexPlanes};
+use crate::render::core::vertex::ScreenVertex;
 use crate::render::simd::{self, Avx2};
 
 /// A thread's depth and coverage rows for the band it is drawing.
@@ -194,13 +195,31 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            let draw = |span: &Span| add(draw_prepared(span, &shading, &prepared, &mut rows.row(span.y)));
-            match prepared.fast() {
-                None => fill_spans(verts, band_rows, w as i32, draw),
-                // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.
-                Some((Source::Flat(_), _)) => fill_spans_first::<1>(verts, band_rows, w as i32, draw),
-                Some(_) => fill_spans_first::<4>(verts, band_rows, w as i32, draw),
-            }
+            add(self.fill_corners(verts, (&shading, &prepared), band_rows, &mut rows));
+        }
+        total
+    }
+
+    /// Draws a polygon with corners `verts` on the band's rows `band_rows`: a fast path from the polygon's
+    /// own level by one loop chosen for all its spans, any other a span at a time.
+    fn fill_corners(
+        &self,
+        verts: &[ScreenVertex],
+        (shading, prepared): (&Shading<'_>, &Prepared<'_>),
+        band_rows: (i32, i32),
+        rows: &mut BandPixels<'_>,
+    ) -> SpanCounts {
+        let width = self.width as i32;
+        if let Some((source, alpha)) = prepared.fast().filter(|_| shading.mip != MipMode::Span) {
+            return dispatch(source, alpha, self.visibility, PolygonSpans { verts, band: band_rows, width, rows });
+        }
+        let mut total = SpanCounts::default();
+        let draw = |span: &Span| total += draw_prepared(span, shading, prepared, &mut rows.row(span.y));
+        match prepared.fast() {
+            None => fill_spans(verts, band_rows, width, draw),
+            // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.
+            Some((Source::Flat(_), _)) => fill_spans_first::<1>(verts, band_rows, width, draw),
+            Some(_) => fill_spans_first::<4>(verts, band_rows, width, draw),
         }
         total
     }
@@ -339,6 +358,33 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> Fill for SmallGroup<'_, 'c, '_, '_
                 paint = paint.with_flat(q.flat_rgb());
             }
             (tri, planes) = (t, p);
+        }
+        total
+    }
+}
+
+/// A polygon's spans in a band drawn by one fast-path loop, chosen once for the polygon rather than for each
+/// span (on a course of many small polygons most spans are a few pixels long, and choosing the loop, with
+/// the copies of the source it takes, cost more than drawing them).
+struct PolygonSpans<'v, 'r, 'b> {
+    verts: &'v [ScreenVertex],
+    /// The band's rows, `band.0..band.1`.
+    band: (i32, i32),
+    width: i32,
+    rows: &'r mut BandPixels<'b>,
+}
+
+impl Fill for PolygonSpans<'_, '_, '_> {
+    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        let PolygonSpans { verts, band, width, rows } = self;
+        let mut total = SpanCounts::default();
+        let draw = |span: &Span| total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
+        // Each attribute is interpolated on its own, so fewer of them change none of the others' bits; a
+        // flat colour needs only the depth.
+        if SRC == FLAT {
+            fill_spans_first::<1>(verts, band, width, draw);
+        } else {
+            fill_spans_first::<4>(verts, band, width, draw);
         }
         total
     }

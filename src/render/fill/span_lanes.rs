@@ -54,38 +54,44 @@ pub(crate) fn draw(
     vis: Visibility,
     row: &mut Row<'_>,
 ) -> SpanCounts {
+    struct OneSpan<'s, 'r, 'b>(&'s Span, &'r mut Row<'b>);
+    impl Fill for OneSpan<'_, '_, '_> {
+        #[inline(always)]
+        fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+            span_run::<VIS, SRC>(self.0, paint, self.1)
+        }
+    }
+    dispatch(source, alpha, vis, OneSpan(span, row))
+}
+
+/// Draws a span with the loop for visibility `VIS` and source `SRC` (as [`dispatch`] chose them): what
+/// [`draw`] does once the loop is chosen, for a caller drawing many spans with one choice.
+#[inline(always)]
+pub(crate) fn span_run<const VIS: u8, const SRC: u8>(span: &Span, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
     // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
-    if let (Source::Flat(c), Visibility::Overwrite) = (source, vis) {
+    if SRC == FLAT && VIS == OVERWRITE {
         let n = span.x1.saturating_sub(span.x0).max(0) as u64;
         return match row.color.get_mut(span.x0.max(0) as usize..span.x1.max(0) as usize) {
             Some(run) => {
-                run.fill(c);
+                run.fill(paint.flat());
                 SpanCounts { shaded: n, written: n, rejected: 0 }
             }
             None => SpanCounts::default(),
         };
     }
-    struct OneSpan<'s, 'r, 'b>(&'s Span, &'r mut Row<'b>);
-    impl Fill for OneSpan<'_, '_, '_> {
-        #[inline(always)]
-        fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-            let Self(span, row) = self;
-            let (a0, da) = (&span.a0, &span.da);
-            let mut start = [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]];
-            let da = [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]];
-            // A span starting left of the row (spans from the fill never do) is clipped at pixel 0, its
-            // attributes moved there.
-            if span.x0 < 0 {
-                let skip = -(span.x0 as f32);
-                for (a, d) in start.iter_mut().zip(&da) {
-                    *a += skip * d;
-                }
-            }
-            let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da };
-            walk::<VIS, SRC>(&run, paint, row)
+    let (a0, da) = (&span.a0, &span.da);
+    let mut start = [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]];
+    let da = [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]];
+    // A span starting left of the row (spans from the fill never do) is clipped at pixel 0, its attributes
+    // moved there.
+    if span.x0 < 0 {
+        let skip = -(span.x0 as f32);
+        for (a, d) in start.iter_mut().zip(&da) {
+            *a += skip * d;
         }
     }
-    dispatch(source, alpha, vis, OneSpan(span, row))
+    let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da };
+    walk::<VIS, SRC>(&run, paint, row)
 }
 
 /// A fast-path source resolved for the pixel loops: the texture (if any) and
