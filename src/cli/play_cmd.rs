@@ -96,6 +96,10 @@ pub struct PlayArgs {
     /// Quit after this many frames (for tests and screenshots).
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
+    /// Draw frames as fast as the CPU allows instead of one per refresh of the display (for measuring
+    /// frame times; F3 says which is in use).
+    #[arg(long)]
+    pub uncapped: bool,
     /// Write the last frame to this image when quitting, PNG or JPEG by its extension (.png, .jpg, .jpeg).
     #[arg(long, value_parser = values::image_path())]
     pub screenshot: Option<PathBuf>,
@@ -128,6 +132,7 @@ impl Default for PlayArgs {
             mode: None,
             difficulty: None,
             exit_after_frames: None,
+            uncapped: false,
             screenshot: None,
             assets: super::error::AssetsArg::default(),
         }
@@ -175,6 +180,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         scale: args.scale.unwrap_or(1),
         exit_after_frames: args.exit_after_frames,
         screenshot: args.screenshot.clone(),
+        paced: !args.uncapped,
     };
     if let Some(shot) = &args.screenshot {
         crate::userfile::check_output(shot).map_err(|source| CliError::Output { flag: "--screenshot", source })?;

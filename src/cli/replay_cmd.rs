@@ -60,6 +60,9 @@ pub struct ReplayArgs {
     /// In the window: draw no menus or HUD over the race.
     #[arg(long)]
     pub no_hud: bool,
+    /// In the window: draw frames as fast as the CPU allows instead of one per refresh of the display.
+    #[arg(long)]
+    pub uncapped: bool,
     /// The race's assets.
     #[command(flatten)]
     pub assets: super::error::AssetsArg,
@@ -244,6 +247,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         scale: 1,
         exit_after_frames: None,
         screenshot: None,
+        paced: !args.uncapped,
     };
     let signals = crate::shell::stop::StopSignals::catch();
     super::error::stopped(run(window, &mut race, signals.as_ref())?)

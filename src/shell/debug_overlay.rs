@@ -25,6 +25,8 @@ pub struct DebugOverlay {
     occupancy: Vec<u32>,
     /// The frame-time log ([`FRAME_TIMES_ENV`]): `None` before the first frame, then the file if any.
     log: Option<Option<std::io::BufWriter<std::fs::File>>>,
+    /// How the window times its frames, once it says.
+    pub pacing: Option<super::window::Pacing>,
 }
 
 impl DebugOverlay {
@@ -64,6 +66,9 @@ impl DebugOverlay {
                 self.frame_ms.len()
             ));
             plot(ui, self.frame_ms.iter().copied(), max, egui::Color32::from_rgb(120, 220, 120));
+            if let Some(pacing) = self.pacing {
+                ui.label(format!("frames: {pacing}"));
+            }
             ui.label(format!(
                 "transform {:.2}  clip {:.2}  order {:.2}  fill {:.2} ms",
                 s.ms_transform, s.ms_clip, s.ms_order, s.ms_fill

@@ -14,3 +14,4 @@ pub mod stop;
 pub mod ui;
 pub mod viewer;
 pub mod window;
+mod x11_lost;

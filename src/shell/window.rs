@@ -7,7 +7,7 @@
 use std::num::NonZeroU32;
 use std::path::PathBuf;
 use std::rc::Rc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -97,6 +97,8 @@ pub trait Content {
     fn ui_events(&mut self) -> Vec<egui::Event> {
         Vec::new()
     }
+    /// How the window times its frames (told once the window is open).
+    fn pacing(&mut self, _pacing: Pacing) {}
     /// The window pixels per rendered pixel the content wants, given the current one.
     fn scale(&mut self, current: u32) -> u32 {
         current
@@ -131,6 +133,66 @@ pub struct WindowConfig {
     pub exit_after_frames: Option<u64>,
     /// Write the last rendered frame here on exit.
     pub screenshot: Option<PathBuf>,
+    /// Present one frame per refresh of the display (`true`), or as many as the CPU allows (for measuring).
+    pub paced: bool,
+}
+
+/// The refresh rate assumed when the display reports none.
+pub const FALLBACK_HZ: f64 = 60.0;
+
+/// How the window times its frames; F3 shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pacing {
+    /// One frame per refresh, at `hz`; `reported` when the display gave the rate (else [`FALLBACK_HZ`]).
+    Paced {
+        /// Frames a second.
+        hz: f64,
+        /// Whether the display reported the rate.
+        reported: bool,
+    },
+    /// As many frames as the CPU allows (`play --uncapped`), for measuring.
+    Uncapped,
+}
+
+impl Pacing {
+    /// The pacing for a display reporting `millihertz` (if anything), or uncapped unless `paced`. A rate
+    /// outside 20-1000 Hz is taken as not reported.
+    #[must_use]
+    pub fn new(paced: bool, millihertz: Option<u32>) -> Self {
+        let hz = millihertz.map(|m| f64::from(m) / 1000.0).filter(|hz| (20.0..=1000.0).contains(hz));
+        match (paced, hz) {
+            (false, _) => Pacing::Uncapped,
+            (true, Some(hz)) => Pacing::Paced { hz, reported: true },
+            (true, None) => Pacing::Paced { hz: FALLBACK_HZ, reported: false },
+        }
+    }
+
+    /// The time between frames, or `None` when uncapped.
+    #[must_use]
+    pub fn period(self) -> Option<Duration> {
+        match self {
+            Pacing::Paced { hz, .. } => Some(Duration::from_secs_f64(1.0 / hz)),
+            Pacing::Uncapped => None,
+        }
+    }
+
+    /// When the frame after one due at `due` is due, the frame having started at `now`: one period on, or
+    /// one period from `now` when the frame started more than a period late (a late frame does not make
+    /// the next ones hurry to catch up).
+    #[must_use]
+    pub fn next_due(period: Duration, due: Instant, now: Instant) -> Instant {
+        if now.saturating_duration_since(due) > period { now + period } else { due + period }
+    }
+}
+
+impl std::fmt::Display for Pacing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Pacing::Paced { hz, reported: true } => write!(f, "paced to {hz:.0} Hz (the display's rate)"),
+            Pacing::Paced { hz, reported: false } => write!(f, "paced to {hz:.0} Hz (the display reports no rate)"),
+            Pacing::Uncapped => f.write_str("uncapped (--uncapped)"),
+        }
+    }
 }
 
 /// How the window's run ended without an error.
@@ -158,6 +220,10 @@ struct App<'c> {
     last: Instant,
     title_at: Instant,
     frames: u64,
+    /// The time between frames when paced (from the display, once the window is open), and when the next
+    /// frame is due.
+    period: Option<Duration>,
+    due: Instant,
     error: Option<ShellError>,
 }
 
@@ -194,6 +260,8 @@ pub fn run(
         last: now,
         title_at: now,
         frames: 0,
+        period: None,
+        due: now,
         error: None,
     };
     // winit panics inside its X11 backend when the display connection breaks mid-run; report that as an
@@ -338,6 +406,11 @@ impl ApplicationHandler for App<'_> {
             Err(e) => return self.fail(event_loop, surface_error(SurfaceStep::Create)(e)),
         }
         self.ui = Some(super::ui::Ui::new(&window));
+        // On X11: a lost X server ends the loop with an error (and the race is kept) instead of Xlib's exit.
+        super::x11_lost::keep_running(&window);
+        let pacing = Pacing::new(self.config.paced, window.current_monitor().and_then(|m| m.refresh_rate_millihertz()));
+        self.period = pacing.period();
+        self.content.pacing(pacing);
         self.window = Some(window);
     }
 
@@ -366,8 +439,46 @@ impl ApplicationHandler for App<'_> {
             self.stopped_by = Some(signal);
             return self.exit(event_loop);
         }
-        if let Some(w) = &self.window {
+        let Some(w) = &self.window else { return };
+        let Some(period) = self.period else {
+            event_loop.set_control_flow(ControlFlow::Poll);
+            return w.request_redraw();
+        };
+        // Paced: a frame when one is due, then sleep until the next (input and signals wake the loop too).
+        let now = Instant::now();
+        if now >= self.due {
             w.request_redraw();
+            self.due = Pacing::next_due(period, self.due, now);
         }
+        event_loop.set_control_flow(ControlFlow::WaitUntil(self.due));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pacing_takes_the_display_rate_within_reason_else_60_hz_and_uncapped_has_no_period() {
+        assert_eq!(Pacing::new(true, Some(144_000)), Pacing::Paced { hz: 144.0, reported: true });
+        assert_eq!(Pacing::new(true, Some(59_940)), Pacing::Paced { hz: 59.94, reported: true });
+        for odd in [None, Some(0), Some(5_000), Some(u32::MAX)] {
+            assert_eq!(Pacing::new(true, odd), Pacing::Paced { hz: FALLBACK_HZ, reported: false }, "{odd:?}");
+        }
+        assert_eq!(Pacing::new(false, Some(60_000)), Pacing::Uncapped);
+        assert_eq!(Pacing::Uncapped.period(), None);
+        assert_eq!(Pacing::new(true, Some(50_000)).period(), Some(Duration::from_millis(20)));
+        assert_eq!(Pacing::new(true, None).to_string(), "paced to 60 Hz (the display reports no rate)");
+    }
+
+    #[test]
+    fn a_frame_is_due_a_period_after_the_last_unless_it_started_more_than_a_period_late() {
+        let (t0, p) = (Instant::now(), Duration::from_millis(16));
+        // On time or a little late: the schedule keeps its beat.
+        assert_eq!(Pacing::next_due(p, t0, t0), t0 + p);
+        assert_eq!(Pacing::next_due(p, t0, t0 + Duration::from_millis(5)), t0 + p);
+        // More than a period late: the next frame is a period from now, not at once.
+        let late = t0 + Duration::from_millis(40);
+        assert_eq!(Pacing::next_due(p, t0, late), late + p);
     }
 }

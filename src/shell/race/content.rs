@@ -105,6 +105,10 @@ impl Content for Race {
         std::mem::take(&mut self.control.pad_ui)
     }
 
+    fn pacing(&mut self, pacing: crate::shell::window::Pacing) {
+        self.drawing.debug.pacing = Some(pacing);
+    }
+
     fn scale(&mut self, current: u32) -> u32 {
         let wanted = self.prefs.scale.1.take().unwrap_or(current);
         self.prefs.scale.0 = wanted;
