@@ -11,6 +11,26 @@
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod x86;
 
+/// Asks the CPU to bring the cache line holding `value` into the nearest cache, without waiting for it: for
+/// records a loop will read a few iterations later, at places the hardware prefetcher cannot guess. A plain
+/// read would do the same but hold up every instruction after it until the line arrives; a prefetch does
+/// not. A no-op where the CPU has no such instruction.
+#[inline(always)]
+pub(crate) fn prefetch<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch reads nothing the program sees and never faults; the address comes from a live
+        // reference. SSE, which the instruction needs, is part of every x86_64 CPU.
+        #[allow(unsafe_code)]
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(value).cast::<i8>());
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
+
 /// Proof that the AVX2 loops may run on this CPU: made only by [`avx2`].
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx2(());
