@@ -789,3 +789,68 @@ fn small_and_big_objects_in_turn_keep_the_submission_order_for_every_thread_coun
         }
     }
 }
+
+/// A scene of many small objects, as a dressed course is: more instances than the visibility pass handles
+/// on one thread (it chooses and culls them in chunks on the pool), some off screen (culled), a third of them
+/// LOD sets at sizes that pick each of their three models, and enough polygons together for runs of them to
+/// be set up in pieces of whole objects. Every method must draw the same frames, count the same and choose
+/// the same models for every thread count, over frames that carry the LOD history from one to the next.
+#[test]
+fn many_small_objects_are_drawn_alike_by_every_thread_count() {
+    use scanline_racer::render::LodSet;
+    let (w, h) = (96usize, 64usize);
+    let camera = pixel_camera(w, h);
+    let c = |i: usize| Vec4::new((i % 5) as f32 / 4.0, (i % 3) as f32 / 2.0, (i % 7) as f32 / 6.0, 1.0);
+    // Meshes 0-2: a LOD set's close, middle and long models; 3-5: plain objects.
+    let meshes: Vec<_> = (0..6).map(|k| grid([3, 2, 1, 2, 3, 1][k], (-3.0, 3.0), (-3.0, 3.0), c(k))).collect();
+    let lod_sets = [LodSet { meshes: [0, 1, 2], switch_px: [20.0, 8.0] }];
+    let mut seed = 7u32;
+    let mut next = |n: u32| {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) % n
+    };
+    let instances: Vec<Instance> = (0..1500)
+        .map(|i| {
+            // One in ten lies far off screen, to be culled.
+            let x = if i % 10 == 9 { 5000.0 } else { next(w as u32 + 8) as f32 - 4.0 };
+            let (y, z) = (next(h as u32 + 8) as f32 - 4.0, next(80) as f32 - 40.0);
+            let scale = [0.4f32, 1.0, 2.5, 5.0][next(4) as usize];
+            let model = Mat4::from_translation(Vec3::new(x, y, z)) * Mat4::from_scale(Vec3::splat(scale));
+            if i % 3 == 0 { Instance::of_lod_set(0, model) } else { Instance::new(3 + i % 3, model) }
+        })
+        .collect();
+    let list =
+        DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &lod_sets, view_lists: None };
+    let polygons: usize =
+        instances.iter().map(|i| meshes[if i.lod.is_some() { 1 } else { i.mesh }].polygons().len()).sum();
+    assert!(polygons >= 4 * 1024, "enough polygons for runs set up in pieces ({polygons})");
+    for method in Method::ALL {
+        let mut first: Option<Vec<(Vec<u32>, [u64; 6])>> = None;
+        for threads in [1usize, 2, 3, 5] {
+            let mut r = Renderer::new();
+            let frames: Vec<(Vec<u32>, [u64; 6])> = (0..3)
+                .map(|_| {
+                    let mut frame = vec![0u32; w * h];
+                    let s =
+                        r.render(&mut frame, w, h, &camera, &list, &RenderOptions { threads, ..opts(method) }).unwrap();
+                    let counts =
+                        [s.objects_culled, s.polygons_drawn, s.lod_close, s.lod_mid, s.lod_long, s.pixels_written];
+                    (frame, counts)
+                })
+                .collect();
+            let counts = frames[0].1;
+            // The 150 far off screen, and a few at the frame's edges.
+            assert!((150..300).contains(&counts[0]), "{method}: {} instances culled", counts[0]);
+            assert!(counts[2] > 0 && counts[3] > 0 && counts[4] > 0, "{method}: every LOD level is used: {counts:?}");
+            match &first {
+                None => first = Some(frames),
+                Some(f) => {
+                    for (k, (a, b)) in f.iter().zip(&frames).enumerate() {
+                        assert_eq!(a.1, b.1, "{method}: frame {k}, {threads} threads count differently from 1");
+                        assert!(a.0 == b.0, "{method}: frame {k}, {threads} threads differ from 1");
+                    }
+                }
+            }
+        }
+    }
+}
