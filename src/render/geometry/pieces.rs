@@ -92,6 +92,12 @@ impl<'a> FrameView<'a> {
         Some(Prepared { inst, mesh, count, stored, transform })
     }
 
+    /// How many polygons visible object `v`'s own mesh has (0 for a mesh not in the list): what a run of
+    /// small objects is measured and cut into pieces by.
+    fn polygons(&self, v: &Visible) -> usize {
+        self.list.meshes.get(v.mesh).map_or(0, |m| m.polygons().len())
+    }
+
     /// The set-up of a prepared object whose vertices are `vertices`.
     fn object_setup<'s>(&'s self, p: &'s Prepared<'a>, vertices: &'s [SetupVertex]) -> ObjectSetup<'s> {
         let (list, options) = (self.list, self.options);
@@ -151,7 +157,7 @@ impl SetUp {
         self.stretches.clear();
         (self.main_start, self.batches_used) = (0, 0);
         let threads = view.layout.threads;
-        let polygons = |v: &Visible| view.list.meshes.get(v.mesh).map_or(0, |m| m.polygons().len());
+        let polygons = |v: &Visible| view.polygons(v);
         let mut rest = visible;
         while !rest.is_empty() {
             // The run of small objects up to the next big one.
@@ -180,8 +186,8 @@ impl SetUp {
         self.transform(&p.transform, p.mesh, view.layout.threads);
         let t_setup = Instant::now();
         stats.ms_transform += (t_setup - t_transform).as_secs_f64() * 1e3;
-        let pieces = view.layout.threads * 4;
         if view.layout.threads > 1 && p.count >= PARALLEL_POLYGONS {
+            let pieces = view.layout.threads * 4;
             let first = self.take_batches(pieces);
             let object = view.object_setup(&p, &self.vertices);
             let ordered = object.ordered;
@@ -213,12 +219,12 @@ impl SetUp {
         let bands = (view.layout.height, view.layout.rows_per_band);
         // Pieces of about equal polygon counts (the cut falls on the object where the running count passes
         // each share), so the threads finish together.
-        let total: usize = run.iter().map(|v| view.list.meshes.get(v.mesh).map_or(0, |m| m.polygons().len())).sum();
+        let total: usize = run.iter().map(|v| view.polygons(v)).sum();
         let mut cuts = Vec::with_capacity(pieces + 1);
         let mut seen = 0usize;
         cuts.push(0);
         for (i, v) in run.iter().enumerate() {
-            seen += view.list.meshes.get(v.mesh).map_or(0, |m| m.polygons().len());
+            seen += view.polygons(v);
             if seen * pieces >= total * cuts.len() && cuts.len() < pieces {
                 cuts.push(i + 1);
             }
