@@ -1,8 +1,10 @@
 //! The project's measures (DESIGN.md): the supersampled reference image and error metrics against it.
 //!
 //! - Reference image: z-buffer, perspective-correct, the close-up LOD everywhere, nearest texels of level 0
-//!   (no mip-maps, no anti-aliasing: the samples themselves are the filter), 4x4 supersampled and
-//!   box-filtered.
+//!   (no mip-maps, no anti-aliasing: the samples themselves are the filter), 32x32 samples a pixel on a
+//!   regular grid, box-filtered: a grid fine enough that doubling it changes the image by about 0.003
+//!   FLIP mean on the bench's frames (it has converged, to the 8-bit rounding of its channels; 4x4 had
+//!   not, and an isotropic texture filter never does: it blurs surfaces seen at a grazing angle).
 //! - Wrong pixels: the share of pixels whose colour differs by more than 8/255 in any channel.
 //! - PSNR over the three colour channels.
 //! - Shimmer (temporal stability) over consecutive frames: how much more (or less) each frame changes from
@@ -15,10 +17,17 @@ use crate::render::{
     TextureMode,
 };
 
-/// Supersampling factor per axis of the reference image.
-pub const REFERENCE_SUPERSAMPLING: usize = 4;
+/// Samples per axis of a pixel in the reference image: 32 x 32 nearest samples on a regular grid.
+///
+/// Chosen by convergence (DESIGN.md): on the bench's frames the reference at this grid and at twice it
+/// differ by 0.0023-0.0034 FLIP mean (0.30-0.35 shimmer), most of it one-step rounding of the 8-bit
+/// channels (docs/performance.md, "The reference"); 16 x 16 against 32 x 32 differs by 0.0030-0.0046.
+pub const REFERENCE_GRID: usize = 32;
 
-/// Renders the reference image of a view: `zbuffer`, perspective-correct, close LOD, 4x4 box-filtered.
+/// The finest grid [`reference_frame_at`] draws (at 8 times the frame's size, shifted 8 x 8 times).
+pub const MAX_REFERENCE_GRID: usize = 64;
+
+/// Renders the reference image of a view at [`REFERENCE_GRID`] samples per axis of a pixel.
 pub fn reference_frame(
     camera: &Camera,
     list: &DrawList<'_>,
@@ -26,38 +35,74 @@ pub fn reference_frame(
     height: usize,
     background: u32,
 ) -> Result<Vec<u32>, RenderError> {
-    let s = REFERENCE_SUPERSAMPLING;
-    let (bw, bh) = (width * s, height * s);
+    reference_frame_at(camera, list, (width, height), background, REFERENCE_GRID)
+}
+
+/// Renders the reference image of a view with `grid` x `grid` samples a pixel (`grid` taken up to a power
+/// of two, at most [`MAX_REFERENCE_GRID`]): `zbuffer`, perspective-correct, close LOD, nearest texels of
+/// level 0, the samples box-filtered (each channel the rounded mean).
+///
+/// The samples sit on a regular grid, at `(i + 0.5) / grid` of the pixel for `i` in `0..grid`. They are
+/// drawn as an image `s` times the size (`s` = `grid` up to 4, 8 for a grid of 64) drawn `p^2` times
+/// (`p = grid / s`, at most 8), each time shifted by `(k + 0.5) / p - 0.5` of one of its pixels
+/// ([`RenderOptions::pixel_offset`]). Those shifts are whole steps of the fill's 1/16 pixel (`Fx28_4`) for
+/// every `p` up to 8, so every sample of the grid is a distinct position, not one rounded onto another.
+pub fn reference_frame_at(
+    camera: &Camera,
+    list: &DrawList<'_>,
+    (width, height): (usize, usize),
+    background: u32,
+    grid: usize,
+) -> Result<Vec<u32>, RenderError> {
+    let grid = grid.clamp(1, MAX_REFERENCE_GRID).next_power_of_two();
+    let scale = grid.min(4).max(grid / 8);
+    let passes = grid / scale;
+    debug_assert!(passes <= 8 && passes * scale == grid);
+    let (bw, bh) = (width * scale, height * scale);
     let mut big = vec![0u32; bw * bh];
-    let options = RenderOptions {
-        method: Method::ZBuffer,
-        texture_mode: TextureMode::Perspective,
-        lod: LodMode::Force(Level::Close),
-        filter: Filter::Nearest,
-        mip: MipMode::Off,
-        antialias: Antialias::Off,
-        background: Some(background),
-        ..RenderOptions::default()
-    };
-    Renderer::new().render(&mut big, bw, bh, camera, list, &options)?;
-    let mut out = vec![0u32; width * height];
-    let n = (s * s) as u32;
-    for y in 0..height {
-        for x in 0..width {
-            let mut acc = [0u32; 3];
-            for yy in 0..s {
-                let row = &big[(y * s + yy) * bw + x * s..(y * s + yy) * bw + x * s + s];
-                for &p in row {
-                    acc[0] += (p >> 16) & 0xff;
-                    acc[1] += (p >> 8) & 0xff;
-                    acc[2] += p & 0xff;
-                }
-            }
-            let ch = |a: u32| (a + n / 2) / n;
-            out[y * width + x] = (ch(acc[0]) << 16) | (ch(acc[1]) << 8) | ch(acc[2]);
+    let mut sums = vec![[0u32; 3]; width * height];
+    let mut renderer = Renderer::new();
+    let step = |k: usize| (k as f32 + 0.5) / passes as f32 - 0.5;
+    for j in 0..passes {
+        for i in 0..passes {
+            let options = RenderOptions {
+                method: Method::ZBuffer,
+                texture_mode: TextureMode::Perspective,
+                lod: LodMode::Force(Level::Close),
+                filter: Filter::Nearest,
+                mip: MipMode::Off,
+                antialias: Antialias::Off,
+                background: Some(background),
+                // The image moves by +offset, so a pixel is sampled at its centre minus the offset.
+                pixel_offset: [-step(i), -step(j)],
+                ..RenderOptions::default()
+            };
+            renderer.render(&mut big, bw, bh, camera, list, &options)?;
+            accumulate(&big, bw, scale, &mut sums, width);
         }
     }
-    Ok(out)
+    let n = (grid * grid) as u32;
+    let ch = |a: u32| (a + n / 2) / n;
+    Ok(sums.iter().map(|[r, g, b]| (ch(*r) << 16) | (ch(*g) << 8) | ch(*b)).collect())
+}
+
+/// Adds each `scale` x `scale` block of `big` (`bw` pixels a row) to the channel sums of its pixel in
+/// `sums` (`width` a row).
+fn accumulate(big: &[u32], bw: usize, scale: usize, sums: &mut [[u32; 3]], width: usize) {
+    if width == 0 || bw == 0 {
+        return;
+    }
+    for (y, out) in sums.chunks_exact_mut(width).enumerate() {
+        for row in big.chunks_exact(bw).skip(y * scale).take(scale) {
+            for (sum, block) in out.iter_mut().zip(row.chunks_exact(scale)) {
+                for &p in block {
+                    sum[0] += (p >> 16) & 0xff;
+                    sum[1] += (p >> 8) & 0xff;
+                    sum[2] += p & 0xff;
+                }
+            }
+        }
+    }
 }
 
 /// Share (0-1) of pixels whose colour differs by more than 8/255 in any channel; 0 for empty or unequal

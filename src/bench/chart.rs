@@ -14,13 +14,14 @@ use super::labels;
 /// Chart size in pixels.
 pub const SIZE: (u32, u32) = (1200, 760);
 
-const GROUPS: [(&str, RGBColor); 6] = [
+const GROUPS: [(&str, RGBColor); 7] = [
     ("visibility", RGBColor(31, 119, 180)),
     ("texture", RGBColor(255, 127, 14)),
     ("lod", RGBColor(44, 160, 44)),
     ("resolution", RGBColor(148, 103, 189)),
     ("mip", RGBColor(214, 39, 40)),
     ("antialias", RGBColor(23, 190, 207)),
+    ("quality", RGBColor(127, 127, 127)),
 ];
 
 /// Which chart.

@@ -1,7 +1,9 @@
 //! The configurations the bench draws: the visibility methods and their settings, texture mapping and
 //! filtering, mip-maps, anti-aliasing, levels of detail and frame sizes, each a point on the charts.
 
-use crate::render::{Antialias, DepthKey, Filter, Level, LodMode, Method, MipMode, RenderOptions, TextureMode};
+use crate::render::{
+    Antialias, DepthKey, Filter, Level, LodMode, Method, MipMode, Quality, RenderOptions, TextureMode,
+};
 
 /// One point of the chart: a named set of options at a frame size.
 #[derive(Clone, Debug)]
@@ -18,10 +20,16 @@ pub struct Config {
     pub view_level: Option<u32>,
 }
 
-/// The configurations of the sweep at `main` size, plus the resolution sweep.
+/// The configurations of the sweep at `main` size, plus the resolution sweep, each starting from the
+/// picture of the preset `base` (the renderer's default for `low`).
 #[must_use]
-pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(usize, usize)]) -> Vec<Config> {
-    let base = RenderOptions::default();
+pub fn configs(
+    main: (usize, usize),
+    bucket_counts: &[usize],
+    resolutions: &[(usize, usize)],
+    base: Quality,
+) -> Vec<Config> {
+    let base = base.apply(RenderOptions::default());
     let mut v = vec![];
     visibility(&mut v, base, main, bucket_counts);
     texture_and_lod(&mut v, base, main);
@@ -38,6 +46,13 @@ pub fn configs(main: (usize, usize), bucket_counts: &[usize], resolutions: &[(us
             RenderOptions { method: Method::BucketNear, ..base },
             size,
         );
+    }
+    // Every preset is a point whatever the base: the ones the sweep does not draw already are added.
+    for q in Quality::ALL {
+        let options = q.apply(RenderOptions::default());
+        if !v.iter().any(|c| c.size == main && c.view_level.is_none() && c.options == options) {
+            v.push(Config { group: "quality", label: format!("preset {q}"), options, size: main, view_level: None });
+        }
     }
     v
 }
@@ -102,6 +117,7 @@ fn texture_and_lod(v: &mut Vec<Config>, base: RenderOptions, main: (usize, usize
         add("lod", format!("lod auto {bias:+}"), RenderOptions { lod_bias: bias, ..base }, main);
     }
     add("lod", "lod long".into(), RenderOptions { lod: LodMode::Force(Level::Long), ..base }, main);
+    add("lod", "lod auto fade".into(), RenderOptions { lod_fade: true, ..base }, main);
 }
 
 /// The mip-map choices, and anti-aliasing alone and with other mip choices than the default's.
@@ -141,6 +157,8 @@ fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize,
         (Antialias::Samples4, Filter::Trilinear, MipMode::Pixel),
         (Antialias::Samples8, Filter::Nearest, MipMode::Pixel),
         (Antialias::Supersample2x2, Filter::Nearest, MipMode::Off),
+        (Antialias::Supersample2x2, Filter::Nearest, MipMode::Pixel),
+        (Antialias::Supersample2x2, Filter::Trilinear, MipMode::Pixel),
     ] {
         add(
             "antialias",
@@ -149,6 +167,15 @@ fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize,
             main,
         );
     }
+}
+
+/// The preset a configuration draws, if it is one: the z-buffer at the sweep's `main` size, every other
+/// setting the renderer's default, and the picture of a preset.
+#[must_use]
+pub fn preset_of(config: &Config, main: (usize, usize)) -> Option<Quality> {
+    let q = Quality::of(&config.options)?;
+    let options = RenderOptions { threads: 0, ..config.options };
+    (config.size == main && config.view_level.is_none() && options == q.apply(RenderOptions::default())).then_some(q)
 }
 
 pub(crate) fn key_name(k: DepthKey) -> &'static str {

@@ -94,9 +94,10 @@ pub fn collect_sequence(scene: &RaceScene, path: &Path, count: usize) -> Result<
 
 /// LOD pops per minute of race time for each of `settings` (options and frame size): the whole trace at
 /// `path` replayed at 60 frames per second (every [`SEQUENCE_STEP`]th tick, the countdown included) from the
-/// chase camera, one renderer per distinct LOD bias and frame size keeping its LOD history as the game does,
-/// counting the frames in which an instance seen in this frame and the one before is drawn with another
-/// model than before ([`pops`]). Forced levels never pop: 0 without replaying. Only the LOD choice and the
+/// chase camera, one renderer per distinct LOD bias, cross-fade choice and frame size keeping its LOD
+/// history as the game does, counting the frames in which an instance seen in this frame and the one before
+/// is drawn with another model than before, at once ([`pops`]; with `lod_fade` a change starts a cross-fade
+/// instead, which is no pop). Forced levels never pop: 0 without replaying. Only the LOD choice and the
 /// view culling run (no drawing).
 pub fn lod_pops_per_min(
     scene: &RaceScene,
@@ -104,14 +105,15 @@ pub fn lod_pops_per_min(
     settings: &[(RenderOptions, (usize, usize))],
 ) -> Result<Vec<f64>, ReplayError> {
     // One renderer per distinct LOD choice: only the bias and the frame size matter to it.
-    let key =
-        |(o, size): &(RenderOptions, (usize, usize))| (o.lod == LodMode::Auto).then_some((o.lod_bias.to_bits(), *size));
-    let mut keys: Vec<(u32, (usize, usize))> = settings.iter().filter_map(key).collect();
+    let key = |(o, size): &(RenderOptions, (usize, usize))| {
+        (o.lod == LodMode::Auto).then_some((o.lod_bias.to_bits(), o.lod_fade, *size))
+    };
+    let mut keys: Vec<(u32, bool, (usize, usize))> = settings.iter().filter_map(key).collect();
     keys.sort_unstable();
     keys.dedup();
     let mut pops = vec![0u64; keys.len()];
     let mut renderers: Vec<Renderer> = keys.iter().map(|_| Renderer::new()).collect();
-    let mut previous: Vec<Vec<Option<usize>>> = vec![vec![]; keys.len()];
+    let mut previous: Vec<Vec<Option<(usize, bool)>>> = vec![vec![]; keys.len()];
     let mut frames = 0u64;
     let mut replay = Replay::open(path, scene.track.clone())?;
     while !keys.is_empty() && replay.advance()? {
@@ -122,10 +124,10 @@ pub fn lod_pops_per_min(
         frames += 1;
         let (camera, instances) = (camera_for(w, View::ChaseNear), scene.instances(w, None));
         let list = scene.draw_list(&instances);
-        for (k, &(bias, (width, height))) in keys.iter().enumerate() {
-            let options =
-                RenderOptions { lod: LodMode::Auto, lod_bias: f32::from_bits(bias), ..RenderOptions::default() };
-            let now = renderers[k].frame_meshes(width, height, &camera, &list, &options);
+        for (k, &(bias, lod_fade, (width, height))) in keys.iter().enumerate() {
+            let lod_bias = f32::from_bits(bias);
+            let options = RenderOptions { lod: LodMode::Auto, lod_bias, lod_fade, ..RenderOptions::default() };
+            let now = renderers[k].frame_lod(width, height, &camera, &list, &options);
             pops[k] += self::pops(&previous[k], &now);
             previous[k] = now;
         }
@@ -135,11 +137,16 @@ pub fn lod_pops_per_min(
     Ok(settings.iter().map(|s| key(s).and_then(|k| keys.binary_search(&k).ok()).map_or(0.0, per_min)).collect())
 }
 
-/// How many instances are drawn with another mesh in `now` than in `before` (from
-/// [`Renderer::frame_meshes`]), among those seen in both: one coming into view or leaving it is no pop.
+/// How many instances are drawn with another mesh in `now` than in `before` (from [`Renderer::frame_lod`])
+/// at once, among those seen in both: one coming into view or leaving it is no pop, nor is a change that
+/// starts a cross-fade (marked `true` in `now`).
 #[must_use]
-pub fn pops(before: &[Option<usize>], now: &[Option<usize>]) -> u64 {
-    now.iter().zip(before).filter(|(a, b)| a.zip(**b).is_some_and(|(a, b)| a != b)).count() as u64
+pub fn pops(before: &[Option<(usize, bool)>], now: &[Option<(usize, bool)>]) -> u64 {
+    let popped = |a: &Option<(usize, bool)>, b: &Option<(usize, bool)>| match (a, b) {
+        (Some((m, fading)), Some((was, _))) => m != was && !fading,
+        _ => false,
+    };
+    now.iter().zip(before).filter(|(a, b)| popped(a, b)).count() as u64
 }
 
 #[cfg(test)]
@@ -154,8 +161,12 @@ mod tests {
 
     #[test]
     fn a_pop_is_another_mesh_for_an_instance_seen_in_both_frames() {
-        assert_eq!(pops(&[Some(1), Some(2), None, Some(4), Some(5)], &[Some(1), Some(3), Some(7), None, Some(6)]), 2);
-        assert_eq!(pops(&[], &[Some(1)]), 0);
+        let swap = |v: &[Option<usize>]| v.iter().map(|m| m.map(|m| (m, false))).collect::<Vec<_>>();
+        let before = swap(&[Some(1), Some(2), None, Some(4), Some(5)]);
+        assert_eq!(pops(&before, &swap(&[Some(1), Some(3), Some(7), None, Some(6)])), 2);
+        assert_eq!(pops(&[], &swap(&[Some(1)])), 0);
+        // A change that starts a cross-fade is no pop.
+        assert_eq!(pops(&before, &[Some((1, false)), Some((3, true)), None, None, Some((6, false))]), 1);
     }
 
     #[test]

@@ -5,7 +5,7 @@
 //! Timing: every configuration's frames are drawn `repeats` times, interleaved with the z-buffer drawing
 //! the same frame at the same size (so both see the same machine state); a frame's time is its best of the
 //! repeats, and a configuration's time is the median over frames. Errors are means over frames: FLIP mean,
-//! FLIP 99th percentile, wrong pixels and PSNR against the reference (4x4-supersampled z-buffer, exact
+//! FLIP 99th percentile, wrong pixels and PSNR against the reference (32x32 samples a pixel, z-buffer, exact
 //! perspective, close LOD), plus the *visibility error*: wrong pixels and FLIP against the z-buffer frame at
 //! the same texture, filter and LOD settings, which isolates what the visibility method alone costs.
 //!
@@ -214,50 +214,59 @@ pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<b
 #[must_use]
 pub fn csv(courses: &[(&str, &[Row])], threads: usize) -> String {
     let mut s = String::from(
-        "course,group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min\n",
+        "course,group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min,preset\n",
     );
-    for (course, r) in courses.iter().flat_map(|(c, rows)| rows.iter().map(move |r| (*c, r))) {
-        let o = &r.config.options;
-        let lod = match o.lod {
-            LodMode::Auto => "auto",
-            LodMode::Force(l) => l.name(),
-        };
-        s.push_str(&format!(
-            "{course},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1}\n",
-            r.config.group,
-            r.config.label,
-            o.method,
-            o.buckets,
-            key_name(o.key),
-            mode_name(o.texture_mode),
-            filter_name(o.filter),
-            o.mip,
-            o.antialias,
-            lod,
-            o.lod_bias,
-            r.config.size.0,
-            r.config.size.1,
-            threads,
-            r.ms,
-            r.zbuffer_ms,
-            r.ms / r.zbuffer_ms.max(1e-9),
-            r.polygons_drawn,
-            r.flip_mean,
-            r.flip_p99,
-            r.wrong_pct,
-            r.psnr_db,
-            r.vis_wrong_pct,
-            r.vis_flip_mean,
-            r.pareto,
-            r.vis_pareto,
-            r.seq_flip_mean,
-            r.shimmer_rms,
-            r.shimmer_pct,
-            r.stability_pareto,
-            r.lod_pops_per_min
-        ));
+    for (course, rows) in courses {
+        let main = rows.first().map_or((0, 0), |r| r.config.size);
+        for r in rows.iter() {
+            s.push_str(&csv_row(course, r, threads, main));
+        }
     }
     s
+}
+
+/// One row of [`csv`]: `r` of `course`, measured on `threads` threads, in a sweep whose main size is `main`.
+fn csv_row(course: &str, r: &Row, threads: usize, main: (usize, usize)) -> String {
+    let o = &r.config.options;
+    let lod = match o.lod {
+        LodMode::Auto => "auto",
+        LodMode::Force(l) => l.name(),
+    };
+    format!(
+        "{course},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1},{}\n",
+        r.config.group,
+        r.config.label,
+        o.method,
+        o.buckets,
+        key_name(o.key),
+        mode_name(o.texture_mode),
+        filter_name(o.filter),
+        o.mip,
+        o.antialias,
+        lod,
+        o.lod_bias,
+        r.config.size.0,
+        r.config.size.1,
+        threads,
+        r.ms,
+        r.zbuffer_ms,
+        r.ms / r.zbuffer_ms.max(1e-9),
+        r.polygons_drawn,
+        r.flip_mean,
+        r.flip_p99,
+        r.wrong_pct,
+        r.psnr_db,
+        r.vis_wrong_pct,
+        r.vis_flip_mean,
+        r.pareto,
+        r.vis_pareto,
+        r.seq_flip_mean,
+        r.shimmer_rms,
+        r.shimmer_pct,
+        r.stability_pareto,
+        r.lod_pops_per_min,
+        configs::preset_of(&r.config, main).map_or("", |q| q.name())
+    )
 }
 
 #[cfg(test)]
@@ -360,7 +369,8 @@ mod tests {
 
     #[test]
     fn the_sweep_covers_every_method_key_texture_mode_lod_and_resolution() {
-        let c = configs((640, 480), &[8, 1024, 65536], &[(320, 240), (640, 480), (1920, 1080)]);
+        use crate::render::Quality;
+        let c = configs((640, 480), &[8, 1024, 65536], &[(320, 240), (640, 480), (1920, 1080)], Quality::Low);
         for m in Method::ALL {
             assert!(c.iter().any(|c| c.options.method == m), "{m}");
         }
@@ -368,5 +378,13 @@ mod tests {
         assert_eq!(c.iter().filter(|c| c.group == "texture").count(), 6);
         assert_eq!(c.iter().filter(|c| c.group == "resolution").count(), 4);
         assert!(c.iter().any(|c| c.options.lod == LodMode::Force(Level::Long)));
+        // Every preset at the main size, whatever the base.
+        for base in Quality::ALL {
+            let c = configs((640, 480), &[8, 1024], &[(320, 240)], base);
+            for q in Quality::ALL {
+                let n = c.iter().filter(|c| configs::preset_of(c, (640, 480)) == Some(q)).count();
+                assert!(n >= 1, "{q} with base {base}");
+            }
+        }
     }
 }

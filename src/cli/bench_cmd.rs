@@ -10,7 +10,7 @@ use super::values;
 use crate::bench::chart::Panel;
 use crate::bench::{Row, chart, collect_frames, collect_sequence, configs, csv, lod_pops_per_min, run};
 use crate::render::order::view_lists::DEFAULT_MAX_POLYGONS;
-use crate::render::{DEFAULT_BUCKETS, DrawList, Method, ViewLists};
+use crate::render::{DEFAULT_BUCKETS, DrawList, Method, Quality, ViewLists};
 use crate::shell::image_file::write_image;
 use crate::shell::race_scene::Assets;
 use crate::shell::race_scene::RaceScene;
@@ -52,6 +52,10 @@ pub struct BenchArgs {
     /// resolutions.
     #[arg(long)]
     pub quick: bool,
+    /// The preset every configuration starts from (low, medium, high or ultra; each adds its filter, mip
+    /// levels and anti-aliasing to the sweep's points). Every preset is also drawn as a point of its own.
+    #[arg(long, value_name = "PRESET", default_value_t = Quality::Low)]
+    pub quality: Quality,
     /// The race's assets.
     #[command(flatten)]
     pub assets: super::error::AssetsArg,
@@ -99,7 +103,7 @@ fn measure(args: &BenchArgs, scene: &RaceScene, trace: &std::path::Path) -> Resu
         return Err(CliError::NoRacingFrames { trace: trace.to_path_buf() });
     }
     let sequence = collect_sequence(scene, trace, sequence)?;
-    let configs = configs(main, &buckets, &resolutions);
+    let configs = configs(main, &buckets, &resolutions, args.quality);
     let mut err = std::io::stderr();
     let terminal = std::io::IsTerminal::is_terminal(&err);
     eprintln!(
@@ -259,14 +263,17 @@ fn print_summary(rows: &[Row]) {
         "{:<28} {:>10} {:>8} {:>8} {:>9} {:>9} {:>8} {:>7} {:>8}  front",
         "configuration", "size", "ms", "x zbuf", "FLIP", "vis err%", "shimmer", "shim%", "pops/min"
     );
+    let main = rows.first().map_or((0, 0), |r| r.config.size);
     let default = crate::render::RenderOptions::default();
     for r in rows {
         let is_default = r.config.group == "visibility" && r.config.options == default;
+        let preset = crate::bench::configs::preset_of(&r.config, main);
         if r.pareto
             || r.vis_pareto
             || r.stability_pareto
             || r.config.group == "lod"
             || is_default
+            || preset.is_some()
             || r.config.options.method == Method::ZBuffer && r.config.group == "visibility"
         {
             let fronts: Vec<&str> =
@@ -286,7 +293,11 @@ fn print_summary(rows: &[Row]) {
                 r.shimmer_pct,
                 r.lod_pops_per_min,
                 fronts.join(","),
-                if is_default { " (default)" } else { "" }
+                match (is_default, preset) {
+                    (_, Some(q)) => format!(" (preset {q})"),
+                    (true, None) => " (default)".to_string(),
+                    (false, None) => String::new(),
+                }
             );
         }
     }

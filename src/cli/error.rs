@@ -108,6 +108,14 @@ pub enum CliError {
     /// An image could not be written.
     #[error(transparent)]
     Image(#[from] crate::shell::image_file::ImageFileError),
+    /// `--quality auto` for a command that draws without a window.
+    #[error(
+        "{command}: --quality auto needs the window (it follows the frame time); name a preset: low, medium, high or ultra"
+    )]
+    AutoQualityWithoutWindow {
+        /// The command: `render`, `replay --headless`.
+        command: &'static str,
+    },
     /// A soundtrack longer than a WAV file can hold.
     #[error("--audio: the race's sound would exceed the WAV format's 4 GiB (about {hours:.1} hours of racing)")]
     AudioTooLong {
@@ -157,6 +165,8 @@ impl CliError {
     pub fn exit_status(&self) -> u8 {
         match self {
             CliError::Stopped { signal, .. } => signal.exit_status(),
+            // Bad usage, as clap's own refusals.
+            CliError::AutoQualityWithoutWindow { .. } => 2,
             _ => 1,
         }
     }

@@ -100,6 +100,10 @@ pub struct PlayArgs {
     /// frame times; F3 says which is in use).
     #[arg(long)]
     pub uncapped: bool,
+    /// Pace frames to this many a second (20 to 1000) instead of the display's refresh rate; `auto`
+    /// quality budgets against it.
+    #[arg(long, value_name = "HZ", conflicts_with = "uncapped", value_parser = values::parse_fps)]
+    pub fps: Option<f64>,
     /// Write the last frame to this image when quitting, PNG or JPEG by its extension (.png, .jpg, .jpeg).
     #[arg(long, value_parser = values::image_path())]
     pub screenshot: Option<PathBuf>,
@@ -133,6 +137,7 @@ impl Default for PlayArgs {
             difficulty: None,
             exit_after_frames: None,
             uncapped: false,
+            fps: None,
             screenshot: None,
             assets: super::error::AssetsArg::default(),
         }
@@ -146,6 +151,7 @@ fn race_options(options: RenderOptions, settings: &Settings, picture: &PictureAr
         antialias: settings.antialias,
         filter: settings.filter,
         mip: settings.mip,
+        lod_fade: settings.lod_fade,
         ..options
     })
 }
@@ -181,6 +187,7 @@ pub fn play_command(args: PlayArgs) -> Result<(), CliError> {
         exit_after_frames: args.exit_after_frames,
         screenshot: args.screenshot.clone(),
         paced: !args.uncapped,
+        fps: args.fps,
     };
     if let Some(shot) = &args.screenshot {
         crate::userfile::check_output(shot).map_err(|source| CliError::Output { flag: "--screenshot", source })?;
@@ -264,7 +271,9 @@ fn race(args: &PlayArgs, options: RenderOptions, window: WindowConfig) -> Result
         crate::input::replay::TraceSource::open(p)?.check_course(&scene.course)?;
     }
     let ghost = args.ghost.as_deref().map(|p| GhostSearch::start(p, scene.track.clone())).transpose()?;
+    let auto = args.picture.auto().unwrap_or(settings.auto_quality);
     let mut race = Race::new(scene, race_options(options, &settings, &args.picture), setup, !args.no_menu)
+        .with_auto_quality(auto)
         .autopilot(args.autopilot)
         .with_settings(settings, file, args.scale, note)
         .with_courses(assets)

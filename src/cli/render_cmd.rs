@@ -167,6 +167,7 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// Runs `render`.
 pub fn render_command(args: &RenderArgs) -> Result<(), CliError> {
+    args.picture.fixed_for("render")?;
     let options = args.options();
     let out = args.out.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());

@@ -206,6 +206,7 @@ impl Soundtrack {
 /// Runs `replay`.
 pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     if args.headless {
+        args.picture.fixed_for("replay --headless")?;
         let mut err = std::io::stderr();
         let terminal = std::io::IsTerminal::is_terminal(&err);
         let summary = replay_headless(args, |tick| {
@@ -237,7 +238,9 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
     if let Some(n) = &note {
         eprintln!("warning: {n}");
     }
+    // A windowed replay follows the frame time only when asked (`--quality auto`); the HUD says so.
     let mut race = Race::replaying(args.assets.scene_for_trace(&args.trace)?, options, &args.trace)?
+        .with_auto_quality(args.picture.auto() == Some(true))
         .stopping_at(args.stop_at, !args.no_hud)
         .with_settings(settings, file, Some(1), note)
         .with_sound();
@@ -248,6 +251,7 @@ pub fn replay_command(args: &ReplayArgs) -> Result<(), CliError> {
         exit_after_frames: None,
         screenshot: None,
         paced: !args.uncapped,
+        fps: None,
     };
     let signals = crate::shell::stop::StopSignals::catch();
     super::error::stopped(run(window, &mut race, signals.as_ref())?)

@@ -61,6 +61,9 @@ pub enum ValueError {
     /// `--background` is not three numbers 0-255.
     #[error("expected R,G,B with each 0-255")]
     Rgb,
+    /// `--fps` is not a number of frames a second the window paces to.
+    #[error("expected a number of frames a second from 20 to 1000")]
+    Fps,
     /// `--lod-bias` is not a finite number within the bound.
     #[error("expected a number from -16 to 16")]
     LodBias,
@@ -166,6 +169,12 @@ pub fn parse_lod_bias(s: &str) -> Result<f32, ValueError> {
     if v.is_finite() && v.abs() <= MAX_LOD_BIAS { Ok(v) } else { Err(ValueError::LodBias) }
 }
 
+/// Parses a frame rate (`play --fps`): 20 to 1000 frames a second.
+pub fn parse_fps(s: &str) -> Result<f64, ValueError> {
+    let v: f64 = s.trim().parse().map_err(|_| ValueError::Fps)?;
+    if crate::shell::pacing::RATES.contains(&v) { Ok(v) } else { Err(ValueError::Fps) }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,6 +182,10 @@ mod tests {
     #[test]
     fn colours_and_biases_parse_only_in_range() {
         assert_eq!(parse_rgb("1, 2,3"), Ok(0x010203));
+        assert_eq!(parse_fps("30"), Ok(30.0));
+        for bad in ["0", "19.9", "1001", "NaN", "inf", "fast"] {
+            assert_eq!(parse_fps(bad), Err(ValueError::Fps), "{bad}");
+        }
         for bad in ["256,0,0", "1,2", "1,2,3,4", "-1,0,0", "a,b,c", ""] {
             assert_eq!(parse_rgb(bad), Err(ValueError::Rgb), "{bad}");
         }

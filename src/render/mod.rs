@@ -33,6 +33,7 @@ pub use self::core::options::{
     Antialias, BucketMapping, DEFAULT_BUCKETS, DepthKey, Level, LodMode, MAX_THREADS, Method, MipMode, RenderOptions,
     SKY_BLUE, TextureMode, UnknownName,
 };
+pub use self::core::quality::Quality;
 pub use self::core::stats::Stats;
 pub use self::core::texture::{Filter, Sampler, Texture, Wrap};
 pub use self::renderer::Renderer;

@@ -112,7 +112,13 @@ impl Renderer {
             // Drawing over what is there: each pixel becomes its four.
             supersample::expand(frame, width, &mut big);
         }
-        let inner = RenderOptions { antialias: Antialias::Off, lod_bias: options.lod_bias - 1.0, ..*options };
+        let [dx, dy] = options.pixel_offset;
+        let inner = RenderOptions {
+            antialias: Antialias::Off,
+            lod_bias: options.lod_bias - 1.0,
+            pixel_offset: [2.0 * dx, 2.0 * dy],
+            ..*options
+        };
         let stats = self.render(&mut big, bw, bh, camera, list, &inner);
         if stats.is_ok() {
             // On the pool the drawing used, if it used one.
@@ -145,6 +151,20 @@ impl Renderer {
         list: &DrawList<'_>,
         options: &RenderOptions,
     ) -> Vec<Option<usize>> {
+        self.frame_lod(width, height, camera, list, options).into_iter().map(|m| m.map(|(m, _)| m)).collect()
+    }
+
+    /// As [`Renderer::frame_meshes`], with whether each instance is in a level-of-detail cross-fade
+    /// ([`RenderOptions::lod_fade`]): then it also draws the model fading out, and its change of model is no
+    /// sudden swap.
+    pub fn frame_lod(
+        &mut self,
+        width: usize,
+        height: usize,
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Vec<Option<(usize, bool)>> {
         self.geometry.frame_meshes((width, height), camera, list, options)
     }
 

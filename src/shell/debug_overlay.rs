@@ -5,9 +5,11 @@ use std::collections::VecDeque;
 
 use crate::render::Stats;
 
-/// When this environment variable names a file, every frame's render time in milliseconds and its
-/// polygons drawn are written to it, a line each (`ms polygons`): F3's numbers for a whole run, for
-/// measuring a course's frame times in the window (created anew; written as frames are drawn).
+/// When this environment variable names a file, every frame's render time in milliseconds, its polygons
+/// drawn, the quality it was drawn at (`high(auto)`, `low`, `custom`, `-` for none) and the seconds since
+/// the first frame are written to it, a line each (`ms polygons quality seconds`): F3's numbers for a
+/// whole run, for measuring a course's frame times in the window (created anew; written as frames are
+/// drawn).
 pub const FRAME_TIMES_ENV: &str = "SCANLINE_RACER_FRAME_TIMES";
 
 /// Frames kept for the plot.
@@ -27,6 +29,10 @@ pub struct DebugOverlay {
     log: Option<Option<std::io::BufWriter<std::fs::File>>>,
     /// How the window times its frames, once it says.
     pub pacing: Option<super::window::Pacing>,
+    /// The picture quality in use (`high (auto)`, `low`, `custom`), when the content has one.
+    pub quality: Option<String>,
+    /// When the first frame was logged (the log's last column counts from it).
+    started: Option<std::time::Instant>,
 }
 
 impl DebugOverlay {
@@ -45,7 +51,10 @@ impl DebugOverlay {
         if let Some(w) = log {
             use std::io::Write;
             // A failed write ends the log (a full disk must not stop the game).
-            if writeln!(w, "{ms:.4} {}", stats.polygons_drawn).is_err() {
+            let quality = self.quality.as_deref().unwrap_or("-").replace(' ', "");
+            let t = self.started.get_or_insert_with(std::time::Instant::now).elapsed().as_secs_f64();
+            // Flushed each frame, so a reader follows the run as it goes (60 small writes a second).
+            if writeln!(w, "{ms:.4} {} {quality} {t:.3}", stats.polygons_drawn).and_then(|()| w.flush()).is_err() {
                 self.log = Some(None);
             }
         }
@@ -68,6 +77,9 @@ impl DebugOverlay {
             plot(ui, self.frame_ms.iter().copied(), max, egui::Color32::from_rgb(120, 220, 120));
             if let Some(pacing) = self.pacing {
                 ui.label(format!("frames: {pacing}"));
+            }
+            if let Some(quality) = &self.quality {
+                ui.label(format!("quality: {quality}"));
             }
             ui.label(format!(
                 "transform {:.2}  clip {:.2}  order {:.2}  fill {:.2} ms",

@@ -1,11 +1,13 @@
 //! The application shell: the window, presentation, and frame output. The only code that touches winit and
 //! softbuffer; it hands the renderer a plain `&mut [u32]` and copies the result to the screen.
 
+pub mod auto_quality;
 pub mod built_in;
 pub mod course;
 pub mod debug_overlay;
 pub mod image_file;
 pub mod keys;
+pub mod pacing;
 pub mod race;
 pub mod race_scene;
 pub mod records;

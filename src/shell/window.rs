@@ -17,6 +17,8 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Fullscreen, Window, WindowId};
 
+pub use super::pacing::{FALLBACK_HZ, Pacing};
+
 /// The hint printed when no window can be opened: the headless commands for a race and for a scene.
 pub const HEADLESS_HINT: &str = "without a window use: scanline-racer replay TRACE --headless --frames DIR \
      (a race, e.g. assets/replays/demo-race.trace) or scanline-racer render SCENE.gltf --out frame.png";
@@ -135,64 +137,8 @@ pub struct WindowConfig {
     pub screenshot: Option<PathBuf>,
     /// Present one frame per refresh of the display (`true`), or as many as the CPU allows (for measuring).
     pub paced: bool,
-}
-
-/// The refresh rate assumed when the display reports none.
-pub const FALLBACK_HZ: f64 = 60.0;
-
-/// How the window times its frames; F3 shows it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Pacing {
-    /// One frame per refresh, at `hz`; `reported` when the display gave the rate (else [`FALLBACK_HZ`]).
-    Paced {
-        /// Frames a second.
-        hz: f64,
-        /// Whether the display reported the rate.
-        reported: bool,
-    },
-    /// As many frames as the CPU allows (`play --uncapped`), for measuring.
-    Uncapped,
-}
-
-impl Pacing {
-    /// The pacing for a display reporting `millihertz` (if anything), or uncapped unless `paced`. A rate
-    /// outside 20-1000 Hz is taken as not reported.
-    #[must_use]
-    pub fn new(paced: bool, millihertz: Option<u32>) -> Self {
-        let hz = millihertz.map(|m| f64::from(m) / 1000.0).filter(|hz| (20.0..=1000.0).contains(hz));
-        match (paced, hz) {
-            (false, _) => Pacing::Uncapped,
-            (true, Some(hz)) => Pacing::Paced { hz, reported: true },
-            (true, None) => Pacing::Paced { hz: FALLBACK_HZ, reported: false },
-        }
-    }
-
-    /// The time between frames, or `None` when uncapped.
-    #[must_use]
-    pub fn period(self) -> Option<Duration> {
-        match self {
-            Pacing::Paced { hz, .. } => Some(Duration::from_secs_f64(1.0 / hz)),
-            Pacing::Uncapped => None,
-        }
-    }
-
-    /// When the frame after one due at `due` is due, the frame having started at `now`: one period on, or
-    /// one period from `now` when the frame started more than a period late (a late frame does not make
-    /// the next ones hurry to catch up).
-    #[must_use]
-    pub fn next_due(period: Duration, due: Instant, now: Instant) -> Instant {
-        if now.saturating_duration_since(due) > period { now + period } else { due + period }
-    }
-}
-
-impl std::fmt::Display for Pacing {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Pacing::Paced { hz, reported: true } => write!(f, "paced to {hz:.0} Hz (the display's rate)"),
-            Pacing::Paced { hz, reported: false } => write!(f, "paced to {hz:.0} Hz (the display reports no rate)"),
-            Pacing::Uncapped => f.write_str("uncapped (--uncapped)"),
-        }
-    }
+    /// Frames a second to pace to instead of the display's rate (`--fps`), when paced.
+    pub fps: Option<f64>,
 }
 
 /// How the window's run ended without an error.
@@ -408,7 +354,8 @@ impl ApplicationHandler for App<'_> {
         self.ui = Some(super::ui::Ui::new(&window));
         // On X11: a lost X server ends the loop with an error (and the race is kept) instead of Xlib's exit.
         super::x11_lost::keep_running(&window);
-        let pacing = Pacing::new(self.config.paced, window.current_monitor().and_then(|m| m.refresh_rate_millihertz()));
+        let millihertz = window.current_monitor().and_then(|m| m.refresh_rate_millihertz());
+        let pacing = Pacing::new(self.config.paced, self.config.fps, millihertz);
         self.period = pacing.period();
         self.content.pacing(pacing);
         self.window = Some(window);
@@ -451,34 +398,5 @@ impl ApplicationHandler for App<'_> {
             self.due = Pacing::next_due(period, self.due, now);
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.due));
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn pacing_takes_the_display_rate_within_reason_else_60_hz_and_uncapped_has_no_period() {
-        assert_eq!(Pacing::new(true, Some(144_000)), Pacing::Paced { hz: 144.0, reported: true });
-        assert_eq!(Pacing::new(true, Some(59_940)), Pacing::Paced { hz: 59.94, reported: true });
-        for odd in [None, Some(0), Some(5_000), Some(u32::MAX)] {
-            assert_eq!(Pacing::new(true, odd), Pacing::Paced { hz: FALLBACK_HZ, reported: false }, "{odd:?}");
-        }
-        assert_eq!(Pacing::new(false, Some(60_000)), Pacing::Uncapped);
-        assert_eq!(Pacing::Uncapped.period(), None);
-        assert_eq!(Pacing::new(true, Some(50_000)).period(), Some(Duration::from_millis(20)));
-        assert_eq!(Pacing::new(true, None).to_string(), "paced to 60 Hz (the display reports no rate)");
-    }
-
-    #[test]
-    fn a_frame_is_due_a_period_after_the_last_unless_it_started_more_than_a_period_late() {
-        let (t0, p) = (Instant::now(), Duration::from_millis(16));
-        // On time or a little late: the schedule keeps its beat.
-        assert_eq!(Pacing::next_due(p, t0, t0), t0 + p);
-        assert_eq!(Pacing::next_due(p, t0, t0 + Duration::from_millis(5)), t0 + p);
-        // More than a period late: the next frame is a period from now, not at once.
-        let late = t0 + Duration::from_millis(40);
-        assert_eq!(Pacing::next_due(p, t0, late), late + p);
     }
 }

@@ -62,7 +62,7 @@ pub struct UnknownName {
 }
 
 impl UnknownName {
-    fn new(setting: &'static str, given: &str, expected: &'static str) -> Self {
+    pub(crate) fn new(setting: &'static str, given: &str, expected: &'static str) -> Self {
         Self { setting, given: given.to_owned(), expected }
     }
 }
@@ -198,6 +198,14 @@ pub struct RenderOptions {
     pub lod_bias: f32,
     /// Anti-aliasing: none, coverage samples per pixel, or 2x2 supersampling.
     pub antialias: Antialias,
+    /// Cross-fades a level-of-detail change over a few frames (the old and new models each drawn through
+    /// one of two complementary screen doors) instead of swapping the models at once. It needs the LOD
+    /// history of consecutive frames of one renderer; a single frame draws what the history says.
+    pub lod_fade: bool,
+    /// Moves the whole image by this many pixels of the frame (right, down) before it is sampled, so a
+    /// pixel is sampled at its centre minus the offset: how the reference image puts its sub-pixel grid of
+    /// samples. `[0.0, 0.0]` for every ordinary frame; an offset that is not finite counts as none.
+    pub pixel_offset: [f32; 2],
 }
 
 impl Default for RenderOptions {
@@ -215,6 +223,8 @@ impl Default for RenderOptions {
             lod: LodMode::Auto,
             lod_bias: 0.0,
             antialias: Antialias::default(),
+            lod_fade: false,
+            pixel_offset: [0.0, 0.0],
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use glam::Vec4;
 
+use super::door::Door;
 use super::options::{MipMode, TextureMode};
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mip::LOD_STEPS;
@@ -35,7 +36,8 @@ pub(crate) struct DrawPolygon {
     /// The colour of every corner, when [`HAS_COLOR`] is set.
     color: [f32; 4],
     pub(crate) sampler: Sampler,
-    /// [`HAS_TEXTURE`], [`HAS_CUTOFF`], [`HAS_COLOR`], [`SCREEN_DOOR`], [`SMALL`].
+    /// [`HAS_TEXTURE`], [`HAS_CUTOFF`], [`HAS_COLOR`], [`SMALL`], and the screen door's 3 bits from
+    /// [`DOOR_SHIFT`] up.
     flags: u8,
     /// Its texture's level of detail `λ` in steps of 1/[`LOD_STEPS`] when mip levels are chosen per polygon
     /// (0 otherwise): the record's last free byte, so a polygon still takes 48.
@@ -50,8 +52,8 @@ const HAS_TEXTURE: u8 = 1;
 const HAS_CUTOFF: u8 = 2;
 /// All its corners have one colour.
 const HAS_COLOR: u8 = 4;
-/// It is drawn with the screen door (see-through).
-const SCREEN_DOOR: u8 = 8;
+/// Where the screen door's 3 bits ([`Door::bits`]) sit in the flags.
+const DOOR_SHIFT: u32 = 5;
 /// It is a small triangle set up for the fast path: `first` indexes its batch's small triangles (textured or
 /// flat, by [`HAS_TEXTURE`]) and it has no screen vertices.
 const SMALL: u8 = 16;
@@ -63,7 +65,8 @@ pub(crate) struct PolygonPaint {
     pub(crate) sampler: Sampler,
     pub(crate) alpha_cutoff: Option<f32>,
     pub(crate) constant_color: Option<[f32; 4]>,
-    pub(crate) screen_door: bool,
+    /// The screen door it is drawn through (see-through instances, level-of-detail fades), if any.
+    pub(crate) door: Door,
     /// The polygon's `λ` in steps of 1/[`LOD_STEPS`] (mip levels chosen per polygon; else 0).
     pub(crate) lod: u8,
 }
@@ -77,7 +80,7 @@ impl DrawPolygon {
         let flags = flag(paint.texture.is_some(), HAS_TEXTURE)
             | flag(paint.alpha_cutoff.is_some(), HAS_CUTOFF)
             | flag(paint.constant_color.is_some(), HAS_COLOR)
-            | flag(paint.screen_door, SCREEN_DOOR)
+            | paint.door.bits() << DOOR_SHIFT
             | flag(small, SMALL);
         Self {
             first,
@@ -123,10 +126,10 @@ impl DrawPolygon {
         f32::from(self.lod) / LOD_STEPS
     }
 
-    /// Whether it is drawn with the screen door.
+    /// The screen door it is drawn through ([`Door::NONE`] for none).
     #[inline(always)]
-    pub(crate) fn screen_door(&self) -> bool {
-        self.flags & SCREEN_DOOR != 0
+    pub(crate) fn door(&self) -> Door {
+        Door::from_bits(self.flags >> DOOR_SHIFT)
     }
 
     /// Whether it is a small triangle set up for the fast path.

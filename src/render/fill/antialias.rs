@@ -51,7 +51,7 @@ pub(crate) fn fill_polygon<const N: usize>(
         *d = planes.dx[slot::DEPTH] * ox + planes.dy[slot::DEPTH] * oy;
     }
     let width = t.pixels.width as i32;
-    let fast = prepared.fast().filter(|_| !sh.screen_door);
+    let fast = prepared.fast().filter(|_| sh.door.is_none());
     let mut total = SpanCounts::default();
     let pattern = *t.pattern;
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
@@ -179,7 +179,7 @@ fn pixel<const N: usize>(
     total: &mut SpanCounts,
 ) {
     let Paint { shading: sh, fast, planes, dz } = *paint;
-    if mask == 0 || sh.screen_door && (x + y) & 1 != 0 {
+    if mask == 0 || sh.door.hides(x, y) {
         return;
     }
     let a = planes.at(x, y);

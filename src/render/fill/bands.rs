@@ -141,7 +141,7 @@ impl<'a> FillContext<'a> {
             alpha_cutoff: p.alpha_cutoff(),
             constant_color: p.constant_color(),
             visibility: self.visibility,
-            screen_door: p.screen_door(),
+            door: p.door(),
         }
     }
 

@@ -7,6 +7,7 @@ use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
 use super::span_lanes::{self, Source};
 use super::texel::Tex;
+use crate::render::core::door::Door;
 use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};
@@ -36,8 +37,8 @@ pub struct Shading<'a> {
     pub visibility: Visibility,
     /// The polygon's colour when all its vertices share one (enables the fast paths below).
     pub constant_color: Option<[f32; 4]>,
-    /// See-through: only pixels with `x + y` even are drawn (nothing is written or marked on the others).
-    pub screen_door: bool,
+    /// The screen door: the pixels it hides are left alone (nothing is written or marked on them).
+    pub door: Door,
 }
 
 /// Texture coordinate and colour at one pixel: `[u, v, r, g, b, a]`.
@@ -120,7 +121,7 @@ impl<'a> Shading<'a> {
             self.texture.is_some(),
             self.constant_color.is_some(),
             self.alpha_cutoff.is_some(),
-            self.screen_door,
+            !self.door.is_none(),
         );
         // The rule gives a textured polygon a fast path with one level for it, its level's texture (texture
         // coordinates are normalised, so the same ones address every level), or with the level chosen per
@@ -181,7 +182,7 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
     let per_pixel = sh.mip == MipMode::Pixel && sh.texture.is_some();
     for k in 0..n {
         let x = (span.x0 + k) as usize;
-        if sh.screen_door && (span.x0 + k + span.y) & 1 != 0 {
+        if sh.door.hides(span.x0 + k, span.y) {
             continue;
         }
         let kf = k as f32;
@@ -273,7 +274,7 @@ mod tests {
                 alpha_cutoff: bit(3).then_some(0.5),
                 visibility: Visibility::DepthTest,
                 constant_color: bit(4).then_some(if bit(5) { [1.0; 4] } else { [0.5, 0.2, 0.1, 0.7] }),
-                screen_door: bit(6),
+                door: if bit(6) { Door::CHECKERBOARD } else { Door::NONE },
             };
             let expected = sh.prepare().fast().is_some();
             assert_eq!(rule.applies(bit(2), bit(4), bit(3), bit(6)), expected, "combination {bits:07b}");
@@ -309,7 +310,7 @@ mod tests {
                 alpha_cutoff: None,
                 visibility: Visibility::DepthTest,
                 constant_color: Some([1.0; 4]),
-                screen_door: false,
+                door: Door::NONE,
             };
             let prepared = sh.prepare();
             assert!(prepared.fast().is_some(), "a white texture with levels per span or pixel has a fast path");

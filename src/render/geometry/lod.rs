@@ -8,6 +8,7 @@
 //! threshold, so an object hovering at one does not flicker between models.
 
 use crate::render::core::camera::Camera;
+use crate::render::core::door::Door;
 use crate::render::core::draw_list::{DrawList, Instance};
 use crate::render::core::options::{Level, LodMode, RenderOptions};
 use crate::render::core::stats::Stats;
@@ -48,7 +49,13 @@ pub fn choose(size_px: f32, switch_px: [f32; 2], previous: Option<Level>) -> Lev
     plain(margins)
 }
 
-/// Per-instance memory of the level last drawn, kept by the renderer from frame to frame.
+/// Frames a cross-fade lasts ([`RenderOptions::lod_fade`]): the new model through a quarter of the pixels
+/// for two frames, half for two, three quarters for two, then alone.
+pub const FADE_FRAMES: u8 = 6;
+
+/// Per-instance memory of the level last drawn and of a cross-fade under way, kept by the renderer from
+/// frame to frame: a byte each, the level in bits 0-1, the level fading out in bits 2-3 and the frames the
+/// fade has left in bits 4-6 (0: none); `NO_LEVEL` without history.
 #[derive(Clone, Debug, Default)]
 pub struct LodState {
     levels: Vec<u8>,
@@ -56,19 +63,36 @@ pub struct LodState {
 
 const NO_LEVEL: u8 = u8::MAX;
 
+/// The level a slot holds.
+fn slot_level(slot: u8) -> Option<Level> {
+    if slot == NO_LEVEL { None } else { Level::from_index(slot & 3) }
+}
+
+/// The fade a slot holds: the level fading out and the frames left (this one included).
+fn slot_fade(slot: u8) -> Option<(Level, u8)> {
+    let left = (slot >> 4) & 7;
+    if slot == NO_LEVEL || left == 0 { None } else { Some((Level::from_index((slot >> 2) & 3)?, left)) }
+}
+
+/// A slot holding `level` and `fade`.
+fn slot_of(level: Level, fade: Option<(Level, u8)>) -> u8 {
+    let (from, left) = fade.map_or((0, 0), |(l, n)| (l as u8, n.min(7)));
+    level as u8 | from << 2 | left << 4
+}
+
 impl LodState {
     /// The level instance `i` was drawn at last frame.
     #[must_use]
     pub fn previous(&self, i: usize) -> Option<Level> {
-        self.levels.get(i).and_then(|&l| Level::from_index(l))
+        self.levels.get(i).and_then(|&l| slot_level(l))
     }
 
-    /// Records the level of instance `i`.
+    /// Records the level of instance `i` (with no fade under way).
     pub fn set(&mut self, i: usize, level: Level) {
         if self.levels.len() <= i {
             self.levels.resize(i + 1, NO_LEVEL);
         }
-        self.levels[i] = level as u8;
+        self.levels[i] = slot_of(level, None);
     }
 
     /// Forgets every level (for a new scene or a camera cut).
@@ -94,16 +118,30 @@ impl LodState {
         view: (&Camera, f32),
         options: &RenderOptions,
         stats: &mut Stats,
-    ) -> Option<usize> {
+    ) -> Option<Picked> {
         let slot = self.slots(index + 1).last_mut()?;
         pick_level(slot, inst, list, view, options, stats)
     }
 }
 
+/// The mesh an instance draws this frame, and during a cross-fade the mesh fading out with the doors the
+/// two are drawn through (each pixel through exactly one of them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Picked {
+    /// The mesh chosen (an index into the draw list's meshes).
+    pub(crate) mesh: usize,
+    /// The door the chosen mesh is drawn through (none outside a fade).
+    pub(crate) door: Door,
+    /// During a fade: the mesh fading out and its door (the inverse of `door`).
+    pub(crate) fading: Option<(usize, Door)>,
+}
+
 /// Picks the mesh an instance draws this frame: its own, or the level of its LOD set for its projected size
 /// (seed 003's rule), remembered in `slot` (the level drawn last frame) for the next frame's hysteresis;
-/// `None` when it names a set or a close model that does not exist. `y_scale_px` is the projected diameter
-/// in pixels of a unit radius at unit depth.
+/// with [`RenderOptions::lod_fade`], a change of level starts a cross-fade of [`FADE_FRAMES`] frames from
+/// the old model to the new (not for a see-through instance, whose pixels are a door already). `None` when
+/// it names a set or a close model that does not exist. `y_scale_px` is the projected diameter in pixels of
+/// a unit radius at unit depth.
 pub(crate) fn pick_level(
     slot: &mut u8,
     inst: &Instance,
@@ -111,21 +149,28 @@ pub(crate) fn pick_level(
     (camera, y_scale_px): (&Camera, f32),
     options: &RenderOptions,
     stats: &mut Stats,
-) -> Option<usize> {
+) -> Option<Picked> {
     let Some(set) = inst.lod.map(|s| list.lod_sets.get(s)) else {
-        return Some(inst.mesh);
+        return Some(Picked { mesh: inst.mesh, door: Door::NONE, fading: None });
     };
     let set = set?;
     let close = list.meshes.get(set.meshes[0])?;
+    let previous = slot_level(*slot);
     let level = match options.lod {
         LodMode::Force(level) => level,
         LodMode::Auto => {
             let (center, radius) = world_sphere(close.bounds(), &inst.model);
             let size = projected_size((center, radius), camera, y_scale_px) * libm::exp2f(options.lod_bias);
-            choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, Level::from_index(*slot))
+            choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, previous)
         }
     };
-    *slot = level as u8;
+    // A fade under way goes on a frame; a change of level starts a new one from the level drawn last frame.
+    let fades = options.lod_fade && options.lod == LodMode::Auto && !inst.see_through;
+    let mut fade = slot_fade(*slot).and_then(|(from, left)| (left > 1 && fades).then_some((from, left - 1)));
+    if let Some(before) = previous.filter(|p| *p != level && fades) {
+        fade = Some((before, FADE_FRAMES));
+    }
+    *slot = slot_of(level, fade);
     let chosen = set.meshes[level as usize];
     match level {
         Level::Close => stats.lod_close += 1,
@@ -134,7 +179,11 @@ pub(crate) fn pick_level(
     }
     let used = list.meshes.get(chosen).map_or(0, |m| m.polygons().len());
     stats.polygons_saved_by_lod += close.polygons().len().saturating_sub(used) as u64;
-    Some(chosen)
+    let Some((from, left)) = fade else { return Some(Picked { mesh: chosen, door: Door::NONE, fading: None }) };
+    // Frames left 6 and 5: a quarter of the pixels are the new model's; 4 and 3: half; 2 and 1: three quarters.
+    let quarters = 4 - left.div_ceil(2);
+    let (door, old_door) = (Door::quarters(quarters, false)?, Door::quarters(quarters, true)?);
+    Some(Picked { mesh: chosen, door, fading: Some((set.meshes[from as usize], old_door)) })
 }
 
 /// The projected height in pixels of a sphere (world `center`, `radius`) seen by `camera`: infinite when the
@@ -214,5 +263,41 @@ mod tests {
         assert_eq!(st.previous(0), None);
         st.clear();
         assert_eq!(st.previous(3), None);
+    }
+
+    #[test]
+    fn a_change_of_level_starts_a_fade_that_runs_six_frames_and_then_draws_the_new_model_alone() {
+        use crate::render::core::draw_list::LodSet;
+        use crate::render::core::mesh::MeshBuilder;
+        let mut b = MeshBuilder::new();
+        let m = b.material(crate::render::core::mesh::Material::default());
+        let corners = [glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y]
+            .map(|p| b.vertex(crate::render::core::mesh::Vertex::new(p, glam::Vec2::ZERO)));
+        b.polygon(&corners, m);
+        let mesh = b.build().unwrap();
+        let meshes = [mesh.clone(), mesh.clone(), mesh];
+        let sets = [LodSet { meshes: [0, 1, 2], switch_px: [120.0, 24.0] }];
+        let camera = Camera::look_at(glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::ZERO, 1.0, 0.1, None);
+        let mut slot = NO_LEVEL;
+        let fade = RenderOptions { lod_fade: true, ..RenderOptions::default() };
+        let mut pick = |scale: f32, options: &RenderOptions| {
+            let inst = Instance::of_lod_set(0, glam::Mat4::from_scale(glam::Vec3::splat(scale)));
+            let list =
+                DrawList { meshes: &meshes, textures: &[], instances: &[inst], lod_sets: &sets, view_lists: None };
+            pick_level(&mut slot, &inst, &list, (&camera, 400.0), options, &mut Stats::default()).unwrap()
+        };
+        // Near (close model), then far enough for the middle one: six frames of fade, quarters 1, 1, 2, 2, 3, 3.
+        assert_eq!(pick(4.0, &fade).fading, None);
+        let frames: Vec<Picked> = (0..8).map(|_| pick(0.5, &fade)).collect();
+        assert!(frames.iter().all(|p| p.mesh == 1));
+        for (k, q) in [1, 1, 2, 2, 3, 3].into_iter().enumerate() {
+            assert_eq!(frames[k].door, Door::quarters(q, false).unwrap(), "frame {k}");
+            assert_eq!(frames[k].fading, Some((0, Door::quarters(q, true).unwrap())), "frame {k}");
+        }
+        assert_eq!((frames[6].door, frames[6].fading, frames[7].fading), (Door::NONE, None, None));
+        // Without the option the change is a swap; a forced level never fades.
+        assert_eq!(pick(4.0, &RenderOptions::default()).fading, None);
+        let forced = RenderOptions { lod: LodMode::Force(Level::Long), ..fade };
+        assert_eq!(pick(4.0, &forced), Picked { mesh: 2, door: Door::NONE, fading: None });
     }
 }

@@ -34,6 +34,7 @@ use crate::render::core::camera::Camera;
 use crate::render::core::draw_list::{DrawList, Instance};
 use crate::render::core::options::RenderOptions;
 use crate::render::core::stats::{Stats, ms_since};
+use glam::{Mat4, Vec3};
 
 /// The geometry stage's output and scratch, kept from frame to frame so that frames after the first
 /// allocate nothing per polygon.
@@ -59,7 +60,7 @@ impl Geometry {
         options: &RenderOptions,
         stats: &mut Stats,
     ) {
-        let clip_from_view = camera.clip_from_view(layout.width, layout.height);
+        let clip_from_view = shifted_clip_from_view(camera, (layout.width, layout.height), options);
         let clip_from_world = clip_from_view * camera.view;
         let world_from_view = camera.view.inverse();
         let t_visible = Instant::now();
@@ -94,24 +95,38 @@ impl Geometry {
     }
 
     /// The mesh each instance of `list` would draw (after the LOD choice, which updates the LOD history as
-    /// a frame does), or `None` for an instance culled by the view frustum or naming no mesh.
+    /// a frame does) and whether a cross-fade from another is under way, or `None` for an instance culled by
+    /// the view frustum or naming no mesh.
     pub(crate) fn frame_meshes(
         &mut self,
         (width, height): (usize, usize),
         camera: &Camera,
         list: &DrawList<'_>,
         options: &RenderOptions,
-    ) -> Vec<Option<usize>> {
+    ) -> Vec<Option<(usize, bool)>> {
         let mut stats = Stats::default();
-        let clip_from_view = camera.clip_from_view(width, height);
+        let clip_from_view = shifted_clip_from_view(camera, (width, height), options);
         let frustum = Frustum::new(&(clip_from_view * camera.view), camera.has_far_plane());
         let y_scale_px = clip_from_view.y_axis.y * height as f32;
         let lod = &mut self.lod;
         let pick = |(index, inst): (usize, &Instance)| {
-            let m = lod.pick(index, inst, list, (camera, y_scale_px), options, &mut stats)?;
-            let (_, culled) = cull(list.meshes.get(m)?, inst, &frustum);
-            (!culled).then_some(m)
+            let picked = lod.pick(index, inst, list, (camera, y_scale_px), options, &mut stats)?;
+            let (_, culled) = cull(list.meshes.get(picked.mesh)?, inst, &frustum);
+            (!culled).then_some((picked.mesh, picked.fading.is_some()))
         };
         list.instances.iter().enumerate().map(pick).collect()
     }
+}
+
+/// The camera's view-to-clip matrix for a frame of `width` x `height` pixels, followed by the image shift of
+/// `options.pixel_offset` (a translation in NDC, which moves every projected point by the same number of
+/// pixels; none when the offset is not finite).
+fn shifted_clip_from_view(camera: &Camera, (width, height): (usize, usize), options: &RenderOptions) -> Mat4 {
+    let clip_from_view = camera.clip_from_view(width, height);
+    let [dx, dy] = options.pixel_offset;
+    if (dx == 0.0 && dy == 0.0) || !dx.is_finite() || !dy.is_finite() || width == 0 || height == 0 {
+        return clip_from_view;
+    }
+    // x_ndc' = x_ndc + 2 dx / width: in clip space, x' = x + (2 dx / width) w, which a translation does.
+    Mat4::from_translation(Vec3::new(2.0 * dx / width as f32, -2.0 * dy / height as f32, 0.0)) * clip_from_view
 }

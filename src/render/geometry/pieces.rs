@@ -22,7 +22,8 @@ use super::visible::{PassView, Visible};
 use crate::render::core::band::{FrameLayout, bin};
 use crate::render::core::batch::{Batch, Stretch};
 use crate::render::core::camera::Camera;
-use crate::render::core::draw_list::{DrawList, Instance};
+use crate::render::core::door::Door;
+use crate::render::core::draw_list::DrawList;
 use crate::render::core::mesh::Mesh;
 use crate::render::core::options::{Method, MipMode, RenderOptions, TextureMode};
 use crate::render::core::polygon::FastPathRule;
@@ -59,14 +60,14 @@ pub(crate) struct FrameView<'a> {
     pub(crate) options: &'a RenderOptions,
 }
 
-/// One visible object ready for its vertices: its instance, the mesh drawn, how many of its polygons are
-/// set up, the stored order that applies (`view-lists`) and its vertex transform.
+/// One visible object ready for its vertices: the mesh drawn, how many of its polygons are set up, the
+/// stored order that applies (`view-lists`), its vertex transform and the screen door it is drawn through.
 struct Prepared<'a> {
-    inst: &'a Instance,
     mesh: &'a Mesh,
     count: usize,
     stored: Option<(&'a [u32], f32)>,
     transform: VertexTransform,
+    door: Door,
 }
 
 impl<'a> FrameView<'a> {
@@ -89,7 +90,9 @@ impl<'a> FrameView<'a> {
             perspective: self.camera.is_perspective(),
         };
         let count = stored.map_or(own_polygons, |(order, _)| order.len());
-        Some(Prepared { inst, mesh, count, stored, transform })
+        // A see-through instance keeps its checkerboard; otherwise the door of its level-of-detail fade.
+        let door = if inst.see_through { Door::CHECKERBOARD } else { v.door };
+        Some(Prepared { mesh, count, stored, transform, door })
     }
 
     /// How many polygons visible object `v`'s own mesh has (0 for a mesh not in the list): what a run of
@@ -112,7 +115,7 @@ impl<'a> FrameView<'a> {
             object_key: p.stored.map(|(_, key)| key),
             textures: list.textures.len(),
             mip_textures: if options.mip == MipMode::Polygon { list.textures } else { &[] },
-            see_through: p.inst.see_through,
+            door: p.door,
             fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode, mip: options.mip },
             antialiased: options.antialias.coverage_samples().is_some(),
             width: self.layout.width as i32,

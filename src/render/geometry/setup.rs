@@ -8,6 +8,7 @@ use std::ops::Range;
 
 use super::vertex::{SetupVertex, VertexTransform, project};
 use crate::render::core::batch::{Batch, Counts};
+use crate::render::core::door::Door;
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
 use crate::render::core::mip::{polygon_lod, polygon_lod_of};
@@ -87,8 +88,8 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) textures: usize,
     /// The draw list's textures when mip levels are chosen per polygon (set-up reads their sizes), else none.
     pub(crate) mip_textures: &'a [Texture],
-    /// Draw with the screen door (the ghost car).
-    pub(crate) see_through: bool,
+    /// The screen door the object is drawn through (the ghost car; a level-of-detail fade), if any.
+    pub(crate) door: Door,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
     pub(crate) fast_path: FastPathRule,
     /// Whether the fill draws coverage samples: then no small triangles are set up (that fill draws every
@@ -204,7 +205,8 @@ impl ObjectSetup<'_> {
             AlphaMode::Mask { cutoff } => Some(cutoff),
         };
         // A depth bias moves the corners' depths, which the direct path does not do.
-        let fast = self.fast_path.small_triangles(texture.is_some(), true, alpha_cutoff.is_some(), self.see_through);
+        let fast =
+            self.fast_path.small_triangles(texture.is_some(), true, alpha_cutoff.is_some(), !self.door.is_none());
         let mip_size = texture.and_then(|t| self.mip_textures.get(t as usize)).map(|t| (t.width(), t.height()));
         MaterialSetup {
             index,
@@ -276,7 +278,7 @@ impl ObjectSetup<'_> {
             sampler: material.sampler,
             alpha_cutoff,
             constant_color: Some(color0),
-            screen_door: self.see_through,
+            door: self.door,
             lod,
         };
         let first = out.push_small((t, planes), texture.is_some());
@@ -376,7 +378,7 @@ impl ObjectSetup<'_> {
             sampler: material.sampler,
             alpha_cutoff,
             constant_color: g.constant_color,
-            screen_door: self.see_through,
+            door: self.door,
             // Once for the whole polygon, before any split: its pieces share it.
             lod: m.mip_size.map_or(0, |size| polygon_lod_of(&out.screen[first..], size)),
         };
@@ -393,7 +395,7 @@ impl ObjectSetup<'_> {
             texture.is_some(),
             g.constant_color.is_some(),
             alpha_cutoff.is_some(),
-            self.see_through,
+            !self.door.is_none(),
         );
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).

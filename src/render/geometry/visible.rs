@@ -15,6 +15,7 @@ use rayon::slice::{ParallelSlice, ParallelSliceMut};
 use super::cull::{Frustum, world_sphere};
 use super::lod::{LodState, pick_level};
 use crate::render::core::camera::Camera;
+use crate::render::core::door::Door;
 use crate::render::core::draw_list::{DrawList, Instance};
 use crate::render::core::mesh::Mesh;
 use crate::render::core::options::{Method, RenderOptions};
@@ -32,6 +33,8 @@ pub(crate) struct Visible {
     pub(crate) mesh: usize,
     /// Its world bounding sphere (centre, radius).
     pub(crate) sphere: (Vec3, f32),
+    /// The screen door it is drawn through: none, or one side of a level-of-detail cross-fade.
+    pub(crate) door: Door,
 }
 
 /// What the pass reads of the frame.
@@ -57,12 +60,25 @@ impl<'a> PassView<'a> {
         Some(lists.flatten().map_or(mesh, |l| &l.mesh))
     }
 
-    /// Chooses instance `index`'s model (updating its LOD `slot`) and culls it; counts both in `stats`.
-    fn classify(&self, index: usize, inst: &Instance, slot: &mut u8, stats: &mut Stats) -> Option<Visible> {
+    /// Chooses instance `index`'s model (updating its LOD `slot`) and culls it; counts both in `stats`. During
+    /// a level-of-detail cross-fade, the model fading out follows the chosen one, each through its door.
+    fn classify(&self, index: usize, inst: &Instance, slot: &mut u8, stats: &mut Stats) -> [Option<Visible>; 2] {
         stats.objects_in += 1;
         let view = (self.camera, self.y_scale_px);
-        let chosen = pick_level(slot, inst, self.list, view, self.options, stats);
-        let Some((m, mesh)) = chosen.and_then(|m| Some((m, self.drawn_mesh(m)?))) else {
+        let Some(picked) = pick_level(slot, inst, self.list, view, self.options, stats) else {
+            stats.objects_culled += 1;
+            return [None, None];
+        };
+        let chosen = self.placed(index, inst, (picked.mesh, picked.door), stats);
+        // The model fading out is drawn only where the chosen one is (a culled object is culled whole).
+        let fading = chosen.and(picked.fading).and_then(|m| self.placed(index, inst, m, stats));
+        [chosen, fading]
+    }
+
+    /// Instance `index` drawing mesh `m` through `door`, or `None` (counted in `stats`) when the mesh is not
+    /// in the list or the frustum excludes it.
+    fn placed(&self, index: usize, inst: &Instance, (m, door): (usize, Door), stats: &mut Stats) -> Option<Visible> {
+        let Some(mesh) = self.drawn_mesh(m) else {
             stats.objects_culled += 1;
             return None;
         };
@@ -74,7 +90,7 @@ impl<'a> PassView<'a> {
             stats.polygons_in_culled_objects += npoly;
             return None;
         }
-        Some(Visible { index, mesh: m, sphere })
+        Some(Visible { index, mesh: m, sphere, door })
     }
 }
 
@@ -100,7 +116,7 @@ pub(crate) fn visible_objects(
     let slots = lod.slots(instances.len());
     if threads <= 1 || instances.len() < PARALLEL_INSTANCES {
         for ((index, inst), slot) in instances.iter().enumerate().zip(slots) {
-            out.extend(view.classify(index, inst, slot, stats));
+            out.extend(view.classify(index, inst, slot, stats).into_iter().flatten());
         }
         return;
     }
@@ -115,7 +131,7 @@ pub(crate) fn visible_objects(
             found.clear();
             let mut s = Stats::default();
             for (i, (inst, slot)) in insts.iter().zip(slots).enumerate() {
-                found.extend(view.classify(k * size + i, inst, slot, &mut s));
+                found.extend(view.classify(k * size + i, inst, slot, &mut s).into_iter().flatten());
             }
             s
         })

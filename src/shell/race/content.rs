@@ -88,8 +88,11 @@ impl Content for Race {
         };
         let ms = t.elapsed().as_secs_f64() * 1e3;
         d.frame_ms = 0.9 * d.frame_ms + 0.1 * ms;
+        d.debug.quality = Some(d.quality_label());
+        // After the F3 record: the log's line names the step this frame was drawn at.
         let occupancy = if d.debug.visible { d.renderer.bucket_occupancy() } else { Vec::new() };
         d.debug.record(ms, &stats, occupancy);
+        d.frame_drawn(ms);
         Ok(format!(
             "{}{} — {:?} — {} {:.1} ms, {} polygons",
             if self.screen == Screen::Paused { "PAUSED — " } else { "" },
@@ -107,6 +110,7 @@ impl Content for Race {
 
     fn pacing(&mut self, pacing: crate::shell::window::Pacing) {
         self.drawing.debug.pacing = Some(pacing);
+        self.drawing.period_ms = pacing.budget_period_ms();
     }
 
     fn scale(&mut self, current: u32) -> u32 {

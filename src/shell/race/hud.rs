@@ -71,9 +71,10 @@ pub(super) fn hud(
         ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
         ui.label(
             egui::RichText::new(format!(
-                "{:?} view — {}, aa {}, {}, mip {} — {:.1} ms/frame",
+                "{:?} view — {}, quality {}: aa {}, {}, mip {} — {:.1} ms/frame",
                 drawing.view,
                 drawing.options.method,
+                drawing.quality_label(),
                 drawing.options.antialias,
                 drawing.options.filter,
                 drawing.options.mip,

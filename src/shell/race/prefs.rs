@@ -6,12 +6,12 @@
 
 use winit::keyboard::KeyCode;
 
-use super::screen::Drawing;
+use super::screen::{Drawing, Picture};
 use crate::game::RaceSetup;
 use crate::game::rules::format_ticks;
 use crate::input::bindings::{Action, Bindings};
 use crate::input::gamepad::Gamepads;
-use crate::render::{Antialias, Filter, Method, MipMode, RenderOptions, TextureMode};
+use crate::render::{Antialias, Filter, Method, MipMode, Quality, TextureMode};
 use crate::shell::keys::key_label;
 use crate::shell::race_scene::View;
 use crate::shell::settings::{LAPS_RANGE, Settings, SettingsFile, VOLUME_RANGE};
@@ -103,7 +103,7 @@ impl Prefs {
         settings: Settings,
         file: Option<SettingsFile>,
         scale: Option<u32>,
-        (options, chosen): (&RenderOptions, Chosen<'_>),
+        (picture, chosen): (Picture, Chosen<'_>),
         pads: &mut Gamepads,
     ) {
         self.bindings = settings.keys.clone();
@@ -118,9 +118,11 @@ impl Prefs {
         self.file = file.map(|mut f| {
             f.assume_saved(chosen.into_settings(Settings {
                 scale,
-                antialias: options.antialias,
-                filter: options.filter,
-                mip: options.mip,
+                antialias: picture.antialias,
+                filter: picture.filter,
+                mip: picture.mip,
+                lod_fade: picture.lod_fade,
+                auto_quality: picture.auto,
                 ..settings
             }));
             f
@@ -129,7 +131,7 @@ impl Prefs {
 
     /// The settings as they stand now, the gamepad's from `pads`, the picture choices from `options`, the
     /// race's from `chosen`.
-    fn current(&self, pads: &Gamepads, options: &RenderOptions, chosen: Chosen<'_>) -> Settings {
+    fn current(&self, pads: &Gamepads, picture: Picture, chosen: Chosen<'_>) -> Settings {
         chosen.into_settings(Settings {
             keys: self.bindings.clone(),
             deadzone: pads.deadzone,
@@ -139,9 +141,11 @@ impl Prefs {
             volume: self.sound.volume,
             effects_volume: self.sound.effects,
             muted: self.sound.muted,
-            antialias: options.antialias,
-            filter: options.filter,
-            mip: options.mip,
+            antialias: picture.antialias,
+            filter: picture.filter,
+            mip: picture.mip,
+            lod_fade: picture.lod_fade,
+            auto_quality: picture.auto,
             ..Settings::default()
         })
     }
@@ -153,10 +157,10 @@ impl Prefs {
     pub(super) fn save(
         &mut self,
         pads: &Gamepads,
-        (options, chosen): (&RenderOptions, Chosen<'_>),
+        (picture, chosen): (Picture, Chosen<'_>),
         notice: &mut Option<String>,
     ) {
-        let now = self.current(pads, options, chosen);
+        let now = self.current(pads, picture, chosen);
         if let Some(file) = &mut self.file
             && let Err(e) = file.save(&now)
         {
@@ -260,6 +264,8 @@ impl Prefs {
 /// the player chose), and visibility method, buckets, LOD bias, texture mapping and view (for this run:
 /// choices for measuring, which a later race should not inherit unawares).
 fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
+    quality_setting(ui, drawing);
+    let before = drawing.options;
     let options = &mut drawing.options;
     egui::ComboBox::from_label("visibility method").selected_text(options.method.name()).show_ui(ui, |ui| {
         for m in Method::ALL {
@@ -281,6 +287,13 @@ fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
             ui.selectable_value(&mut options.mip, m, m.name());
         }
     });
+    ui.checkbox(&mut options.lod_fade, "LOD cross-fade");
+    let picture = |o: &crate::render::RenderOptions| (o.antialias, o.filter, o.mip, o.lod_fade);
+    if picture(options) != picture(&before) {
+        // A picture fixed by hand: `auto` no longer picks it.
+        drawing.set_auto(false);
+    }
+    let options = &mut drawing.options;
     ui.add(egui::Slider::new(&mut options.buckets, 8..=65536).logarithmic(true).text("buckets"));
     ui.add(egui::Slider::new(&mut options.lod_bias, -3.0..=3.0).text("LOD bias"));
     egui::ComboBox::from_label("texture mapping").selected_text(format!("{:?}", options.texture_mode)).show_ui(
@@ -297,4 +310,26 @@ fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
             ui.selectable_value(view, v, format!("{v:?}"));
         }
     });
+}
+
+/// The quality choice: `auto` or one of the presets (each sets anti-aliasing, filter and mip levels; a
+/// picture set by hand shows as `custom`).
+fn quality_setting(ui: &mut egui::Ui, drawing: &mut Drawing) {
+    let shown = drawing.quality_label();
+    let mut auto = drawing.auto.is_some();
+    let mut preset = if auto { None } else { Quality::of(&drawing.options) };
+    egui::ComboBox::from_label("quality").selected_text(shown).show_ui(ui, |ui| {
+        if ui.selectable_label(auto, "auto").clicked() {
+            auto = true;
+        }
+        for q in Quality::ALL {
+            if ui.selectable_label(preset == Some(q), q.name()).clicked() {
+                (auto, preset) = (false, Some(q));
+            }
+        }
+    });
+    drawing.set_auto(auto);
+    if let (false, Some(q)) = (auto, preset) {
+        drawing.options = q.apply(drawing.options);
+    }
 }

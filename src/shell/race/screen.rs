@@ -5,7 +5,10 @@
 //! and the HUD shows them. Kept here, below every concern, each concern takes the parts it needs as
 //! arguments instead of reaching back into the whole race (`Race` in `race/mod.rs`, which holds them).
 
-use crate::render::{RenderOptions, Renderer};
+use std::time::Instant;
+
+use crate::render::{Antialias, Filter, MipMode, Quality, RenderOptions, Renderer};
+use crate::shell::auto_quality::AutoQuality;
 use crate::shell::debug_overlay::DebugOverlay;
 use crate::shell::race_scene::View;
 
@@ -38,7 +41,35 @@ pub(super) struct Drawing {
     pub(super) debug: DebugOverlay,
     /// Whether menus and HUD are drawn over the race.
     pub(super) hud: bool,
+    /// The `auto` quality controller, when the picture follows the frame time.
+    pub(super) auto: Option<AutoQuality>,
+    /// The picture the player fixed (what the settings file keeps while `auto` changes the options).
+    pub(super) fixed: Picture,
+    /// The frame period `auto` budgets against (ms), from the window's pacing.
+    pub(super) period_ms: f64,
+    /// When the last frame was drawn (for `auto`'s durations).
+    pub(super) last_frame: Option<Instant>,
 }
+
+/// The picture choices the settings file keeps: anti-aliasing, texture filter, mip levels, and whether
+/// `auto` picks them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Picture {
+    /// Anti-aliasing.
+    pub(super) antialias: Antialias,
+    /// Texture filter.
+    pub(super) filter: Filter,
+    /// Mip levels.
+    pub(super) mip: MipMode,
+    /// Level-of-detail cross-fades.
+    pub(super) lod_fade: bool,
+    /// Whether `auto` quality is on.
+    pub(super) auto: bool,
+}
+
+/// The step `auto` starts at: the second from the top, from which a machine with room reaches the top in
+/// a few seconds and one without steps down within one.
+pub(super) const AUTO_START: Quality = Quality::High;
 
 impl Drawing {
     /// How a race's frames are drawn at first: with `options`, from close behind the player's car, with
@@ -51,6 +82,63 @@ impl Drawing {
             frame_ms: 0.0,
             debug: DebugOverlay::default(),
             hud: true,
+            auto: None,
+            fixed: Picture {
+                antialias: options.antialias,
+                filter: options.filter,
+                mip: options.mip,
+                lod_fade: options.lod_fade,
+                auto: false,
+            },
+            period_ms: crate::shell::pacing::Pacing::Uncapped.budget_period_ms(),
+            last_frame: None,
+        }
+    }
+
+    /// Turns `auto` quality on (starting at [`AUTO_START`]) or off (keeping the step in use, which becomes
+    /// the fixed picture).
+    pub(super) fn set_auto(&mut self, on: bool) {
+        match (on, self.auto.is_some()) {
+            (true, false) => {
+                self.fixed = Picture { auto: false, ..self.picture() };
+                self.auto = Some(AutoQuality::new(AUTO_START));
+                self.options = AUTO_START.apply(self.options);
+            }
+            (false, true) => self.auto = None,
+            _ => {}
+        }
+    }
+
+    /// The picture to save: the options' own when fixed, the player's fixed one under `auto`.
+    pub(super) fn picture(&self) -> Picture {
+        match self.auto {
+            Some(_) => Picture { auto: true, ..self.fixed },
+            None => Picture {
+                antialias: self.options.antialias,
+                filter: self.options.filter,
+                mip: self.options.mip,
+                lod_fade: self.options.lod_fade,
+                auto: false,
+            },
+        }
+    }
+
+    /// Takes a frame that took `ms` to draw: under `auto`, the step it calls for goes into the options.
+    pub(super) fn frame_drawn(&mut self, ms: f64) {
+        let now = Instant::now();
+        let seconds = self.last_frame.map_or(0.0, |t| now.duration_since(t).as_secs_f64());
+        self.last_frame = Some(now);
+        if let Some(step) = self.auto.as_mut().and_then(|a| a.frame(ms, seconds, self.period_ms)) {
+            self.options = step.apply(self.options);
+        }
+    }
+
+    /// The quality in use as the HUD and F3 say it: `high (auto)`, `medium`, or `custom`.
+    pub(super) fn quality_label(&self) -> String {
+        match (&self.auto, Quality::of(&self.options)) {
+            (Some(a), _) => format!("{} (auto)", a.step()),
+            (None, Some(q)) => q.name().to_string(),
+            (None, None) => "custom".to_string(),
         }
     }
 }

@@ -127,6 +127,14 @@ impl Race {
         self
     }
 
+    /// Lets `auto` quality pick the picture from the frame time (the options' picture is then the fixed one
+    /// the settings file keeps). Call before [`Race::with_settings`], which takes the picture as saved.
+    #[must_use]
+    pub fn with_auto_quality(mut self, on: bool) -> Self {
+        self.drawing.set_auto(on);
+        self
+    }
+
     /// Lets the AI drive the player's car (the controls it chooses are recorded like a player's).
     #[must_use]
     pub fn autopilot(mut self, on: bool) -> Self {
@@ -161,7 +169,7 @@ impl Race {
             Some((course, setup)) => Chosen { course, setup },
             None => Chosen { course: &self.scene.course, setup: &self.setup },
         };
-        self.prefs.apply(settings, file, scale, (&self.drawing.options, chosen), &mut self.control.pads);
+        self.prefs.apply(settings, file, scale, (self.drawing.picture(), chosen), &mut self.control.pads);
         if note.is_some() {
             self.notice = note;
         }
@@ -336,7 +344,7 @@ impl Race {
             Some((course, setup)) => Chosen { course, setup },
             None => Chosen { course: &self.scene.course, setup: &self.setup },
         };
-        self.prefs.save(&self.control.pads, (&self.drawing.options, chosen), &mut self.notice);
+        self.prefs.save(&self.control.pads, (self.drawing.picture(), chosen), &mut self.notice);
     }
 
     /// A key went down or up: a key Settings waits for is bound; any other is what the player's controls

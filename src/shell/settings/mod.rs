@@ -141,14 +141,27 @@ mod tests {
         let _ = std::fs::remove_file(&p);
         let (mut file, s, _) = SettingsFile::load(&p);
         assert_eq!((s.antialias, s.filter, s.mip), (Antialias::Off, Filter::Nearest, MipMode::Polygon));
-        let s = Settings { antialias: Antialias::Samples8, filter: Filter::Trilinear, mip: MipMode::Span, ..s };
+        // A picture fixed by the player (not `auto`, the default).
+        assert!(s.auto_quality);
+        let s = Settings {
+            antialias: Antialias::Samples8,
+            filter: Filter::Trilinear,
+            mip: MipMode::Span,
+            auto_quality: false,
+            ..s
+        };
         assert!(file.save(&s).unwrap());
         assert_eq!(
             std::fs::read_to_string(&p).unwrap(),
-            "{\n  \"antialias\": \"8x\",\n  \"filter\": \"trilinear\",\n  \"mip\": \"span\"\n}\n"
+            "{\n  \"antialias\": \"8x\",\n  \"auto_quality\": false,\n  \"filter\": \"trilinear\",\n  \"mip\": \"span\"\n}\n"
         );
         let (_, back, note) = SettingsFile::load(&p);
         assert_eq!((back, note), (s, None));
+        // A file from before `auto` that names a picture keeps it; one that names none is `auto`.
+        std::fs::write(&p, r#"{"antialias": "ssaa"}"#).unwrap();
+        assert!(!SettingsFile::load(&p).1.auto_quality);
+        std::fs::write(&p, r#"{"ghost": false}"#).unwrap();
+        assert!(SettingsFile::load(&p).1.auto_quality);
         for (text, want, said) in [
             (
                 r#"{"antialias": "6x", "filter": "bilinear"}"#,

@@ -202,6 +202,12 @@ impl Settings {
         named(doc, "antialias", &mut s.antialias, &mut notes);
         named(doc, "filter", &mut s.filter, &mut notes);
         named(doc, "mip", &mut s.mip, &mut notes);
+        field(doc, "lod_fade", &mut s.lod_fade, "true or false", &mut notes);
+        field(doc, "auto_quality", &mut s.auto_quality, "true or false", &mut notes);
+        if !doc.contains_key("auto_quality") && ["antialias", "filter", "mip"].iter().any(|k| doc.contains_key(*k)) {
+            // A file from before `auto` that names a picture keeps it: the player chose it.
+            s.auto_quality = false;
+        }
         field(doc, "course", &mut s.course, "a course's name", &mut notes);
         field(doc, "car", &mut s.car, &format!("a whole number from 1 to {}", crate::game::garage::CARS), &mut notes);
         named(doc, "mode", &mut s.mode, &mut notes);

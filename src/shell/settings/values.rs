@@ -60,6 +60,11 @@ pub struct Settings {
     /// Where the race's mip levels are chosen, by its command-line name (`"pixel"`).
     #[serde(with = "by_name")]
     pub mip: MipMode,
+    /// Whether the race's level-of-detail changes cross-fade (`--lod-fade`).
+    pub lod_fade: bool,
+    /// Whether the race's picture follows the frame time (`auto` quality); when false, the three choices
+    /// above are the picture.
+    pub auto_quality: bool,
     /// The course raced last (its folder under `track/`).
     pub course: String,
     /// The player's car, 1 to 8.
@@ -88,6 +93,8 @@ impl Default for Settings {
             antialias: RenderOptions::default().antialias,
             filter: RenderOptions::default().filter,
             mip: RenderOptions::default().mip,
+            lod_fade: false,
+            auto_quality: true,
             course: crate::shell::course::DEFAULT_COURSE.to_string(),
             car: 1,
             mode: Mode::Race,

@@ -1,0 +1,122 @@
+//! Quality presets: the picture settings (texture filter, mip-level choice, anti-aliasing) named as steps of
+//! one ladder, so a player, a test and a script say `high` instead of three flags.
+//!
+//! Each step is a point of the bench's speed-against-accuracy front on every course (docs/performance.md,
+//! "Quality presets"): no other setting measured is both faster and closer to the reference. The steps
+//! leave everything else (visibility method, level of detail, threads) as the options had it.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::options::{Antialias, MipMode, RenderOptions, UnknownName};
+use super::texture::Filter;
+
+/// A named step of the picture ladder, cheapest first.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Quality {
+    /// No anti-aliasing, nearest texels of the mip level chosen once per polygon: the renderer's default.
+    #[default]
+    Low,
+    /// Four coverage samples a pixel: smooth edges at little cost; textures as `low`.
+    Medium,
+    /// 2x2 supersampling: edges and texture detail both sampled four times a pixel.
+    High,
+    /// 2x2 supersampling with the mip level chosen at every pixel.
+    Ultra,
+}
+
+impl Quality {
+    /// Every step, cheapest first.
+    pub const ALL: [Quality; 4] = [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Low => "low",
+            Quality::Medium => "medium",
+            Quality::High => "high",
+            Quality::Ultra => "ultra",
+        }
+    }
+
+    /// The texture filter, mip-level choice, anti-aliasing and level-of-detail cross-fade of this step.
+    #[must_use]
+    pub fn picture(self) -> (Filter, MipMode, Antialias, bool) {
+        match self {
+            Quality::Low => (Filter::Nearest, MipMode::Polygon, Antialias::Off, false),
+            Quality::Medium => (Filter::Nearest, MipMode::Polygon, Antialias::Samples4, true),
+            Quality::High => (Filter::Nearest, MipMode::Polygon, Antialias::Supersample2x2, true),
+            Quality::Ultra => (Filter::Nearest, MipMode::Pixel, Antialias::Supersample2x2, true),
+        }
+    }
+
+    /// `options` with this step's picture settings (the rest as `options` has them).
+    #[must_use]
+    pub fn apply(self, options: RenderOptions) -> RenderOptions {
+        let (filter, mip, antialias, lod_fade) = self.picture();
+        RenderOptions { filter, mip, antialias, lod_fade, ..options }
+    }
+
+    /// The step whose picture settings `options` has, if one does.
+    #[must_use]
+    pub fn of(options: &RenderOptions) -> Option<Quality> {
+        let picture = (options.filter, options.mip, options.antialias, options.lod_fade);
+        Quality::ALL.into_iter().find(|q| q.picture() == picture)
+    }
+
+    /// The next step up, if there is one.
+    #[must_use]
+    pub fn up(self) -> Option<Quality> {
+        Quality::ALL.get(self as usize + 1).copied()
+    }
+
+    /// The next step down, if there is one.
+    #[must_use]
+    pub fn down(self) -> Option<Quality> {
+        (self as usize).checked_sub(1).and_then(|i| Quality::ALL.get(i).copied())
+    }
+}
+
+impl fmt::Display for Quality {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Quality {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Quality::ALL
+            .into_iter()
+            .find(|q| q.name() == s)
+            .ok_or_else(|| UnknownName::new("quality", s, "low, medium, high or ultra"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_list_the_choices() {
+        for q in Quality::ALL {
+            assert_eq!(q.name().parse::<Quality>(), Ok(q));
+            assert_eq!(Quality::of(&q.apply(RenderOptions::default())), Some(q));
+        }
+        let err = "best".parse::<Quality>().map(|_| ()).unwrap_err();
+        assert_eq!(err.to_string(), "unknown quality 'best' (expected low, medium, high or ultra)");
+    }
+
+    #[test]
+    fn the_bottom_step_is_the_renderer_s_default_and_steps_climb_one_at_a_time() {
+        assert_eq!(Quality::of(&RenderOptions::default()), Some(Quality::Low));
+        assert_eq!(Quality::Low.down(), None);
+        assert_eq!(Quality::Ultra.up(), None);
+        let climbed: Vec<Quality> = std::iter::successors(Some(Quality::Low), |q| q.up()).collect();
+        assert_eq!(climbed, Quality::ALL);
+        let kept = RenderOptions { threads: 3, lod_bias: 1.0, ..RenderOptions::default() };
+        let high = Quality::High.apply(kept);
+        assert_eq!((high.threads, high.lod_bias, high.antialias), (3, 1.0, Antialias::Supersample2x2));
+    }
+}

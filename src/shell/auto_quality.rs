@@ -1,0 +1,266 @@
+//! `auto` quality: the window's picture climbs and descends the preset ladder ([`Quality`]) from the
+//! measured frame time, so each frame stays within a share of the refresh period.
+//!
+//! The rules, in the order they keep the picture steady:
+//! - A frame's time counts through the median of the last [`WINDOW`] frames at the step in use: a spike
+//!   of fewer than half of them moves nothing.
+//! - Down: when that median is over the budget ([`SHARE`] of the frame period).
+//! - Up: only after [`ROOM_SECONDS`] in a row in which the next step's predicted time fits
+//!   [`UP_MARGIN`] of the budget. The prediction is the current median times the ratio of the two steps'
+//!   costs, learned from the medians on each side of every change (and the bench's ratios until then), so
+//!   a step left for being too slow is not tried again until the frames it would cost have fallen.
+//! - At most one change every [`HOLD_SECONDS`].
+//!
+//! A time that sits at the budget therefore makes one step down and no step back: the step above is
+//! predicted at the budget, which is over the margin.
+//!
+//! The controller is a pure function of the times and durations it is given; the window's clock feeds it.
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::render::{Quality, UnknownName};
+
+/// Frames whose median decides a step down.
+pub const WINDOW: usize = 9;
+/// Share of the frame period the drawing may take.
+pub const SHARE: f64 = 0.7;
+/// Share of the budget the next step's predicted time must fit before a step up.
+pub const UP_MARGIN: f64 = 0.85;
+/// Seconds of room in a row before a step up.
+pub const ROOM_SECONDS: f64 = 2.0;
+/// Least seconds between two changes.
+pub const HOLD_SECONDS: f64 = 1.0;
+
+/// Each step's frame time relative to `low`'s before any is measured: the bench's ratios (1 thread,
+/// 640x480, the three courses' medians; docs/performance.md, "Quality presets").
+const BENCH_COST: [f64; 4] = [1.0, 1.35, 2.9, 3.1];
+
+/// What the window's picture follows: a fixed preset, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QualityChoice {
+    /// Climbs and descends the presets from the frame time (the window only).
+    Auto,
+    /// One preset.
+    Fixed(Quality),
+}
+
+impl FromStr for QualityChoice {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "auto" {
+            return Ok(QualityChoice::Auto);
+        }
+        s.parse().map(QualityChoice::Fixed).map_err(|_: UnknownName| UnknownName {
+            setting: "quality",
+            given: s.to_owned(),
+            expected: "auto, low, medium, high or ultra",
+        })
+    }
+}
+
+impl fmt::Display for QualityChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            QualityChoice::Auto => f.write_str("auto"),
+            QualityChoice::Fixed(q) => f.write_str(q.name()),
+        }
+    }
+}
+
+/// The `auto` controller: the step in use and what it has measured.
+#[derive(Clone, Debug)]
+pub struct AutoQuality {
+    step: Quality,
+    /// The last frame times at this step (ms), oldest first, at most [`WINDOW`].
+    recent: Vec<f64>,
+    /// Each step's cost relative to `low`'s.
+    cost: [f64; 4],
+    /// The step left at the last change and its median then, until the new step's median is known.
+    left: Option<(Quality, f64)>,
+    /// Seconds since the last change.
+    since_change: f64,
+    /// Seconds in a row with room for the next step.
+    room: f64,
+    /// Changes made so far.
+    changes: u32,
+}
+
+impl AutoQuality {
+    /// A controller starting at `step` (the first change may come after [`HOLD_SECONDS`]).
+    #[must_use]
+    pub fn new(step: Quality) -> Self {
+        Self {
+            step,
+            recent: Vec::with_capacity(WINDOW),
+            cost: BENCH_COST,
+            left: None,
+            since_change: 0.0,
+            room: 0.0,
+            changes: 0,
+        }
+    }
+
+    /// The step in use.
+    #[must_use]
+    pub fn step(&self) -> Quality {
+        self.step
+    }
+
+    /// How many times the step changed.
+    #[must_use]
+    pub fn changes(&self) -> u32 {
+        self.changes
+    }
+
+    /// Takes a frame that took `ms` to draw, `seconds` after the one before, against a frame period of
+    /// `period_ms`; the new step when it changes. Times that are not finite or not positive are ignored.
+    pub fn frame(&mut self, ms: f64, seconds: f64, period_ms: f64) -> Option<Quality> {
+        if !(ms.is_finite() && ms >= 0.0 && period_ms.is_finite() && period_ms > 0.0) {
+            return None;
+        }
+        self.since_change += if seconds.is_finite() { seconds.clamp(0.0, 1.0) } else { 0.0 };
+        if self.recent.len() == WINDOW {
+            self.recent.remove(0);
+        }
+        self.recent.push(ms);
+        let median = self.median()?;
+        self.learn(median);
+        let budget = SHARE * period_ms;
+        let next = self.step.up();
+        let fits = next.is_some_and(|up| median * self.ratio(self.step, up) <= UP_MARGIN * budget);
+        self.room = if fits { self.room + seconds.clamp(0.0, 1.0) } else { 0.0 };
+        if self.since_change < HOLD_SECONDS {
+            return None;
+        }
+        let to = if median > budget {
+            self.step.down()
+        } else if self.room >= ROOM_SECONDS {
+            next
+        } else {
+            None
+        }?;
+        self.left = Some((self.step, median));
+        self.step = to;
+        self.recent.clear();
+        self.since_change = 0.0;
+        self.room = 0.0;
+        self.changes += 1;
+        Some(to)
+    }
+
+    /// The median of the window, once it is full.
+    fn median(&self) -> Option<f64> {
+        if self.recent.len() < WINDOW {
+            return None;
+        }
+        let mut sorted = self.recent.clone();
+        sorted.sort_by(f64::total_cmp);
+        sorted.get(WINDOW / 2).copied()
+    }
+
+    /// With the first full window after a change, the cost of the new step relative to the one left.
+    fn learn(&mut self, median: f64) {
+        if let Some((from, before)) = self.left.take()
+            && before > 0.0
+            && median > 0.0
+        {
+            let scaled = self.cost[from as usize] * median / before;
+            self.cost[self.step as usize] = scaled;
+        }
+    }
+
+    /// How much longer a frame at `to` takes than at `from`.
+    fn ratio(&self, from: Quality, to: Quality) -> f64 {
+        let (a, b) = (self.cost[from as usize], self.cost[to as usize]);
+        if a > 0.0 { b / a } else { f64::INFINITY }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Feeds `frames` frames of `ms(step, i)` at 60 Hz; the steps after each frame.
+    fn run(auto: &mut AutoQuality, frames: usize, ms: impl Fn(Quality, usize) -> f64) -> Vec<Quality> {
+        (0..frames)
+            .map(|i| {
+                auto.frame(ms(auto.step(), i), 1.0 / 60.0, 1000.0 / 60.0);
+                auto.step()
+            })
+            .collect()
+    }
+
+    /// A machine on which each step costs the bench's ratio times `low_ms`.
+    fn machine(low_ms: f64) -> impl Fn(Quality, usize) -> f64 {
+        move |q, _| low_ms * BENCH_COST[q as usize]
+    }
+
+    #[test]
+    fn a_machine_with_room_climbs_to_the_top_one_step_at_a_time() {
+        let mut auto = AutoQuality::new(Quality::Low);
+        let steps = run(&mut auto, 60 * 20, machine(1.0));
+        assert_eq!(steps.last(), Some(&Quality::Ultra));
+        assert_eq!(auto.changes(), 3);
+        // The first step up waits for the hold and the run of room.
+        let first = steps.iter().position(|s| *s != Quality::Low).unwrap();
+        assert!(first as f64 / 60.0 >= ROOM_SECONDS, "{first}");
+    }
+
+    #[test]
+    fn a_spike_does_not_step_down() {
+        let mut auto = AutoQuality::new(Quality::High);
+        // Four frames in every nine take 40 ms (over a 11.7 ms budget): fewer than half of the window.
+        let steps = run(&mut auto, 60 * 10, |_, i| if i % 9 < 4 { 40.0 } else { 3.0 });
+        assert!(steps.iter().all(|s| *s >= Quality::High), "{steps:?}");
+        // And the same spikes at the top step, with room below them, do not either.
+        let mut top = AutoQuality::new(Quality::Ultra);
+        let steps = run(&mut top, 60 * 10, |_, i| if i % 9 < 4 { 40.0 } else { 3.0 });
+        assert!(steps.iter().all(|s| *s == Quality::Ultra), "{steps:?}");
+    }
+
+    #[test]
+    fn a_steady_overload_steps_down_within_its_window_and_back_up_after() {
+        let mut auto = AutoQuality::new(Quality::High);
+        run(&mut auto, 90, machine(2.0));
+        assert_eq!(auto.step(), Quality::High);
+        // From now on every frame takes three times as long (another program on the cores).
+        let loaded = run(&mut auto, 60 * 6, |q, _| 3.0 * machine(2.0)(q, 0));
+        let down = loaded.iter().position(|s| *s != Quality::High).unwrap();
+        assert!(down < WINDOW, "stepped down after {down} frames");
+        assert_eq!(loaded.last(), Some(&Quality::Medium));
+        let unloaded = run(&mut auto, 60 * 10, machine(2.0));
+        assert_eq!(unloaded.last(), Some(&Quality::Ultra));
+    }
+
+    #[test]
+    fn a_time_at_the_threshold_steps_down_once_and_never_oscillates() {
+        let budget = SHARE * 1000.0 / 60.0;
+        let mut auto = AutoQuality::new(Quality::High);
+        // At high the frames sit at the budget, a little over or under in turn.
+        let steps = run(&mut auto, 60 * 60, |q, i| {
+            budget * BENCH_COST[q as usize] / BENCH_COST[2] * if i % 2 == 0 { 1.02 } else { 0.99 }
+        });
+        assert_eq!(auto.changes(), 1, "{:?}", steps.iter().filter(|s| **s != Quality::Medium).count());
+        assert_eq!(steps.last(), Some(&Quality::Medium));
+    }
+
+    #[test]
+    fn changes_are_at_least_the_hold_apart_and_bad_times_are_ignored() {
+        let mut auto = AutoQuality::new(Quality::Ultra);
+        let steps = run(&mut auto, 60 * 5, |_, _| 100.0);
+        let changes: Vec<usize> = (1..steps.len()).filter(|&i| steps[i] != steps[i - 1]).collect();
+        assert_eq!(steps.last(), Some(&Quality::Low));
+        for pair in changes.windows(2) {
+            assert!((pair[1] - pair[0]) as f64 / 60.0 >= HOLD_SECONDS - 1e-9, "{changes:?}");
+        }
+        for bad in [f64::NAN, f64::INFINITY, -1.0] {
+            assert_eq!(auto.frame(bad, 1.0, 16.7), None);
+            assert_eq!(auto.frame(1.0, 1.0, bad), None);
+        }
+        assert_eq!("auto".parse(), Ok(QualityChoice::Auto));
+        assert_eq!("ultra".parse(), Ok(QualityChoice::Fixed(Quality::Ultra)));
+        let err = "max".parse::<QualityChoice>().unwrap_err().to_string();
+        assert_eq!(err, "unknown quality 'max' (expected auto, low, medium, high or ultra)");
+    }
+}
