@@ -152,6 +152,7 @@ fn race_options(options: RenderOptions, settings: &Settings, picture: &PictureAr
         filter: settings.filter,
         mip: settings.mip,
         lod_fade: settings.lod_fade,
+        lod_bias: settings.lod_bias,
         ..options
     })
 }

@@ -71,9 +71,9 @@ pub struct RenderArgs {
     #[arg(long, default_value = "auto")]
     pub lod: LodMode,
     /// LOD bias: projected sizes are multiplied by 2^BIAS before choosing (positive keeps finer models);
-    /// -16 to 16.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = values::parse_lod_bias)]
-    pub lod_bias: f32,
+    /// -16 to 16. Default: 0, or the --quality preset's.
+    #[arg(long, allow_negative_numbers = true, value_parser = values::parse_lod_bias)]
+    pub lod_bias: Option<f32>,
     /// Worker threads for the fill, 0 to 256 (0, the default: the cores available); frames are identical
     /// for every count.
     #[arg(long, default_value_t = 0, value_parser = values::threads())]
@@ -104,7 +104,7 @@ impl RenderArgs {
     /// The renderer options these arguments ask for (clap has checked every range).
     #[must_use]
     pub fn options(&self) -> RenderOptions {
-        self.picture.apply(RenderOptions {
+        let options = self.picture.apply(RenderOptions {
             method: self.method,
             buckets: self.buckets,
             key: self.key,
@@ -120,9 +120,10 @@ impl RenderArgs {
             threads: self.threads,
             background: Some(self.background),
             lod: self.lod,
-            lod_bias: self.lod_bias,
             ..RenderOptions::default()
-        })
+        });
+        // A bias given beside a preset wins over the preset's.
+        RenderOptions { lod_bias: self.lod_bias.unwrap_or(options.lod_bias), ..options }
     }
 }
 

@@ -1,5 +1,6 @@
-//! Quality presets: the picture settings (texture filter, mip-level choice, anti-aliasing) named as steps of
-//! one ladder, so a player, a test and a script say `high` instead of three flags.
+//! Quality presets: the picture settings (texture filter, mip-level choice, anti-aliasing, level-of-detail
+//! cross-fade and bias) named as steps of one ladder, so a player, a test and a script say `high` instead
+//! of five flags.
 //!
 //! Each step is a point of the bench's speed-against-accuracy front on every course (docs/performance.md,
 //! "Quality presets"): no other setting measured is both faster and closer to the reference. The steps
@@ -14,14 +15,15 @@ use super::texture::Filter;
 /// A named step of the picture ladder, cheapest first.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Quality {
-    /// No anti-aliasing, nearest texels of the mip level chosen once per polygon: the renderer's default.
+    /// No anti-aliasing, nearest texels of the mip level chosen once per polygon, models swapped at once:
+    /// the renderer's default.
     #[default]
     Low,
-    /// Four coverage samples a pixel: smooth edges at little cost; textures as `low`.
+    /// As `low`, with finer models kept twice as far (LOD bias +1) and level-of-detail changes cross-faded.
     Medium,
-    /// 2x2 supersampling: edges and texture detail both sampled four times a pixel.
+    /// 2x2 supersampling (edges and texture detail both sampled four times a pixel), cross-fades.
     High,
-    /// 2x2 supersampling with the mip level chosen at every pixel.
+    /// 2x2 supersampling with finer models kept twice as far, cross-fades.
     Ultra,
 }
 
@@ -40,28 +42,30 @@ impl Quality {
         }
     }
 
-    /// The texture filter, mip-level choice, anti-aliasing and level-of-detail cross-fade of this step.
+    /// The texture filter, mip-level choice, anti-aliasing, level-of-detail cross-fade and LOD bias of this
+    /// step.
     #[must_use]
-    pub fn picture(self) -> (Filter, MipMode, Antialias, bool) {
+    pub fn picture(self) -> (Filter, MipMode, Antialias, bool, f32) {
+        let (nearest, polygon) = (Filter::Nearest, MipMode::Polygon);
         match self {
-            Quality::Low => (Filter::Nearest, MipMode::Polygon, Antialias::Off, false),
-            Quality::Medium => (Filter::Nearest, MipMode::Polygon, Antialias::Samples4, true),
-            Quality::High => (Filter::Nearest, MipMode::Polygon, Antialias::Supersample2x2, true),
-            Quality::Ultra => (Filter::Nearest, MipMode::Pixel, Antialias::Supersample2x2, true),
+            Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0),
+            Quality::Medium => (nearest, polygon, Antialias::Off, true, 1.0),
+            Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 0.0),
+            Quality::Ultra => (nearest, polygon, Antialias::Supersample2x2, true, 1.0),
         }
     }
 
     /// `options` with this step's picture settings (the rest as `options` has them).
     #[must_use]
     pub fn apply(self, options: RenderOptions) -> RenderOptions {
-        let (filter, mip, antialias, lod_fade) = self.picture();
-        RenderOptions { filter, mip, antialias, lod_fade, ..options }
+        let (filter, mip, antialias, lod_fade, lod_bias) = self.picture();
+        RenderOptions { filter, mip, antialias, lod_fade, lod_bias, ..options }
     }
 
     /// The step whose picture settings `options` has, if one does.
     #[must_use]
     pub fn of(options: &RenderOptions) -> Option<Quality> {
-        let picture = (options.filter, options.mip, options.antialias, options.lod_fade);
+        let picture = (options.filter, options.mip, options.antialias, options.lod_fade, options.lod_bias);
         Quality::ALL.into_iter().find(|q| q.picture() == picture)
     }
 
@@ -115,8 +119,9 @@ mod tests {
         assert_eq!(Quality::Ultra.up(), None);
         let climbed: Vec<Quality> = std::iter::successors(Some(Quality::Low), |q| q.up()).collect();
         assert_eq!(climbed, Quality::ALL);
-        let kept = RenderOptions { threads: 3, lod_bias: 1.0, ..RenderOptions::default() };
+        let kept = RenderOptions { threads: 3, lod_bias: 2.0, buckets: 64, ..RenderOptions::default() };
         let high = Quality::High.apply(kept);
-        assert_eq!((high.threads, high.lod_bias, high.antialias), (3, 1.0, Antialias::Supersample2x2));
+        assert_eq!((high.threads, high.buckets), (3, 64));
+        assert_eq!((high.lod_bias, high.antialias, high.lod_fade), (0.0, Antialias::Supersample2x2, true));
     }
 }

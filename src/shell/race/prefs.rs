@@ -122,6 +122,7 @@ impl Prefs {
                 filter: picture.filter,
                 mip: picture.mip,
                 lod_fade: picture.lod_fade,
+                lod_bias: picture.lod_bias,
                 auto_quality: picture.auto,
                 ..settings
             }));
@@ -145,6 +146,7 @@ impl Prefs {
             filter: picture.filter,
             mip: picture.mip,
             lod_fade: picture.lod_fade,
+            lod_bias: picture.lod_bias,
             auto_quality: picture.auto,
             ..Settings::default()
         })
@@ -288,14 +290,14 @@ fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
         }
     });
     ui.checkbox(&mut options.lod_fade, "LOD cross-fade");
-    let picture = |o: &crate::render::RenderOptions| (o.antialias, o.filter, o.mip, o.lod_fade);
+    ui.add(egui::Slider::new(&mut options.lod_bias, -3.0..=3.0).text("LOD bias"));
+    let picture = |o: &crate::render::RenderOptions| (o.antialias, o.filter, o.mip, o.lod_fade, o.lod_bias);
     if picture(options) != picture(&before) {
         // A picture fixed by hand: `auto` no longer picks it.
         drawing.set_auto(false);
     }
     let options = &mut drawing.options;
     ui.add(egui::Slider::new(&mut options.buckets, 8..=65536).logarithmic(true).text("buckets"));
-    ui.add(egui::Slider::new(&mut options.lod_bias, -3.0..=3.0).text("LOD bias"));
     egui::ComboBox::from_label("texture mapping").selected_text(format!("{:?}", options.texture_mode)).show_ui(
         ui,
         |ui| {

@@ -53,7 +53,7 @@ pub(super) struct Drawing {
 
 /// The picture choices the settings file keeps: anti-aliasing, texture filter, mip levels, and whether
 /// `auto` picks them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Picture {
     /// Anti-aliasing.
     pub(super) antialias: Antialias,
@@ -63,6 +63,8 @@ pub(super) struct Picture {
     pub(super) mip: MipMode,
     /// Level-of-detail cross-fades.
     pub(super) lod_fade: bool,
+    /// Level-of-detail bias.
+    pub(super) lod_bias: f32,
     /// Whether `auto` quality is on.
     pub(super) auto: bool,
 }
@@ -88,6 +90,7 @@ impl Drawing {
                 filter: options.filter,
                 mip: options.mip,
                 lod_fade: options.lod_fade,
+                lod_bias: options.lod_bias,
                 auto: false,
             },
             period_ms: crate::shell::pacing::Pacing::Uncapped.budget_period_ms(),
@@ -118,6 +121,7 @@ impl Drawing {
                 filter: self.options.filter,
                 mip: self.options.mip,
                 lod_fade: self.options.lod_fade,
+                lod_bias: self.options.lod_bias,
                 auto: false,
             },
         }

@@ -21,6 +21,8 @@ pub const VOLUME_RANGE: std::ops::RangeInclusive<f32> = 0.0..=1.0;
 pub const DEADZONE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=0.3;
 /// The range the steering response exponent must be in (1 linear).
 pub const CURVE_RANGE: std::ops::RangeInclusive<f32> = 1.0..=3.0;
+/// The LOD bias the settings file keeps (Settings' slider).
+pub const LOD_BIAS_RANGE: std::ops::RangeInclusive<f32> = -3.0..=3.0;
 
 /// The laps a race chosen in the menu may have.
 pub const LAPS_RANGE: std::ops::RangeInclusive<u32> = 1..=9;
@@ -62,6 +64,8 @@ pub struct Settings {
     pub mip: MipMode,
     /// Whether the race's level-of-detail changes cross-fade (`--lod-fade`).
     pub lod_fade: bool,
+    /// The race's level-of-detail bias, -3 to 3 (positive keeps finer models farther).
+    pub lod_bias: f32,
     /// Whether the race's picture follows the frame time (`auto` quality); when false, the three choices
     /// above are the picture.
     pub auto_quality: bool,
@@ -94,6 +98,7 @@ impl Default for Settings {
             filter: RenderOptions::default().filter,
             mip: RenderOptions::default().mip,
             lod_fade: false,
+            lod_bias: 0.0,
             auto_quality: true,
             course: crate::shell::course::DEFAULT_COURSE.to_string(),
             car: 1,
@@ -140,6 +145,7 @@ impl Settings {
             ("curve", &mut self.curve, d.curve, CURVE_RANGE),
             ("volume", &mut self.volume, d.volume, VOLUME_RANGE),
             ("effects_volume", &mut self.effects_volume, d.effects_volume, VOLUME_RANGE),
+            ("lod_bias", &mut self.lod_bias, d.lod_bias, LOD_BIAS_RANGE),
         ] {
             if !value.is_finite() || !range.contains(value) {
                 notes.push(format!("{name} {value} out of {}: {default} used", shown_range(&range)));

@@ -1,0 +1,57 @@
+//! Measures the quality presets as `bench` measures its points (the same frames, reference, interleaved
+//! z-buffer timing and stability sequence, through `bench::run`), without the rest of the sweep: a table
+//! per course of each preset's time against the default, FLIP mean against the reference, shimmer over
+//! the stability sequence, and polygons drawn.
+//!
+//! `cargo run --release --example presets -- [course,...] [threads] [width] [height]` (defaults: every
+//! course, 1 thread, 640x480, as `bench`). A few minutes a course: most of it is the reference frames.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use scanline_racer::bench::{Config, collect_frames, collect_sequence, run};
+use scanline_racer::render::{Quality, RenderOptions};
+use scanline_racer::shell::race_scene::RaceScene;
+
+/// The demo race of each course.
+const COURSES: [(&str, &str); 3] =
+    [("circuit", "demo-race.trace"), ("city", "demo-city.trace"), ("mountain", "demo-mountain.trace")];
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let chosen: Vec<&str> = args.first().map_or(COURSES.iter().map(|c| c.0).collect(), |a| a.split(',').collect());
+    let arg = |i: usize, default: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(default);
+    let (threads, w, h) = (arg(1, 1), arg(2, 640), arg(3, 480));
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let configs: Vec<Config> = Quality::ALL
+        .iter()
+        .map(|q| Config {
+            group: "quality",
+            label: q.name().to_string(),
+            options: q.apply(RenderOptions::default()),
+            size: (w, h),
+            view_level: None,
+        })
+        .collect();
+    for (course, trace) in COURSES.iter().filter(|c| chosen.contains(&c.0)) {
+        let scene = RaceScene::load(&root.join("assets"), course).unwrap();
+        let path = root.join("assets/replays").join(trace);
+        let frames = collect_frames(&scene, &path, 8).unwrap();
+        let sequence = collect_sequence(&scene, &path, 20).unwrap();
+        let rows =
+            run(&frames, &sequence, |f, _| scene.draw_list(&f.instances), &configs, 3, threads, |_, _, _| {}).unwrap();
+        println!("\n{course}, {w}x{h}, {threads} thread(s)\n");
+        println!("| preset | x zbuffer | FLIP mean | shimmer RMS | shimmering % | polygons drawn |");
+        println!("|---|---|---|---|---|---|");
+        for r in &rows {
+            println!(
+                "| {} | {:.2} | {:.4} | {:.2} | {:.2} | {:.0} |",
+                r.config.label,
+                r.ms / r.zbuffer_ms.max(1e-9),
+                r.flip_mean,
+                r.shimmer_rms,
+                r.shimmer_pct,
+                r.polygons_drawn
+            );
+        }
+    }
+}
