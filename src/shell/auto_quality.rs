@@ -7,8 +7,13 @@
 //! - Down: when that median is over the budget ([`SHARE`] of the frame period).
 //! - Up: only after [`ROOM_SECONDS`] in a row in which the next step's predicted time fits
 //!   [`UP_MARGIN`] of the budget. The prediction is the current median times the ratio of the two steps'
-//!   costs, learned from the medians on each side of every change (and the bench's ratios until then), so
-//!   a step left for being too slow is not tried again until the frames it would cost have fallen.
+//!   costs as the bench measured them ([`BENCH_COST`]).
+//! - A step left for being too slow is not tried again until the frames of the step below have become
+//!   clearly cheaper ([`RETRY_SHARE`] of their median after that step down): so a machine on which a step
+//!   costs more than the bench's ratio says tries it once, and one whose cores were taken by another
+//!   program climbs back when they are free. (Ratios learned from the frames on each side of a change
+//!   were tried first: a load that began just after a step up taught the controller that the step cost
+//!   ten times what it does, for good.)
 //! - At most one change every [`HOLD_SECONDS`].
 //!
 //! A time that sits at the budget therefore makes one step down and no step back: the step above is
@@ -27,6 +32,9 @@ pub const WINDOW: usize = 9;
 pub const SHARE: f64 = 0.7;
 /// Share of the budget the next step's predicted time must fit before a step up.
 pub const UP_MARGIN: f64 = 0.85;
+/// How much cheaper than after its step down the frames below a step left for being too slow must be
+/// before it is tried again.
+pub const RETRY_SHARE: f64 = 0.75;
 /// Seconds of room in a row before a step up.
 pub const ROOM_SECONDS: f64 = 2.0;
 /// Least seconds between two changes.
@@ -74,10 +82,10 @@ pub struct AutoQuality {
     step: Quality,
     /// The last frame times at this step (ms), oldest first, at most [`WINDOW`].
     recent: Vec<f64>,
-    /// Each step's cost relative to `low`'s.
-    cost: [f64; 4],
-    /// The step left at the last change and its median then, until the new step's median is known.
-    left: Option<(Quality, f64)>,
+    /// For each step left for being too slow: the median of the step below after that step down.
+    blocked: [Option<f64>; 4],
+    /// The step just left for being too slow, until the median of the step below is known.
+    left: Option<Quality>,
     /// Seconds since the last change.
     since_change: f64,
     /// Seconds in a row with room for the next step.
@@ -93,7 +101,7 @@ impl AutoQuality {
         Self {
             step,
             recent: Vec::with_capacity(WINDOW),
-            cost: BENCH_COST,
+            blocked: [None; 4],
             left: None,
             since_change: 0.0,
             room: 0.0,
@@ -125,10 +133,15 @@ impl AutoQuality {
         }
         self.recent.push(ms);
         let median = self.median()?;
-        self.learn(median);
+        if let Some(left) = self.left.take() {
+            self.blocked[left as usize] = Some(median);
+        }
         let budget = SHARE * period_ms;
         let next = self.step.up();
-        let fits = next.is_some_and(|up| median * self.ratio(self.step, up) <= UP_MARGIN * budget);
+        let fits = next.is_some_and(|up| {
+            let cheaper = self.blocked[up as usize].is_none_or(|then| median <= RETRY_SHARE * then);
+            cheaper && median * BENCH_COST[up as usize] / BENCH_COST[self.step as usize] <= UP_MARGIN * budget
+        });
         self.room = if fits { self.room + seconds.clamp(0.0, 1.0) } else { 0.0 };
         if self.since_change < HOLD_SECONDS {
             return None;
@@ -140,7 +153,10 @@ impl AutoQuality {
         } else {
             None
         }?;
-        self.left = Some((self.step, median));
+        self.left = (to < self.step).then_some(self.step);
+        if to > self.step {
+            self.blocked[to as usize] = None;
+        }
         self.step = to;
         self.recent.clear();
         self.since_change = 0.0;
@@ -157,23 +173,6 @@ impl AutoQuality {
         let mut sorted = self.recent.clone();
         sorted.sort_by(f64::total_cmp);
         sorted.get(WINDOW / 2).copied()
-    }
-
-    /// With the first full window after a change, the cost of the new step relative to the one left.
-    fn learn(&mut self, median: f64) {
-        if let Some((from, before)) = self.left.take()
-            && before > 0.0
-            && median > 0.0
-        {
-            let scaled = self.cost[from as usize] * median / before;
-            self.cost[self.step as usize] = scaled;
-        }
-    }
-
-    /// How much longer a frame at `to` takes than at `from`.
-    fn ratio(&self, from: Quality, to: Quality) -> f64 {
-        let (a, b) = (self.cost[from as usize], self.cost[to as usize]);
-        if a > 0.0 { b / a } else { f64::INFINITY }
     }
 }
 
@@ -231,6 +230,43 @@ mod tests {
         assert_eq!(loaded.last(), Some(&Quality::Medium));
         let unloaded = run(&mut auto, 60 * 10, machine(2.0));
         assert_eq!(unloaded.last(), Some(&Quality::Ultra));
+    }
+
+    #[test]
+    fn an_overload_that_drives_it_to_the_bottom_does_not_keep_it_there_once_it_ends() {
+        let mut auto = AutoQuality::new(Quality::Low);
+        run(&mut auto, 60 * 10, machine(1.0));
+        assert_eq!(auto.step(), Quality::Ultra);
+        // Ten times slower for 5 s: down to the bottom, one step a second.
+        let loaded = run(&mut auto, 60 * 5, |q, i| machine(1.0)(q, i) * if i < 30 { 1.0 + i as f64 } else { 30.0 });
+        assert_eq!(loaded.last(), Some(&Quality::Low));
+        let unloaded = run(&mut auto, 60 * 12, machine(1.0));
+        assert_eq!(unloaded.last(), Some(&Quality::Ultra), "climbed back: {}", auto.changes());
+    }
+
+    #[test]
+    fn a_load_that_begins_just_after_a_step_up_does_not_keep_that_step_away_for_good() {
+        let mut auto = AutoQuality::new(Quality::High);
+        let climbed = run(&mut auto, 60 * 5, machine(1.0));
+        let at = climbed.iter().position(|s| *s == Quality::Ultra).unwrap();
+        // The load comes with the first frame at the top step (the window test does just this).
+        let mut auto = AutoQuality::new(Quality::High);
+        run(&mut auto, at + 1, machine(1.0));
+        assert_eq!(auto.step(), Quality::Ultra);
+        run(&mut auto, 60 * 5, |q, i| machine(1.0)(q, i) * 15.0);
+        assert!(auto.step() < Quality::Ultra);
+        let unloaded = run(&mut auto, 60 * 12, machine(1.0));
+        assert_eq!(unloaded.last(), Some(&Quality::Ultra));
+    }
+
+    #[test]
+    fn a_step_up_that_does_not_fit_is_not_tried_again() {
+        // The machine's high costs far more than the bench's ratio says: one try, then it stays below.
+        let mut auto = AutoQuality::new(Quality::Medium);
+        let costly = |q: Quality, _: usize| if q >= Quality::High { 14.0 } else { 2.0 };
+        let steps = run(&mut auto, 60 * 30, costly);
+        assert_eq!(steps.last(), Some(&Quality::Medium));
+        assert_eq!(auto.changes(), 2, "one step up, one down");
     }
 
     #[test]

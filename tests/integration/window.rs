@@ -130,7 +130,8 @@ fn the_race_draws_the_settings_file_s_picture_unless_the_command_line_says_other
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         read_png(&shot).unwrap().0
     };
-    let plain = shot("plain", &settings_file("picture-none", None), &[]);
+    // A file that fixes the picture (no `auto`) at the defaults: the renderer's plain picture.
+    let plain = shot("plain", &settings_file("picture-none", Some("{\"auto_quality\": false}")), &[]);
     let saved = settings_file("picture-ssaa", Some(text));
     let smooth = shot("ssaa", &saved, &[]);
     let overridden = shot("overridden", &saved, &["--aa", "off"]);
