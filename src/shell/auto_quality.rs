@@ -40,9 +40,9 @@ pub const ROOM_SECONDS: f64 = 2.0;
 /// Least seconds between two changes.
 pub const HOLD_SECONDS: f64 = 1.0;
 
-/// Each step's frame time relative to `low`'s before any is measured: about the bench's ratios (1 thread,
+/// Each step's frame time relative to `low`'s: about the bench's ratios (1 thread,
 /// 640x480; docs/performance.md, "Quality presets").
-const BENCH_COST: [f64; 4] = [1.0, 1.1, 2.8, 3.1];
+pub const BENCH_COST: [f64; 4] = [1.0, 1.1, 2.8, 3.1];
 
 /// What the window's picture follows: a fixed preset, or `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
