@@ -40,9 +40,9 @@ pub const ROOM_SECONDS: f64 = 2.0;
 /// Least seconds between two changes.
 pub const HOLD_SECONDS: f64 = 1.0;
 
-/// Each step's frame time relative to `low`'s: about the bench's ratios (1 thread,
-/// 640x480; docs/performance.md, "Quality presets").
-pub const BENCH_COST: [f64; 4] = [1.0, 1.1, 2.8, 3.1];
+/// Each step's frame time relative to `low`'s: the means over the three courses of the presets' times
+/// measured as the bench measures them (1 thread, 640x480; docs/performance.md, "Quality presets").
+pub const BENCH_COST: [f64; 4] = [1.0, 1.1, 2.5, 2.6];
 
 /// What the window's picture follows: a fixed preset, or `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
