@@ -116,16 +116,7 @@ impl Prefs {
         let scale = scale.unwrap_or(settings.scale);
         self.scale = (scale, Some(scale));
         self.file = file.map(|mut f| {
-            f.assume_saved(chosen.into_settings(Settings {
-                scale,
-                antialias: picture.antialias,
-                filter: picture.filter,
-                mip: picture.mip,
-                lod_fade: picture.lod_fade,
-                lod_bias: picture.lod_bias,
-                auto_quality: picture.auto,
-                ..settings
-            }));
+            f.assume_saved(chosen.into_settings(picture.into_settings(Settings { scale, ..settings })));
             f
         });
     }
@@ -133,7 +124,7 @@ impl Prefs {
     /// The settings as they stand now, the gamepad's from `pads`, the picture choices from `options`, the
     /// race's from `chosen`.
     fn current(&self, pads: &Gamepads, picture: Picture, chosen: Chosen<'_>) -> Settings {
-        chosen.into_settings(Settings {
+        chosen.into_settings(picture.into_settings(Settings {
             keys: self.bindings.clone(),
             deadzone: pads.deadzone,
             curve: pads.curve,
@@ -142,14 +133,8 @@ impl Prefs {
             volume: self.sound.volume,
             effects_volume: self.sound.effects,
             muted: self.sound.muted,
-            antialias: picture.antialias,
-            filter: picture.filter,
-            mip: picture.mip,
-            lod_fade: picture.lod_fade,
-            lod_bias: picture.lod_bias,
-            auto_quality: picture.auto,
             ..Settings::default()
-        })
+        }))
     }
 
     /// Saves the settings (the gamepad's from `pads`, the picture choices from `options`, the race's from

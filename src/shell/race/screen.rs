@@ -11,6 +11,7 @@ use crate::render::{Antialias, Filter, MipMode, Quality, RenderOptions, Renderer
 use crate::shell::auto_quality::AutoQuality;
 use crate::shell::debug_overlay::DebugOverlay;
 use crate::shell::race_scene::View;
+use crate::shell::settings::Settings;
 
 /// Which screen the race shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,6 +68,21 @@ pub(super) struct Picture {
     pub(super) lod_bias: f32,
     /// Whether `auto` quality is on.
     pub(super) auto: bool,
+}
+
+impl Picture {
+    /// `settings` with this picture in it.
+    pub(super) fn into_settings(self, settings: Settings) -> Settings {
+        Settings {
+            antialias: self.antialias,
+            filter: self.filter,
+            mip: self.mip,
+            lod_fade: self.lod_fade,
+            lod_bias: self.lod_bias,
+            auto_quality: self.auto,
+            ..settings
+        }
+    }
 }
 
 /// The step `auto` starts at: the second from the top, from which a machine with room reaches the top in
