@@ -8,12 +8,13 @@
 //! - Up: only after [`ROOM_SECONDS`] in a row in which the next step's predicted time fits
 //!   [`UP_MARGIN`] of the budget. The prediction is the current median times the ratio of the two steps'
 //!   costs as the bench measured them ([`BENCH_COST`]).
-//! - A step left for being too slow is not tried again until the frames of the step below have become
-//!   clearly cheaper ([`RETRY_SHARE`] of their median after that step down): so a machine on which a step
-//!   costs more than the bench's ratio says tries it once, and one whose cores were taken by another
-//!   program climbs back when they are free. (Ratios learned from the frames on each side of a change
-//!   were tried first: a load that began just after a step up taught the controller that the step cost
-//!   ten times what it does, for good.)
+//! - A step up that has to be taken back within [`TRIAL_SECONDS`] is a failed trial: that step is not
+//!   tried again for [`BACK_OFF_SECONDS`], doubled with each failure in a row (at most
+//!   [`MAX_BACK_OFF_SECONDS`]). So a machine on which a step costs more than the bench's ratio says tries
+//!   it rarely and more rarely, and one whose cores another program took climbs back once they are free
+//!   (a step held longer than a trial and then left is not held against it). Learned cost ratios, and a
+//!   retry only once the frames below got cheaper than just after the step down, were tried first: each
+//!   could keep a step away for good after a load that began just after the step up.
 //! - At most one change every [`HOLD_SECONDS`].
 //!
 //! A time that sits at the budget therefore makes one step down and no step back: the step above is
@@ -32,9 +33,12 @@ pub const WINDOW: usize = 9;
 pub const SHARE: f64 = 0.7;
 /// Share of the budget the next step's predicted time must fit before a step up.
 pub const UP_MARGIN: f64 = 0.85;
-/// How much cheaper than after its step down the frames below a step left for being too slow must be
-/// before it is tried again.
-pub const RETRY_SHARE: f64 = 0.75;
+/// A step up taken back within this many seconds was a failed trial.
+pub const TRIAL_SECONDS: f64 = 5.0;
+/// Seconds before a step that failed its trial is tried again (doubled with each failure in a row).
+pub const BACK_OFF_SECONDS: f64 = 5.0;
+/// The longest wait before a failed step is tried again.
+pub const MAX_BACK_OFF_SECONDS: f64 = 80.0;
 /// Seconds of room in a row before a step up.
 pub const ROOM_SECONDS: f64 = 2.0;
 /// Least seconds between two changes.
@@ -82,10 +86,12 @@ pub struct AutoQuality {
     step: Quality,
     /// The last frame times at this step (ms), oldest first, at most [`WINDOW`].
     recent: Vec<f64>,
-    /// For each step left for being too slow: the median of the step below after that step down.
-    blocked: [Option<f64>; 4],
-    /// The step just left for being too slow, until the median of the step below is known.
-    left: Option<Quality>,
+    /// Seconds of frames taken so far (the controller's clock).
+    clock: f64,
+    /// Whether the step in use was reached by a step up (then leaving it within a trial is a failure).
+    climbed: bool,
+    /// For each step: failed trials in a row, and the clock time before which it is not tried again.
+    failures: [(u32, f64); 4],
     /// Seconds since the last change.
     since_change: f64,
     /// Seconds in a row with room for the next step.
@@ -101,8 +107,9 @@ impl AutoQuality {
         Self {
             step,
             recent: Vec::with_capacity(WINDOW),
-            blocked: [None; 4],
-            left: None,
+            clock: 0.0,
+            climbed: false,
+            failures: [(0, 0.0); 4],
             since_change: 0.0,
             room: 0.0,
             changes: 0,
@@ -127,22 +134,26 @@ impl AutoQuality {
         if !(ms.is_finite() && ms >= 0.0 && period_ms.is_finite() && period_ms > 0.0) {
             return None;
         }
-        self.since_change += if seconds.is_finite() { seconds.clamp(0.0, 1.0) } else { 0.0 };
+        let seconds = if seconds.is_finite() { seconds.clamp(0.0, 1.0) } else { 0.0 };
+        self.since_change += seconds;
+        self.clock += seconds;
+        if self.climbed && self.since_change >= TRIAL_SECONDS {
+            // The step up held: its trial passed.
+            self.climbed = false;
+            self.failures[self.step as usize].0 = 0;
+        }
         if self.recent.len() == WINDOW {
             self.recent.remove(0);
         }
         self.recent.push(ms);
         let median = self.median()?;
-        if let Some(left) = self.left.take() {
-            self.blocked[left as usize] = Some(median);
-        }
         let budget = SHARE * period_ms;
         let next = self.step.up();
         let fits = next.is_some_and(|up| {
-            let cheaper = self.blocked[up as usize].is_none_or(|then| median <= RETRY_SHARE * then);
-            cheaper && median * BENCH_COST[up as usize] / BENCH_COST[self.step as usize] <= UP_MARGIN * budget
+            let waited = self.clock >= self.failures[up as usize].1;
+            waited && median * BENCH_COST[up as usize] / BENCH_COST[self.step as usize] <= UP_MARGIN * budget
         });
-        self.room = if fits { self.room + seconds.clamp(0.0, 1.0) } else { 0.0 };
+        self.room = if fits { self.room + seconds } else { 0.0 };
         if self.since_change < HOLD_SECONDS {
             return None;
         }
@@ -153,10 +164,12 @@ impl AutoQuality {
         } else {
             None
         }?;
-        self.left = (to < self.step).then_some(self.step);
-        if to > self.step {
-            self.blocked[to as usize] = None;
+        if to < self.step && self.climbed {
+            let (failed, _) = self.failures[self.step as usize];
+            let wait = (BACK_OFF_SECONDS * f64::from(1u32 << failed.min(8))).min(MAX_BACK_OFF_SECONDS);
+            self.failures[self.step as usize] = (failed + 1, self.clock + wait);
         }
+        self.climbed = to > self.step;
         self.step = to;
         self.recent.clear();
         self.since_change = 0.0;
@@ -257,16 +270,26 @@ mod tests {
         assert!(auto.step() < Quality::Ultra);
         let unloaded = run(&mut auto, 60 * 12, machine(1.0));
         assert_eq!(unloaded.last(), Some(&Quality::Ultra));
+        // A load that slows every step but the cheapest (whose frames stay short): the same.
+        // Under it `medium` is tried (the bench's ratio says it fits) and fails, and waits its back-off.
+        let loaded = run(&mut auto, 60 * 10, |q, i| if q == Quality::Low { 1.2 } else { machine(1.0)(q, i) * 15.0 });
+        assert!(loaded.iter().filter(|s| **s == Quality::Low).count() > loaded.len() / 2);
+        let unloaded = run(&mut auto, 60 * 30, machine(1.0));
+        assert_eq!(unloaded.last(), Some(&Quality::Ultra));
     }
 
     #[test]
-    fn a_step_up_that_does_not_fit_is_not_tried_again() {
-        // The machine's high costs far more than the bench's ratio says: one try, then it stays below.
+    fn a_step_up_that_does_not_fit_is_tried_ever_more_rarely() {
+        // The machine's high costs far more than the bench's ratio says.
         let mut auto = AutoQuality::new(Quality::Medium);
         let costly = |q: Quality, _: usize| if q >= Quality::High { 14.0 } else { 2.0 };
-        let steps = run(&mut auto, 60 * 30, costly);
-        assert_eq!(steps.last(), Some(&Quality::Medium));
-        assert_eq!(auto.changes(), 2, "one step up, one down");
+        let steps = run(&mut auto, 60 * 120, costly);
+        let ups: Vec<usize> = (1..steps.len()).filter(|&i| steps[i] > steps[i - 1]).collect();
+        // Tries at about 2 s, then after waits of 5, 10, 20 and 40 s: five in two minutes, each gap longer.
+        assert!((4..=6).contains(&ups.len()), "{ups:?}");
+        assert!(ups.windows(3).all(|w| w[2] - w[1] > w[1] - w[0]), "{ups:?}");
+        let high = steps.iter().filter(|s| **s == Quality::High).count();
+        assert!(high * 20 < steps.len(), "{high} of {} frames at high", steps.len());
     }
 
     #[test]
