@@ -3,13 +3,15 @@
 //! per course of each preset's time against the default, FLIP mean against the reference, shimmer over
 //! the stability sequence, and polygons drawn.
 //!
-//! `cargo run --release --example presets -- [course,...] [threads] [width] [height]` (defaults: every
-//! course, 1 thread, 640x480, as `bench`). A few minutes a course: most of it is the reference frames.
+//! `cargo run --release --example presets -- [course,...] [threads] [width] [height] [aa/filter/mip,...]`
+//! (defaults: every course, 1 thread, 640x480, as `bench`; the last argument adds points beside the
+//! presets, each named by its `--aa`, `--filter` and `--mip` values, as `ssaa/aniso8/pixel`). A few
+//! minutes a course: most of it is the reference frames.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use scanline_racer::bench::{Config, collect_frames, collect_sequence, run};
-use scanline_racer::render::{Quality, RenderOptions};
+use scanline_racer::render::{Antialias, Filter, MipMode, Quality, RenderOptions};
 use scanline_racer::shell::race_scene::RaceScene;
 
 /// The demo race of each course.
@@ -22,16 +24,20 @@ fn main() {
     let arg = |i: usize, default: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(default);
     let (threads, w, h) = (arg(1, 1), arg(2, 640), arg(3, 480));
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let configs: Vec<Config> = Quality::ALL
-        .iter()
-        .map(|q| Config {
-            group: "quality",
-            label: q.name().to_string(),
-            options: q.apply(RenderOptions::default()),
-            size: (w, h),
-            view_level: None,
-        })
-        .collect();
+    let config = |label: String, options| Config { group: "quality", label, options, size: (w, h), view_level: None };
+    let mut configs: Vec<Config> =
+        Quality::ALL.iter().map(|q| config(q.name().to_string(), q.apply(RenderOptions::default()))).collect();
+    for point in args.get(4).map(|a| a.split(',').collect::<Vec<_>>()).unwrap_or_default() {
+        let parts: Vec<&str> = point.split('/').collect();
+        let [aa, filter, mip] = parts[..] else { panic!("a point is aa/filter/mip, got {point}") };
+        let options = RenderOptions {
+            antialias: aa.parse::<Antialias>().unwrap(),
+            filter: filter.parse::<Filter>().unwrap(),
+            mip: mip.parse::<MipMode>().unwrap(),
+            ..RenderOptions::default()
+        };
+        configs.push(config(point.to_string(), options));
+    }
     for (course, trace) in COURSES.iter().filter(|c| chosen.contains(&c.0)) {
         let scene = RaceScene::load(&root.join("assets"), course).unwrap();
         let path = root.join("assets/replays").join(trace);

@@ -106,7 +106,7 @@ fn texture_and_lod(v: &mut Vec<Config>, base: RenderOptions, main: (usize, usize
         for filter in [Filter::Nearest, Filter::Bilinear] {
             add(
                 "texture",
-                format!("{} {}", mode_name(mode), filter_name(filter)),
+                format!("{} {}", mode_name(mode), filter.name()),
                 RenderOptions { texture_mode: mode, filter, ..base },
                 main,
             );
@@ -134,10 +134,12 @@ fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize,
         (Filter::Trilinear, MipMode::Polygon),
         (Filter::Trilinear, MipMode::Span),
         (Filter::Trilinear, MipMode::Pixel),
+        (Filter::Anisotropic(4), MipMode::Pixel),
+        (Filter::Anisotropic(16), MipMode::Pixel),
     ];
     // Every choice but the default's (the visibility sweep's `zbuffer` is that point).
     for (filter, mip) in mips.into_iter().filter(|&m| m != (base.filter, base.mip)) {
-        add("mip", format!("{} mip {mip}", filter_name(filter)), RenderOptions { filter, mip, ..base }, main);
+        add("mip", format!("{} mip {mip}", filter.name()), RenderOptions { filter, mip, ..base }, main);
     }
     for (method, antialias) in [
         (Method::ZBuffer, Antialias::Samples4),
@@ -159,10 +161,11 @@ fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize,
         (Antialias::Supersample2x2, Filter::Nearest, MipMode::Off),
         (Antialias::Supersample2x2, Filter::Nearest, MipMode::Pixel),
         (Antialias::Supersample2x2, Filter::Trilinear, MipMode::Pixel),
+        (Antialias::Supersample2x2, Filter::Anisotropic(16), MipMode::Pixel),
     ] {
         add(
             "antialias",
-            format!("aa {antialias} {} mip {mip}", filter_name(filter)),
+            format!("aa {antialias} {} mip {mip}", filter.name()),
             RenderOptions { antialias, filter, mip, ..base },
             main,
         );
@@ -191,13 +194,5 @@ pub(crate) fn mode_name(m: TextureMode) -> &'static str {
         TextureMode::Perspective => "perspective",
         TextureMode::Subdivided => "subdivided",
         TextureMode::Affine => "affine",
-    }
-}
-
-pub(crate) fn filter_name(f: Filter) -> &'static str {
-    match f {
-        Filter::Nearest => "nearest",
-        Filter::Bilinear => "bilinear",
-        Filter::Trilinear => "trilinear",
     }
 }

@@ -25,7 +25,7 @@ use std::time::Instant;
 use crate::measure::{flip, psnr, reference_frame, wrong_pixels};
 use crate::render::{Camera, DrawList, LodMode, Method, RenderError, RenderOptions, Renderer};
 pub use configs::{Config, configs};
-use configs::{filter_name, key_name, mode_name};
+use configs::{key_name, mode_name};
 pub use frames::{BenchFrame, collect_frames, collect_sequence, lod_pops_per_min};
 use stability::{SequenceReferences, measure_sequence};
 
@@ -240,7 +240,7 @@ fn csv_row(course: &str, r: &Row, threads: usize, main: (usize, usize)) -> Strin
         o.buckets,
         key_name(o.key),
         mode_name(o.texture_mode),
-        filter_name(o.filter),
+        o.filter.name(),
         o.mip,
         o.antialias,
         lod,

@@ -19,8 +19,10 @@ pub struct PictureArgs {
     /// (play's race: the settings file's, else auto).
     #[arg(long, value_name = "PRESET")]
     pub quality: Option<QualityChoice>,
-    /// Texture filtering: nearest, bilinear, or trilinear (bilinear in the two mip levels around the level of
-    /// detail, blended; bilinear with --mip off). Default: nearest (play's race: the settings file's, else nearest).
+    /// Texture filtering: nearest, bilinear, trilinear (bilinear in the two mip levels around the level of
+    /// detail, blended; bilinear with --mip off), or aniso2, aniso4, aniso8, aniso16 (up to N box probes along
+    /// the footprint's long axis, levels chosen at every pixel whatever --mip says). Default: nearest (play's race: the settings
+    /// file's, else nearest).
     #[arg(long)]
     pub filter: Option<Filter>,
     /// Where mip levels are chosen: off (level 0 only), polygon (once per polygon), span (at each span's

@@ -6,6 +6,7 @@
 //! screen vertex ([`vertex`]), the polygon and its paint (`polygon`), the small triangle (`small`), the
 //! set-up batches (`batch`) and the bands of the frame (`band`).
 
+pub mod anisotropic;
 pub(crate) mod band;
 pub(crate) mod batch;
 pub mod camera;

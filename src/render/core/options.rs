@@ -80,10 +80,9 @@ impl FromStr for Method {
 impl FromStr for Filter {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Filter::ALL
-            .into_iter()
-            .find(|f| f.name() == s)
-            .ok_or_else(|| UnknownName::new("filter", s, "nearest, bilinear or trilinear"))
+        Filter::ALL.into_iter().find(|f| f.name() == s).ok_or_else(|| {
+            UnknownName::new("filter", s, "nearest, bilinear, trilinear, aniso2, aniso4, aniso8 or aniso16")
+        })
     }
 }
 
@@ -117,6 +116,18 @@ impl MipMode {
             MipMode::Polygon => "polygon",
             MipMode::Span => "span",
             MipMode::Pixel => "pixel",
+        }
+    }
+}
+
+impl MipMode {
+    /// The choice a frame makes with `filter`: an anisotropic filter chooses its level at every pixel (the
+    /// level where its probes' boxes fit a texel is part of the filter), so with it every choice is `pixel`.
+    #[must_use]
+    pub fn with_filter(self, filter: Filter) -> MipMode {
+        match filter {
+            Filter::Anisotropic(_) => MipMode::Pixel,
+            _ => self,
         }
     }
 }

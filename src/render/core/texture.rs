@@ -40,19 +40,47 @@ pub enum Filter {
     /// Bilinear in the two mip levels around the level of detail, blended by its fraction (bilinear in
     /// level 0 when mip-maps are off).
     Trilinear,
+    /// Up to this many trilinear probes along the long axis of the pixel's footprint, at the level its
+    /// short axis asks for ([`anisotropic`](super::anisotropic); one of
+    /// [`ANISOTROPY`](super::anisotropic::ANISOTROPY)). It measures the footprint and chooses the level
+    /// at every pixel, whatever the mip choice says.
+    Anisotropic(u8),
 }
 
 impl Filter {
     /// Every filter, in the order the command line lists them.
-    pub const ALL: [Filter; 3] = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear];
+    pub const ALL: [Filter; 7] = [
+        Filter::Nearest,
+        Filter::Bilinear,
+        Filter::Trilinear,
+        Filter::Anisotropic(2),
+        Filter::Anisotropic(4),
+        Filter::Anisotropic(8),
+        Filter::Anisotropic(16),
+    ];
 
-    /// The command-line name.
+    /// The command-line name (`anisoN` for up to `N` probes; a count outside
+    /// [`ANISOTROPY`](super::anisotropic::ANISOTROPY) is named `aniso`).
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Filter::Nearest => "nearest",
             Filter::Bilinear => "bilinear",
             Filter::Trilinear => "trilinear",
+            Filter::Anisotropic(2) => "aniso2",
+            Filter::Anisotropic(4) => "aniso4",
+            Filter::Anisotropic(8) => "aniso8",
+            Filter::Anisotropic(16) => "aniso16",
+            Filter::Anisotropic(_) => "aniso",
+        }
+    }
+
+    /// The most probes a pixel takes: 1, or `N` for `anisoN`.
+    #[must_use]
+    pub fn max_probes(self) -> u8 {
+        match self {
+            Filter::Anisotropic(n) => n.clamp(1, 16),
+            _ => 1,
         }
     }
 }
@@ -250,7 +278,7 @@ impl Texture {
         match filter {
             Filter::Nearest => self.level(mip::nearest_level(lod, last)).sample_nearest(u, v, sampler),
             Filter::Bilinear => unpack(self.level(mip::nearest_level(lod, last)).bilinear(u, v, sampler)),
-            Filter::Trilinear => {
+            Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, last);
                 let fine = self.level(k).bilinear(u, v, sampler);
                 // At a whole level (or beyond the last, or magnified) the finer level alone, bit for bit.

@@ -206,8 +206,8 @@ fn pixel<const N: usize>(
         (SHADE_HERE, Some((source, alpha))) => colour_at(source, alpha, [a[0], a[1], a[2], a[3]]),
         (colour, _) if colour != SHADE_HERE => Some(colour),
         _ => {
-            let lod = sh.lod_at([a[slot::Q], a[slot::S], a[slot::T]]);
-            shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), lod)
+            let footprint = sh.footprint_at([a[slot::Q], a[slot::S], a[slot::T]]);
+            shade_surface(sh, &exact_at(&a, &planes.dx, 0.0, perspective), &footprint)
         }
     });
 }
@@ -240,7 +240,7 @@ mod tests {
         assert_eq!(crate::render::simd::avx2().is_some(), crate::render::simd::has_avx2());
         let mut kept = 0;
         for case in 0..3000 {
-            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][case % 3];
+            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(4)][case % 4];
             let tex = match case % 4 {
                 0 | 1 => Tex::per_pixel(&chain, Sampler::default(), filter, g),
                 _ => Tex::polygon(&chain, Sampler::default(), filter, (case % 7) as f32 * 0.4),

@@ -123,7 +123,8 @@ impl<'a> FillContext<'a> {
     /// [`shade_surface`](super::span::shade_surface) takes its [`Shading`] from here).
     pub(crate) fn shading(&self, p: &DrawPolygon) -> Shading<'_> {
         let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
-        let measured = matches!(self.options.mip, MipMode::Span | MipMode::Pixel);
+        let mip = self.options.mip.with_filter(self.options.filter);
+        let measured = matches!(mip, MipMode::Span | MipMode::Pixel);
         // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
         // band that draws it).
         let gradients = match self.screens.of(p) {
@@ -134,7 +135,7 @@ impl<'a> FillContext<'a> {
             texture,
             sampler: p.sampler,
             filter: self.options.filter,
-            mip: self.options.mip,
+            mip,
             lod: p.lod(),
             gradients,
             mode: self.options.texture_mode,

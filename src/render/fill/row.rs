@@ -169,6 +169,21 @@ impl Setup {
         ((self.s0 + k * self.ds) * q, (self.t0 + k * self.dt) * q)
     }
 
+    /// True when the texel coordinates of every pixel of a span `0..=last` (in offsets from its start) are
+    /// finite and within `±2^30`. Perspective-correct coordinates are ratios of linear functions, monotone
+    /// wherever the denominator `1/w` keeps its sign, so checking both ends (with `1/w` clearly positive at
+    /// both) bounds the pixels between them; the margin to `2^31` covers their rounding.
+    pub(crate) fn texels_in_range(&self, last: usize) -> bool {
+        let s = self;
+        let at = |k: f32| {
+            let q = s.q0 + k * s.dq;
+            let r = 1.0 / q;
+            let (x, y) = ((s.s0 + k * s.ds) * r * s.w, (s.t0 + k * s.dt) * r * s.h);
+            q > 1e-30 && q.is_finite() && x.abs() < 1_073_741_824.0 && y.abs() < 1_073_741_824.0
+        };
+        at(0.0) && at(last as f32)
+    }
+
     /// The texel coordinates at pixel offset `k` (perspective-correct), floored.
     #[inline(always)]
     pub(crate) fn texel_xy(&self, k: f32) -> (i32, i32) {

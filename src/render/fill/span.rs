@@ -7,11 +7,12 @@ use super::row::{Row, SpanCounts, Visibility};
 use super::scanline::Span;
 use super::span_lanes::{self, Source};
 use super::texel::Tex;
+use crate::render::core::anisotropic::{self, Probes};
 use crate::render::core::door::Door;
 use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, SUBDIVISION, TextureMode};
 use crate::render::core::polygon::{FastPathRule, pack_rgb};
-use crate::render::core::texture::{Filter, Sampler, Texture};
+use crate::render::core::texture::{Filter, Sampler, Texture, unpack};
 use crate::render::core::vertex::{ATTRS, slot};
 
 /// Everything a span needs to shade its pixels.
@@ -21,9 +22,10 @@ pub struct Shading<'a> {
     pub texture: Option<&'a Texture>,
     /// Its wrap modes.
     pub sampler: Sampler,
-    /// Nearest, bilinear or trilinear.
+    /// Nearest, bilinear, trilinear or anisotropic.
     pub filter: Filter,
-    /// Where the mip level is chosen.
+    /// Where the mip level is chosen (as [`MipMode::with_filter`] gives it: per pixel for an anisotropic
+    /// filter with mip-maps on).
     pub mip: MipMode,
     /// The polygon's level of detail `λ`, chosen at set-up ([`MipMode::Polygon`]; 0 otherwise).
     pub lod: f32,
@@ -73,17 +75,42 @@ impl Shading<'_> {
             (MipMode::Span | MipMode::Pixel, Some(t)) => self.gradients.lod_at(qst, (t.width(), t.height())),
         }
     }
+
+    /// How the texture is sampled at a pixel whose `1/w`, `s/w`, `t/w` are `qst`: by the anisotropic
+    /// filter's probes, measured there, for levels chosen per pixel, else at [`lod_at`](Self::lod_at). The
+    /// `footprint` `shade_surface` takes.
+    #[inline]
+    #[must_use]
+    pub(crate) fn footprint_at(&self, qst: [f32; 3]) -> Footprint {
+        match (self.filter, self.mip, self.texture) {
+            (Filter::Anisotropic(max), MipMode::Pixel, Some(t)) => {
+                let w = 1.0 / qst[0];
+                Footprint::Probes(anisotropic::probes(&self.gradients, w, (qst[1] * w, qst[2] * w), t, max))
+            }
+            _ => Footprint::Lod(self.lod_at(qst)),
+        }
+    }
+}
+
+/// How a pixel's texture is sampled: at a level of detail by the filter, or by anisotropic probes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Footprint {
+    /// The level of detail `λ` ([`Shading::lod_at`]).
+    Lod(f32),
+    /// The anisotropic filter's probes.
+    Probes(Probes),
 }
 
 /// The colour of a pixel with surface values `s` (texture coordinate and colour, perspective already
-/// divided out) at level of detail `lod` ([`Shading::lod_at`]), packed `0x00RRGGBB`; `None` where the
+/// divided out) sampled as `footprint` says ([`Shading::footprint_at`]), packed `0x00RRGGBB`; `None` where the
 /// alpha cutoff rejects it. Shared by the general span and the anti-aliased fill, which shade a pixel the
 /// same way.
 #[inline]
-pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface, lod: f32) -> Option<u32> {
-    let texel = match sh.texture {
-        None => [1.0; 4],
-        Some(t) => t.sample(sh.filter, lod, s[0], s[1], sh.sampler),
+pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface, footprint: &Footprint) -> Option<u32> {
+    let texel = match (sh.texture, footprint) {
+        (None, _) => [1.0; 4],
+        (Some(t), Footprint::Probes(p)) => unpack(p.sample(t, (s[0], s[1]), sh.sampler)),
+        (Some(t), &Footprint::Lod(lod)) => t.sample(sh.filter, lod, s[0], s[1], sh.sampler),
     };
     // A polygon of one colour uses it as is (interpolating it would only add rounding).
     let col = sh.constant_color.unwrap_or([s[2], s[3], s[4], s[5]]);
@@ -116,6 +143,7 @@ impl<'a> Shading<'a> {
     /// Chooses the fast path (if any) for spans with this shading.
     #[must_use]
     pub fn prepare(&self) -> Prepared<'a> {
+        debug_assert_eq!(self.mip, self.mip.with_filter(self.filter), "an anisotropic filter's levels are per pixel");
         let rule = FastPathRule { filter: self.filter, mode: self.mode, mip: self.mip };
         let fast = rule.applies(
             self.texture.is_some(),
@@ -177,8 +205,8 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
     let mut seg_start = i32::MIN;
     let mut seg_base: Surface = [0.0; 6];
     let mut seg_step: Surface = [0.0; 6];
-    // λ for the whole span, unless it is measured at every pixel.
-    let span_lod = sh.lod_at(qst_at(a0, da, (n / 2) as f32));
+    // λ for the whole span, unless the footprint is measured at every pixel.
+    let span_footprint = sh.footprint_at(qst_at(a0, da, (n / 2) as f32));
     let per_pixel = sh.mip == MipMode::Pixel && sh.texture.is_some();
     for k in 0..n {
         let x = (span.x0 + k) as usize;
@@ -226,8 +254,8 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
             }
         };
         counts.shaded += 1;
-        let lod = if per_pixel { sh.lod_at(qst_at(a0, da, kf)) } else { span_lod };
-        let Some(c) = shade_surface(sh, &s, lod) else { continue };
+        let footprint = if per_pixel { sh.footprint_at(qst_at(a0, da, kf)) } else { span_footprint };
+        let Some(c) = shade_surface(sh, &s, &footprint) else { continue };
         row.color[x] = c;
         counts.written += 1;
         match sh.visibility {
@@ -302,8 +330,9 @@ mod tests {
             let sh = Shading {
                 texture: Some(&texture),
                 sampler: Sampler::default(),
-                filter: Filter::ALL[case % 3],
-                mip: if case % 2 == 0 { MipMode::Pixel } else { MipMode::Span },
+                filter: [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8)][case % 4],
+                // Levels per span for every other case (an anisotropic filter's are always per pixel).
+                mip: if case % 3 == 0 || case % 4 == 3 { MipMode::Pixel } else { MipMode::Span },
                 lod: 0.0,
                 gradients,
                 mode: TextureMode::Perspective,

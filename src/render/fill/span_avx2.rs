@@ -284,11 +284,14 @@ macro_rules! filtered_texels_at_x8 {
                     None => fine,
                 }
             }
+            Some(g) if matches!(tex.filter, Filter::Anisotropic(_)) => {
+                crate::render::fill::span_avx2::anisotropic::probed_x8((q, u, v), &tex, g, pass)
+            }
             Some(g) => {
                 let lod = lod_x8!(q, u, v, g, (t.width(), t.height()));
                 let last = t.last_level();
                 let (levels, weight) = match tex.filter {
-                    Filter::Trilinear => trilinear_x8!(lod, last),
+                    Filter::Trilinear | Filter::Anisotropic(_) => trilinear_x8!(lod, last),
                     _ => (nearest_x8!(lod, last), _mm256_setzero_si256()),
                 };
                 match shared_level!(levels, pass) {
@@ -383,7 +386,7 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let width = row.color.len();
-    let in_range = SRC != FLAT && texel_coordinates_in_range(s, x1.saturating_sub(x0 + 1));
+    let in_range = SRC != FLAT && s.texels_in_range(x1.saturating_sub(x0 + 1));
     let mut x = x0;
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.
@@ -481,19 +484,8 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     x.min(x1)
 }
 
-/// True when the texel coordinates of every pixel of a span `0..=last` (in offsets from its start) are
-/// finite and within `±2^30`. Perspective-correct coordinates are ratios of linear functions, monotone
-/// wherever the denominator `1/w` keeps its sign, so checking both ends (with `1/w` clearly positive at
-/// both) bounds the pixels between them; the margin to `2^31` covers their rounding.
-fn texel_coordinates_in_range(s: &Setup, last: usize) -> bool {
-    let at = |k: f32| {
-        let q = s.q0 + k * s.dq;
-        let r = 1.0 / q;
-        let (x, y) = ((s.s0 + k * s.ds) * r * s.w, (s.t0 + k * s.dt) * r * s.h);
-        q > 1e-30 && q.is_finite() && x.abs() < 1_073_741_824.0 && y.abs() < 1_073_741_824.0
-    };
-    at(0.0) && at(last as f32)
-}
-
 /// Eight pixels from anywhere in a band shaded by the macros above.
 pub(crate) mod points;
+
+/// The anisotropic filter's texels on eight lanes.
+mod anisotropic;

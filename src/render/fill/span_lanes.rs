@@ -346,7 +346,8 @@ mod tests {
             let scale = [0.002, 0.05, 1.0][rng.below(3) as usize];
             let mut gradient = || std::array::from_fn(|_| float(&mut rng, hostile) * scale);
             let g = TexGradients { dx: gradient(), dy: gradient() };
-            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear][rng.below(3) as usize];
+            let filter =
+                [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8)][rng.below(4) as usize];
             let lod = float(&mut rng, hostile) * 2.0;
             // A level for each pixel, or a filtered level (or two) for the polygon.
             let levels = match rng.below(2) {

@@ -1,5 +1,5 @@
 //! The fast paths' texels: nearest, bilinear or trilinear, from the polygon's mip level (or two) or from
-//! the level chosen at each pixel.
+//! the level chosen at each pixel; anisotropic, the mean of box probes ([`anisotropic`]).
 //!
 //! Nearest takes the texel under `(u·W, v·H)`, floored; bilinear and trilinear follow the integer rule
 //! of [`Texture::bilinear`] (sample at `u·W − ½` in `Fx24_8`, blends rounded in 1/256). Both are exactly
@@ -7,6 +7,7 @@
 //! reference the AVX2 chunk loop's texels match bit for bit (through `span_lanes`' per-pixel loop).
 
 use super::row::Setup;
+use crate::render::core::anisotropic;
 use crate::render::core::mip::{TexGradients, nearest_level};
 use crate::render::core::texture::{Filter, Sampler, Texture, blend, floor_i32, trilinear_levels};
 
@@ -21,7 +22,7 @@ pub(crate) struct Tex<'a> {
     pub(crate) coarser: Option<(&'a Texture, u32)>,
     /// The wrap modes.
     pub(crate) sampler: Sampler,
-    /// Nearest, bilinear or trilinear.
+    /// Nearest, bilinear, trilinear or anisotropic.
     pub(crate) filter: Filter,
     /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel.
     pub(crate) per_pixel: Option<TexGradients>,
@@ -32,7 +33,7 @@ impl<'a> Tex<'a> {
     pub(crate) fn polygon(chain: &'a Texture, sampler: Sampler, filter: Filter, lod: f32) -> Self {
         let last = chain.last_level();
         let (texture, coarser) = match filter {
-            Filter::Trilinear => {
+            Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, last);
                 (chain.level(k), (weight > 0).then(|| (chain.level(k + 1), weight)))
             }
@@ -71,9 +72,20 @@ impl<'a> Tex<'a> {
         };
         let t = self.texture;
         let qst = [s.q0 + k * s.dq, s.s0 + k * s.ds, s.t0 + k * s.dt];
+        if let Filter::Anisotropic(max) = self.filter {
+            let w = 1.0 / qst[0];
+            return self.probed(w, (qst[1] * w, qst[2] * w), g, max);
+        }
         let lod = g.lod_at(qst, (t.width(), t.height()));
         let w = 1.0 / qst[0];
         self.at_lod(qst[1] * w, qst[2] * w, lod)
+    }
+
+    /// The anisotropic texel of the chain (a per-pixel [`Tex`]) at a pixel whose `w`, `u`, `v` are given,
+    /// for a polygon with gradients `g`, taking at most `max` probes.
+    #[inline]
+    pub(crate) fn probed(&self, w: f32, uv: (f32, f32), g: &TexGradients, max: u8) -> u32 {
+        anisotropic::probes(g, w, uv, self.texture, max).sample(self.texture, uv, self.sampler)
     }
 
     /// The texel of the chain (a per-pixel [`Tex`]) at texture coordinates `(u, v)` and level of detail `lod`.
@@ -86,7 +98,7 @@ impl<'a> Tex<'a> {
                 level.texel(floor_i32(u * level.width() as f32), floor_i32(v * level.height() as f32), self.sampler)
             }
             Filter::Bilinear => t.level(nearest_level(lod, t.last_level())).bilinear(u, v, self.sampler),
-            Filter::Trilinear => {
+            Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, t.last_level());
                 let fine = t.level(k).bilinear(u, v, self.sampler);
                 if weight == 0 { fine } else { blend(fine, t.level(k + 1).bilinear(u, v, self.sampler), weight) }
