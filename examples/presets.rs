@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release --example presets -- [course,...] [threads] [width] [height] [aa/filter/mip,...]`
 //! (defaults: every course, 1 thread, 640x480, as `bench`; the last argument adds points beside the
-//! presets, each named by its `--aa`, `--filter` and `--mip` values, as `ssaa/aniso8/pixel`). A few
+//! presets, each named by its `--aa`, `--filter` and `--mip` values, as `ssaa/aniso8/pixel`, or by a
+//! preset and a filter, as `ultra/aniso4`). A few
 //! minutes a course: most of it is the reference frames.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -29,12 +30,18 @@ fn main() {
         Quality::ALL.iter().map(|q| config(q.name().to_string(), q.apply(RenderOptions::default()))).collect();
     for point in args.get(4).map(|a| a.split(',').collect::<Vec<_>>()).unwrap_or_default() {
         let parts: Vec<&str> = point.split('/').collect();
-        let [aa, filter, mip] = parts[..] else { panic!("a point is aa/filter/mip, got {point}") };
-        let options = RenderOptions {
-            antialias: aa.parse::<Antialias>().unwrap(),
-            filter: filter.parse::<Filter>().unwrap(),
-            mip: mip.parse::<MipMode>().unwrap(),
-            ..RenderOptions::default()
+        let options = match parts[..] {
+            [preset, filter] => RenderOptions {
+                filter: filter.parse::<Filter>().unwrap(),
+                ..preset.parse::<Quality>().unwrap().apply(RenderOptions::default())
+            },
+            [aa, filter, mip] => RenderOptions {
+                antialias: aa.parse::<Antialias>().unwrap(),
+                filter: filter.parse::<Filter>().unwrap(),
+                mip: mip.parse::<MipMode>().unwrap(),
+                ..RenderOptions::default()
+            },
+            _ => panic!("a point is aa/filter/mip or preset/filter, got {point}"),
         };
         configs.push(config(point.to_string(), options));
     }

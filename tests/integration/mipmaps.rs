@@ -1,10 +1,12 @@
 //! Mip-maps: the level each choice (per polygon, per span, per pixel) takes at known scales, trilinear
-//! filtering at whole levels, frames identical for every thread count, and far detail filtered away.
+//! filtering at whole levels, frames identical for every thread count, far detail filtered away, and the
+//! anisotropic filter nearer the pixel's integral than the others.
 
 use crate::common::*;
 use glam::{Vec2, Vec3, Vec4};
 use scanline_racer::render::{
-    Camera, Filter, Material, Mesh, MeshBuilder, MipMode, RenderOptions, Texture, TextureMode, Vertex,
+    Camera, DrawList, Filter, Instance, Material, Mesh, MeshBuilder, MipMode, RenderOptions, Texture, TextureMode,
+    Vertex,
 };
 
 fn noise_texture(w: u32, h: u32, mut seed: u32) -> Texture {
@@ -206,6 +208,34 @@ fn mip_maps_take_the_high_frequencies_out_of_the_distance_and_keep_the_foregroun
         assert!(f < most * far_off, "{mip} {filter:?}: far energy {f:.1} against {far_off:.1} without");
         assert!(n > 0.5 * near_off, "{mip} {filter:?}: the foreground keeps its checks ({n:.1} against {near_off:.1})");
     }
+}
+
+#[test]
+fn anisotropic_filtering_is_nearer_the_pixel_integral_than_nearest_or_trilinear() {
+    // The receding plane with random texels (magnified in the foreground, minified towards the horizon),
+    // against the integral over each pixel (16x16 nearest samples of level 0).
+    let (mesh, _, camera) = checker_plane();
+    let texture = noise_texture(64, 64, 7);
+    let (w, h) = PLANE;
+    let (meshes, textures) = (std::slice::from_ref(&mesh), std::slice::from_ref(&texture));
+    let instances = [Instance::new(0, glam::Mat4::IDENTITY)];
+    let list = DrawList { meshes, textures, instances: &instances, lod_sets: &[], view_lists: None };
+    let reference = scanline_racer::measure::reference_frame_at(&camera, &list, (w, h), 0, 16).unwrap();
+    let flip = |filter: Filter, mip: MipMode| {
+        let o = RenderOptions { filter, mip, background: Some(0), ..RenderOptions::default() };
+        let frame = render(meshes, textures, &camera, w, h, &o).0;
+        scanline_racer::measure::flip(&reference, &frame, w, h).unwrap().mean
+    };
+    let nearest = flip(Filter::Nearest, MipMode::Polygon);
+    let trilinear = flip(Filter::Trilinear, MipMode::Pixel);
+    let aniso4 = flip(Filter::Anisotropic(4), MipMode::Pixel);
+    let aniso16 = flip(Filter::Anisotropic(16), MipMode::Pixel);
+    eprintln!("FLIP: nearest {nearest:.4}, trilinear {trilinear:.4}, aniso4 {aniso4:.4}, aniso16 {aniso16:.4}");
+    assert!(aniso4 < 0.6 * nearest.min(trilinear), "aniso4 {aniso4} against {nearest} and {trilinear}");
+    // More probes follow the long footprints towards the horizon more closely.
+    assert!(aniso16 <= aniso4, "aniso16 {aniso16} against aniso4 {aniso4}");
+    // The mip choice does not matter to it: it chooses its level at every pixel.
+    assert_eq!(flip(Filter::Anisotropic(4), MipMode::Off), aniso4);
 }
 
 #[test]
