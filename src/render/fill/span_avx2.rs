@@ -196,6 +196,27 @@ macro_rules! blend_x8 {
     }};
 }
 
+/// The 2x2 texels of one level at wrapped columns `x`, `x + 1` and rows `y`, `y + 1` on eight lanes, blended
+/// by `ax` across and then `ay` down (in 1/256): a bilinear texel, or an anisotropic probe's box.
+macro_rules! blend_2x2_x8 {
+    ($tex:expr, $columns:expr, $rows:expr, $weights:expr) => {{
+        let (tex, (x, x1), (y, y1), (ax, ay)): (&Texture, (__m256i, __m256i), (__m256i, __m256i), (__m256i, __m256i)) =
+            ($tex, $columns, $rows, $weights);
+        let texels = tex.texels();
+        let width = _mm256_set1_epi32(tex.width() as i32);
+        let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
+        // Each index is in range (wrapped into the level); the lookups are still checked.
+        let fetch = |row: __m256i, column: __m256i| {
+            let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row, column));
+            let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
+            bytemuck::cast::<[u32; LANES], __m256i>(out)
+        };
+        let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
+        let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);
+        blend_x8!(top, bottom, ay)
+    }};
+}
+
 /// `bilinear` on eight lanes: the bilinear texels of one level at texture coordinates `u`, `v`.
 macro_rules! bilinear_x8 {
     ($u:expr, $v:expr, $tex:expr, $sampler:expr) => {{
@@ -213,20 +234,7 @@ macro_rules! bilinear_x8 {
         let columns = wrap_x8!(x, w, sampler.wrap_s).zip(wrap_x8!(x1, w, sampler.wrap_s));
         let rows = wrap_x8!(y, h, sampler.wrap_t).zip(wrap_x8!(y1, h, sampler.wrap_t));
         match columns.zip(rows) {
-            Some(((x, x1), (y, y1))) => {
-                let texels = tex.texels();
-                let width = _mm256_set1_epi32(w as i32);
-                let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
-                // Each index is in range (see `texels_x8`); the lookups are still checked.
-                let fetch = |row: __m256i, column: __m256i| {
-                    let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row, column));
-                    let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
-                    bytemuck::cast::<[u32; LANES], __m256i>(out)
-                };
-                let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
-                let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);
-                blend_x8!(top, bottom, ay)
-            }
+            Some((columns, rows)) => blend_2x2_x8!(tex, columns, rows, (ax, ay)),
             None => {
                 let (us, vs): ([f32; LANES], [f32; LANES]) = (bytemuck::cast(u), bytemuck::cast(v));
                 let out: [u32; LANES] = std::array::from_fn(|l| tex.bilinear(us[l], vs[l], sampler));

@@ -194,16 +194,5 @@ fn box_x8(
     let next = |i: __m256i| _mm256_add_epi32(i, _mm256_set1_epi32(1));
     let (x, x1) = wrap_x8!(x, w, sampler.wrap_s).zip(wrap_x8!(next(x), w, sampler.wrap_s))?;
     let (y, y1) = wrap_x8!(y, h, sampler.wrap_t).zip(wrap_x8!(next(y), h, sampler.wrap_t))?;
-    let texels = texture.texels();
-    let width = _mm256_set1_epi32(w as i32);
-    let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
-    // Each index is in range (wrapped); the lookups are still checked.
-    let fetch = |row: __m256i, column: __m256i| {
-        let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row, column));
-        let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
-        bytemuck::cast::<[u32; LANES], __m256i>(out)
-    };
-    let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
-    let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);
-    Some(blend_x8!(top, bottom, ay))
+    Some(blend_2x2_x8!(texture, (x, x1), (y, y1), (ax, ay)))
 }
