@@ -45,6 +45,10 @@ pub(crate) fn probed_x8(
     let p = probes_x8(q, (u, v), chain, g, tex.filter.max_probes(), pass);
     let counts: [i32; LANES] = bytemuck::cast(p.count);
     let most = counts.iter().copied().max().unwrap_or(1);
+    if most <= 1 {
+        // One probe each (a magnified or round footprint): its box is the texel, as `Probes::average` has it.
+        return boxes_x8(chain, (u, v), p.radius, p.level, sampler, pass);
+    }
     let (mut even, mut odd) = (_mm256_setzero_si256(), _mm256_setzero_si256());
     let m = _mm256_set1_epi32(0x00ff_00ff);
     // `(count - 1) * 0.5`: probe `i` sits `i` minus that steps from the pixel.
