@@ -77,7 +77,8 @@ pub(super) fn hud(
                 drawing.quality_label(),
                 drawing.options.antialias,
                 drawing.options.filter,
-                drawing.options.mip,
+                // The choice drawn: an anisotropic filter chooses its levels per pixel whatever the setting.
+                drawing.options.mip.with_filter(drawing.options.filter),
                 drawing.frame_ms
             ))
             .size(12.0)
