@@ -76,6 +76,23 @@ impl DrawPolygon {
     /// `small`), covering `rows`, painted `paint`.
     #[inline]
     pub(crate) fn new(first: u32, count: u32, batch: u32, rows: (i32, i32), small: bool, paint: &PolygonPaint) -> Self {
+        let packed = paint.texture.unwrap_or_else(|| paint.constant_color.map_or(0, pack_rgb));
+        Self::packed(first, count, batch, rows, small, paint, packed)
+    }
+
+    /// [`Self::new`] given what it would store beside the colour: the texture index when textured, else
+    /// [`pack_rgb`] of the constant colour (set-up packs eight at a time).
+    #[inline(always)]
+    pub(crate) fn packed(
+        first: u32,
+        count: u32,
+        batch: u32,
+        rows: (i32, i32),
+        small: bool,
+        paint: &PolygonPaint,
+        packed: u32,
+    ) -> Self {
+        debug_assert_eq!(packed, paint.texture.unwrap_or_else(|| paint.constant_color.map_or(0, pack_rgb)));
         let flag = |on: bool, f: u8| if on { f } else { 0 };
         let flags = flag(paint.texture.is_some(), HAS_TEXTURE)
             | flag(paint.alpha_cutoff.is_some(), HAS_CUTOFF)
@@ -87,7 +104,7 @@ impl DrawPolygon {
             count,
             batch,
             rows,
-            texture: paint.texture.unwrap_or_else(|| paint.constant_color.map_or(0, pack_rgb)),
+            texture: packed,
             cutoff: paint.alpha_cutoff.unwrap_or(0.0),
             color: paint.constant_color.unwrap_or([0.0; 4]),
             sampler: paint.sampler,

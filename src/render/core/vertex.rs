@@ -50,6 +50,6 @@ pub(crate) fn triangle_area2([a, b, c]: [(Fx28_4, Fx28_4); 3]) -> i64 {
 
 /// The cross product of two corners' positions in raw fixed-point units: one term of the area.
 #[inline(always)]
-fn cross(p: (Fx28_4, Fx28_4), q: (Fx28_4, Fx28_4)) -> i64 {
+pub(crate) fn cross(p: (Fx28_4, Fx28_4), q: (Fx28_4, Fx28_4)) -> i64 {
     i64::from(p.0.0) * i64::from(q.1.0) - i64::from(q.0.0) * i64::from(p.1.0)
 }

@@ -15,6 +15,8 @@ pub mod monotone;
 mod pieces;
 pub(crate) mod setup;
 pub(crate) mod small_setup;
+#[cfg(target_arch = "x86_64")]
+mod small_setup_avx2;
 pub(crate) mod transform;
 #[cfg(target_arch = "x86_64")]
 mod transform_avx2;

@@ -10,15 +10,16 @@ use super::vertex::{SetupVertex, VertexTransform, project};
 use crate::render::core::batch::{Batch, Counts};
 use crate::render::core::door::Door;
 use crate::render::core::fixed::Fx28_4;
-use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh};
-use crate::render::core::mip::{polygon_lod, polygon_lod_of};
+use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh, Polygon};
+use crate::render::core::mip::polygon_lod_of;
 use crate::render::core::options::DepthKey;
 use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint, rows_of};
-use crate::render::core::small::{Corner, SmallTriangle};
+use crate::render::core::small::SmallTriangle;
 use crate::render::core::texture::Texture;
-use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2, slot, triangle_area2};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, cross, signed_area2, slot, triangle_area2};
 use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
 use crate::render::geometry::monotone::{is_y_monotone, triangulate};
+use crate::render::simd;
 
 /// The screen vertex of a projected point with texture coordinate `uv` and colour `c` (before the divide).
 #[inline]
@@ -112,14 +113,14 @@ pub(crate) struct SetupScratch {
 
 /// What set-up needs to know of a material, worked out once for a run of polygons sharing it.
 #[derive(Clone, Copy, Debug)]
-struct MaterialSetup {
+pub(super) struct MaterialSetup {
     /// The material's index in the mesh.
-    index: u32,
+    pub(super) index: u32,
     /// Its texture, if the draw list has it.
-    texture: Option<u32>,
+    pub(super) texture: Option<u32>,
     alpha_cutoff: Option<f32>,
     /// Whether its polygons of one colour take the direct small-triangle path ([`ObjectSetup::set_up_small`]).
-    small: bool,
+    pub(super) small: bool,
     /// Its texture's size, when mip levels are chosen per polygon (for each polygon's `λ`).
     mip_size: Option<(u32, u32)>,
 }
@@ -133,53 +134,107 @@ struct Gathered {
 impl ObjectSetup<'_> {
     /// Sets up polygons `range` (positions in the stored order, or polygon indices) into `out`.
     pub(crate) fn run(&self, range: Range<usize>, out: &mut Batch, scratch: &mut SetupScratch) {
-        let fallback = Material::default();
         let mut cached: Option<MaterialSetup> = None;
-        for k in range {
-            let Some(poly) = self.mesh.polygons().get(self.stored.map_or(k, |o| o[k] as usize)) else { continue };
-            let idx = self.mesh.polygon_indices(poly);
-            let material = self.mesh.materials().get(poly.material as usize).unwrap_or(&fallback);
-            // Worked out once for each run of polygons sharing a material.
-            let m = match cached {
-                Some(m) if m.index == poly.material => m,
-                _ => *cached.insert(self.material_setup(poly.material, material)),
-            };
-            let (mut finite, mut outside, mut cut, mut projected) = (true, u8::MAX, 0u8, true);
-            for &i in idx {
-                let v = &self.vertices[i as usize];
-                finite &= v.is_finite();
-                outside &= v.outside;
-                cut |= v.cut;
-                projected &= v.is_projected();
+        let mut k = range.start;
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = simd::avx2() {
+            use crate::render::geometry::small_setup_avx2::LANES;
+            while k + LANES <= range.end {
+                self.eight(avx2, k, out, scratch, &mut cached);
+                k += LANES;
             }
-            if !finite {
-                out.counts.invalid += 1;
-                continue;
-            }
-            if outside != 0 {
-                out.counts.outside += 1;
-                continue;
-            }
-            if cut == 0 && projected && m.small && self.set_up_small(idx, material, &m, out) {
-                continue;
-            }
-            let first = out.screen.len();
-            let gathered = if cut == 0 {
-                // Inside the guard band: the corners as projected once per vertex.
-                if !projected {
-                    out.counts.invalid += 1;
-                    continue;
-                }
-                self.gather_inside(idx, material, out)
-            } else {
-                self.gather_clipped(idx, material, out, scratch)
-            };
-            let Some(g) = gathered else {
-                out.screen.truncate(first);
-                continue;
-            };
-            self.finish(first, g, (material, &m), out, scratch);
         }
+        for k in k..range.end {
+            self.polygon(k, out, scratch, &mut cached);
+        }
+    }
+
+    /// The polygon at position `k` (in the stored order, or its index).
+    #[inline(always)]
+    pub(super) fn polygon_at(&self, k: usize) -> Option<&Polygon> {
+        self.mesh.polygons().get(self.stored.map_or(k, |o| o[k] as usize))
+    }
+
+    /// The material of `poly` and what set-up needs to know of it, worked out once for each run of
+    /// polygons sharing one (`cached` holds the last); `None` for a material the mesh does not have (which
+    /// building a mesh refuses).
+    #[inline(always)]
+    pub(super) fn material_of(
+        &self,
+        poly: &Polygon,
+        cached: &mut Option<MaterialSetup>,
+    ) -> Option<(&Material, MaterialSetup)> {
+        let material = self.mesh.materials().get(poly.material as usize)?;
+        let m = match *cached {
+            Some(m) if m.index == poly.material => m,
+            _ => *cached.insert(self.material_setup(poly.material, material)),
+        };
+        Some((material, m))
+    }
+
+    /// Sets up the polygon at position `k` into `out`.
+    #[inline]
+    pub(super) fn polygon(&self, k: usize, out: &mut Batch, scratch: &mut SetupScratch, c: &mut Option<MaterialSetup>) {
+        let Some(poly) = self.polygon_at(k) else { return };
+        let idx = self.mesh.polygon_indices(poly);
+        let Some((material, m)) = self.material_of(poly, c) else { return };
+        let (mut finite, mut outside, mut cut, mut projected) = (true, u8::MAX, 0u8, true);
+        for &i in idx {
+            let v = &self.vertices[i as usize];
+            finite &= v.is_finite();
+            outside &= v.outside;
+            cut |= v.cut;
+            projected &= v.is_projected();
+        }
+        if !finite {
+            out.counts.invalid += 1;
+            return;
+        }
+        if outside != 0 {
+            out.counts.outside += 1;
+            return;
+        }
+        if cut == 0 && projected {
+            // Culled before anything is gathered: a depth bias moves no corner on screen, so the area is
+            // the one `finish` would find.
+            let area = self.projected_area(idx);
+            if culled(area, material, &mut out.counts) {
+                return;
+            }
+            if m.small && self.set_up_small(idx, area, material, &m, out) {
+                return;
+            }
+        }
+        let first = out.screen.len();
+        let gathered = if cut == 0 {
+            // Inside the guard band: the corners as projected once per vertex.
+            if !projected {
+                out.counts.invalid += 1;
+                return;
+            }
+            self.gather_inside(idx, material, out)
+        } else {
+            self.gather_clipped(idx, material, out, scratch)
+        };
+        let Some(g) = gathered else {
+            out.screen.truncate(first);
+            return;
+        };
+        self.finish(first, g, (material, &m), out, scratch);
+    }
+
+    /// [`signed_area2`] of the projected corners `idx`.
+    #[inline(always)]
+    fn projected_area(&self, idx: &[u32]) -> i64 {
+        let at = |i: u32| {
+            let (x, y, _, _) = self.vertices[i as usize].screen_or_zero();
+            (x, y)
+        };
+        if let &[a, b, c] = idx {
+            return triangle_area2([at(a), at(b), at(c)]);
+        }
+        let next = idx.iter().skip(1).chain(idx.first());
+        idx.iter().zip(next).map(|(&p, &q)| cross(at(p), at(q))).sum()
     }
 
     /// The ordering key of a polygon of `n` corners whose corners' view depths fold to `folded` (asked only
@@ -215,78 +270,6 @@ impl ObjectSetup<'_> {
             small: fast && !self.antialiased && material.depth_bias == 0,
             mip_size,
         }
-    }
-
-    /// Sets up a projected triangle that is a small triangle with a fast path straight from its vertices
-    /// (or culls it), giving exactly what [`Self::gather_inside`] and [`Self::finish`] give; `false`, with
-    /// nothing written or counted, for any other polygon.
-    ///
-    /// The general path writes three 40-byte screen vertices, reads them back for the area, the key and
-    /// the small triangle's set-up, and then drops them; this path reads the per-vertex records directly,
-    /// which spares set-up that round trip through memory for every small triangle.
-    #[inline]
-    fn set_up_small(&self, idx: &[u32], material: &Material, m: &MaterialSetup, out: &mut Batch) -> bool {
-        // Arrays built element by element: the compiler does not inline `[T; N]::map` here.
-        let &[i0, i1, i2] = idx else { return false };
-        let ids = [i0 as usize, i1 as usize, i2 as usize];
-        let v = self.vertices;
-        let s = [v[ids[0]].screen_or_zero(), v[ids[1]].screen_or_zero(), v[ids[2]].screen_or_zero()];
-        if !SmallTriangle::fits([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]) {
-            return false;
-        }
-        let mv = self.mesh.vertices();
-        let verts = [&mv[ids[0]], &mv[ids[1]], &mv[ids[2]]];
-        let product = |k: usize| verts[k].color * material.base_color;
-        let p0 = product(0);
-        let color0 = p0.to_array();
-        // Only a polygon of one colour has a fast path (`MaterialSetup::small`). Equal vertex colours give
-        // equal products (as `==` compares them) unless a product is NaN (an infinite channel times 0), which
-        // `gather_inside` finds unequal to itself; otherwise the products are compared, as it does. (`&`, not
-        // `&&`: three compares are cheaper than the branches between them.)
-        let c = verts[0].color;
-        let same = (verts[1].color == c) & (verts[2].color == c) & !p0.is_nan();
-        if !same && (product(1).to_array() != color0 || product(2).to_array() != color0) {
-            return false;
-        }
-        let (texture, alpha_cutoff) = (m.texture, m.alpha_cutoff);
-        let area = triangle_area2([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]);
-        if culled(area, material, &mut out.counts) {
-            return true;
-        }
-        let corner = |k: usize| {
-            let (x, y, depth, q) = s[k];
-            let m = if self.perspective_attrs { q } else { 1.0 };
-            Corner { x, y, attrs: [depth, m, verts[k].uv.x * m, verts[k].uv.y * m] }
-        };
-        let corners = [corner(0), corner(1), corner(2)];
-        let lod = m.mip_size.map_or(0, |size| {
-            let c = |k: &Corner| [k.x.to_f32(), k.y.to_f32(), k.attrs[1], k.attrs[2], k.attrs[3]];
-            polygon_lod(corners.iter().map(c), size)
-        });
-        let t = match texture {
-            None => SmallTriangle::from_corners::<1>(&corners, area, self.width),
-            Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.width),
-        };
-        let Some((t, planes)) = t else {
-            debug_assert!(false, "a triangle that fits was not set up");
-            return false;
-        };
-        let key = self.polygon_key(3, || key_sum(self, &ids));
-        out.counts.drawn += 1;
-        let paint = PolygonPaint {
-            texture,
-            sampler: material.sampler,
-            alpha_cutoff,
-            constant_color: Some(color0),
-            door: self.door,
-            lod,
-        };
-        let first = out.push_small((t, planes), texture.is_some());
-        out.polys.push(DrawPolygon::new(first, 3, out.tag, t.rows(), true, &paint));
-        if self.ordered {
-            out.keys.push(key);
-        }
-        true
     }
 
     /// Pushes the projected corners of a polygon that needs no clipping.
@@ -439,7 +422,7 @@ impl ObjectSetup<'_> {
 /// as a back face (clockwise on screen, unless its material is double sided). The caller counts a polygon
 /// it draws once it is set up.
 #[inline(always)]
-fn culled(area: i64, material: &Material, counts: &mut Counts) -> bool {
+pub(super) fn culled(area: i64, material: &Material, counts: &mut Counts) -> bool {
     if area == 0 {
         counts.degenerate += 1;
         true
@@ -484,5 +467,8 @@ pub(crate) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
     }
 }
 
+mod direct;
+#[cfg(target_arch = "x86_64")]
+mod lanes;
 #[cfg(test)]
 mod tests;

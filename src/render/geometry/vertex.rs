@@ -89,6 +89,20 @@ impl SetupVertex {
         VertexCodes { outside: self.outside, cut: self.cut }
     }
 
+    /// The mask of [`Self::flags`] over the bytes `outside`, `finite` and `projected`.
+    pub(crate) const FINITE_PROJECTED_OUTSIDE: u32 = 0x0101_00ff;
+    /// [`Self::flags`] of a vertex that is finite and projected and outside no clip plane.
+    pub(crate) const FINITE_PROJECTED: u32 = 0x0101_0000;
+    /// The mask of [`Self::flags`] over the byte `cut`.
+    pub(crate) const CUT: u32 = 0x0000_ff00;
+
+    /// The four flag bytes as one word, `outside` lowest, then `cut`, `finite` and `projected`: one load
+    /// where the small-triangle set-up tests three corners at once.
+    #[inline(always)]
+    pub(crate) fn flags(&self) -> u32 {
+        u32::from_le_bytes([self.outside, self.cut, self.finite, self.projected])
+    }
+
     /// Whether the clip position and the view depth are finite.
     #[inline(always)]
     pub(crate) fn is_finite(&self) -> bool {

@@ -1,0 +1,101 @@
+//! Polygon set-up eight polygons at a time: the small triangles among them set up in vector lanes
+//! ([`super::small_setup_avx2`]), everything else one polygon at a time, in order.
+//!
+//! A group of eight consecutive polygons is taken to the lanes when they are triangles of one material
+//! whose flat triangles have the direct small-triangle path; the lanes then say which of them are small
+//! triangles that need no clipping, and set up their records. Each of those is finished here as the
+//! one-polygon path finishes it (its colour compared, culled, its level of detail, key and draw polygon),
+//! and any other polygon of the group goes through that path, so the batch written is the same, record for
+//! record and count for count, as the one-polygon loop writes.
+
+use super::{MaterialSetup, ObjectSetup, SetupScratch, culled};
+use crate::render::core::batch::Batch;
+use crate::render::geometry::small_setup_avx2::{LANES, Paint, set_up};
+use crate::render::geometry::vertex::SetupVertex;
+use crate::render::simd::Avx2;
+
+impl ObjectSetup<'_> {
+    /// Sets up the eight polygons at positions `k..k + 8` into `out`.
+    #[inline]
+    pub(super) fn eight(
+        &self,
+        avx2: Avx2,
+        k: usize,
+        out: &mut Batch,
+        scratch: &mut SetupScratch,
+        cached: &mut Option<MaterialSetup>,
+    ) {
+        let Some((material, m)) = self.polygon_at(k).and_then(|p| self.material_of(p, cached)) else {
+            return self.one_by_one(k, out, scratch, cached);
+        };
+        if !m.small {
+            return self.one_by_one(k, out, scratch, cached);
+        }
+        // The lanes' corners; a lane whose polygon is not a triangle of this material keeps corners 0 and is
+        // not taken.
+        let mut ids = [[0i32; LANES]; 3];
+        let mut taken = 0u32;
+        for l in 0..LANES {
+            let Some(poly) = self.polygon_at(k + l) else { continue };
+            if let &[a, b, c] = self.mesh.polygon_indices(poly)
+                && poly.material == m.index
+                && self.needs_no_clipping([a, b, c])
+            {
+                for (corner, i) in ids.iter_mut().zip([a, b, c]) {
+                    corner[l] = i as i32;
+                }
+                taken |= 1 << l;
+            }
+        }
+        if taken == 0 {
+            return self.one_by_one(k, out, scratch, cached);
+        }
+        let paint = Paint {
+            textured: m.texture.is_some(),
+            perspective: self.perspective_attrs,
+            base_color: material.base_color.to_array(),
+            width: self.width,
+        };
+        let lanes = set_up(avx2, self.vertices, self.mesh.vertices(), &ids, &paint);
+        let small = taken & lanes.fit;
+        for l in 0..LANES {
+            if small >> l & 1 == 0 {
+                self.polygon(k + l, out, scratch, cached);
+                continue;
+            }
+            let corners = ids.map(|c| c[l] as usize);
+            let Some(color) = self.flat_color(&corners, material) else {
+                self.polygon(k + l, out, scratch, cached);
+                continue;
+            };
+            if culled(i64::from(lanes.area[l]), material, &mut out.counts) {
+                continue;
+            }
+            let lod = Self::small_lod(&m, || self.corners(&corners));
+            let packed = m.texture.unwrap_or(lanes.packed[l] as u32);
+            self.push_small(lanes.triangle(l), &corners, (color, lod, packed), (material, &m), out);
+        }
+    }
+
+    /// Whether the corners `ids` are finite and projected, none needs clipping and they are not all outside
+    /// one clip plane: the per-polygon loop's checks before a small triangle's set-up, on the four flag
+    /// bytes of each corner at once.
+    #[inline(always)]
+    fn needs_no_clipping(&self, ids: [u32; 3]) -> bool {
+        let v = self.vertices;
+        let [a, b, c] = [v[ids[0] as usize].flags(), v[ids[1] as usize].flags(), v[ids[2] as usize].flags()];
+        let (all, any) = (a & b & c, a | b | c);
+        (all & SetupVertex::FINITE_PROJECTED_OUTSIDE) | (any & SetupVertex::CUT) == SetupVertex::FINITE_PROJECTED
+    }
+
+    /// Sets up polygons `k..k + 8` one at a time.
+    fn one_by_one(&self, k: usize, out: &mut Batch, scratch: &mut SetupScratch, cached: &mut Option<MaterialSetup>) {
+        for l in 0..LANES {
+            self.polygon(k + l, out, scratch, cached);
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "lanes_tests.rs"]
+mod tests;

@@ -1,0 +1,296 @@
+//! Small-triangle set-up eight triangles at a time with AVX2, for the triangles that need no clipping.
+//!
+//! One triangle's set-up ([`SmallTriangle::from_corners`], after the checks of the per-polygon loop) is a
+//! few dozen integer and float operations with one division, all independent from one triangle to the
+//! next, so it maps onto eight lanes: the corners' records are gathered straight from the transformed
+//! vertices ([`SetupVertex`], six words each), and every lane gets its clip checks, bounding box, area,
+//! edge functions and attribute planes at once. Each step repeats the one-triangle code operation for
+//! operation (the same integer arithmetic, the same IEEE operations in the same order, no fused
+//! multiply-add), so a lane's record is bit-identical to the one the scalar path sets up; the caller
+//! (`setup_lanes`) keeps the order, the counts and everything a lane cannot decide (colours, culling,
+//! keys), and hands any other polygon to the scalar path.
+
+use std::arch::x86_64::{
+    __m128, __m256, __m256i, _CMP_GT_OQ, _mm_castpd_ps, _mm_load_sd, _mm_loadu_ps, _mm256_add_epi32, _mm256_add_ps,
+    _mm256_and_ps, _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_castps_si256,
+    _mm256_castps128_ps256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32,
+    _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_insertf128_ps, _mm256_max_epi32, _mm256_max_ps,
+    _mm256_min_epi32, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256,
+    _mm256_set1_epi32, _mm256_set1_ps, _mm256_setzero_si256, _mm256_shuffle_ps, _mm256_slli_epi32, _mm256_srai_epi32,
+    _mm256_storeu_ps, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_sub_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps,
+    _mm256_xor_si256,
+};
+use std::mem::offset_of;
+
+use super::vertex::SetupVertex;
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::mesh::Vertex;
+use crate::render::core::small::{EdgeFn, MAX_SIDE, SmallTriangle, TexPlanes};
+use crate::render::simd::Avx2;
+
+/// Triangles per step.
+pub(crate) const LANES: usize = 8;
+
+/// Where a mesh [`Vertex`]'s texture coordinate and colour start, in bytes. A [`SetupVertex`] starts with
+/// its raw x and y, depth and `1/w` (the layout `geometry::vertex` asserts).
+const UV_OFFSET: usize = offset_of!(Vertex, uv);
+const COLOR_OFFSET: usize = offset_of!(Vertex, color);
+
+/// How the eight triangles are painted and the frame they are drawn in.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Paint {
+    /// Whether they are textured: then the `1/w`, `s/w` and `t/w` planes are set up too, else the
+    /// first corner's colour is packed.
+    pub(crate) textured: bool,
+    /// Whether attributes are divided by `w`.
+    pub(crate) perspective: bool,
+    /// The material's base colour, which multiplies the vertex colour.
+    pub(crate) base_color: [f32; 4],
+    /// The frame's width in pixels.
+    pub(crate) width: i32,
+}
+
+/// Eight triangles set up lane by lane: which lanes this path takes, and their records as columns.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Lanes {
+    /// Bit `l` is set when lane `l`'s corners are finite, projected and need no clipping (and are not all
+    /// outside one clip plane), and its bounding box is at most [`MAX_SIDE`] pixels each way: a small
+    /// triangle, whose record below is the one-triangle set-up's (once it is known not to be culled).
+    pub(crate) fit: u32,
+    /// Bit `l` is set when lane `l`'s box has no pixel centre in the frame: its record is the empty one.
+    empty: u32,
+    /// Each lane's signed area in raw units squared ([`triangle_area2`](crate::render::core::vertex)).
+    pub(crate) area: [i32; LANES],
+    /// The record's packed columns and its rows.
+    x_columns: [i32; LANES],
+    rows: [[i32; LANES]; 2],
+    /// Per edge, its value at the box's first centre, step per column and step per row.
+    edges: [[[i32; LANES]; 3]; 3],
+    /// The first corner's y in pixels.
+    y0: [f32; LANES],
+    /// Per attribute (depth, `1/w`, `s/w`, `t/w`), its value at the box's first column and its steps.
+    planes: [[[f32; LANES]; 3]; 4],
+    /// [`pack_rgb`](crate::render::core::polygon::pack_rgb) of the first corner's colour times the base
+    /// colour, for flat triangles (the colour of the triangle when it has one and it is not NaN).
+    pub(crate) packed: [i32; LANES],
+}
+
+impl Lanes {
+    /// Lane `l`'s record and texture planes (zero when the set-up was for flat triangles).
+    #[inline(always)]
+    pub(crate) fn triangle(&self, l: usize) -> (SmallTriangle, TexPlanes) {
+        let (r0, r1) = (self.rows[0][l], self.rows[1][l]);
+        if self.empty >> l & 1 != 0 {
+            let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
+            let empty = SmallTriangle { edges, x_columns: 0, rows: (r0, r0), y0: 0.0, depth: [0.0; 3] };
+            return (empty, TexPlanes::NONE);
+        }
+        let edge = |e: &[[i32; LANES]; 3]| EdgeFn { at_row: e[0][l], step_x: e[1][l], step_y: e[2][l] };
+        let p = &self.planes;
+        let plane = |a: usize| [p[a][0][l], p[a][1][l], p[a][2][l]];
+        let t = SmallTriangle {
+            edges: [edge(&self.edges[0]), edge(&self.edges[1]), edge(&self.edges[2])],
+            x_columns: self.x_columns[l] as u32,
+            rows: (r0, r1),
+            y0: self.y0[l],
+            depth: plane(0),
+        };
+        let (q, s, tt) = (plane(1), plane(2), plane(3));
+        (t, TexPlanes { a0: [q[0], s[0], tt[0]], dadx: [q[1], s[1], tt[1]], dady: [q[2], s[2], tt[2]] })
+    }
+}
+
+/// Sets up the triangles whose corners are `ids[0][l]`, `ids[1][l]`, `ids[2][l]` in `vertices` (transformed
+/// from `mesh`), painted `paint`. A lane with a corner out of range of either is not taken.
+pub(crate) fn set_up(
+    _: Avx2,
+    vertices: &[SetupVertex],
+    mesh: &[Vertex],
+    ids: &[[i32; LANES]; 3],
+    paint: &Paint,
+) -> Lanes {
+    let len = mesh.len().min(vertices.len());
+    if ids.iter().flatten().any(|&i| i < 0 || i as usize >= len) {
+        return Lanes::default();
+    }
+    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), and every index was just
+    // checked against both slices, which is all `set_up_avx2` needs.
+    #[allow(unsafe_code)]
+    unsafe {
+        set_up_avx2(vertices, mesh, ids, paint)
+    }
+}
+
+/// `pack_rgb` of the colours `c` (channels in lanes), operation for operation: every colour the caller
+/// uses is a number, so the order of each maximum's and minimum's operands does not matter.
+#[target_feature(enable = "avx2")]
+fn pack_rgb_x8(c: [__m256; 3]) -> __m256i {
+    let s = _mm256_set1_ps;
+    let magic = s(8_388_608.0);
+    let whole = c.map(|c| {
+        let v = _mm256_min_ps(_mm256_max_ps(_mm256_add_ps(_mm256_mul_ps(c, s(255.0)), s(0.5)), s(0.0)), s(255.0));
+        let rounded = _mm256_sub_ps(_mm256_add_ps(v, magic), magic);
+        _mm256_sub_ps(rounded, _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(rounded, v), s(1.0)))
+    });
+    let rg = _mm256_add_ps(_mm256_mul_ps(whole[0], s(65_536.0)), _mm256_mul_ps(whole[1], s(256.0)));
+    _mm256_cvttps_epi32(_mm256_add_ps(rg, whole[2]))
+}
+
+/// One corner of eight lanes: raw position and attributes (depth, `1/w`, `s/w`, `t/w`).
+struct Corners {
+    x: __m256i,
+    y: __m256i,
+    attrs: [__m256; 4],
+}
+
+/// The four words lane `l` finds in `rows[l]`, turned into four vectors of eight lanes (word `k` of every
+/// lane in vector `k`): eight loads and a transpose, several times cheaper here than four gathers.
+#[target_feature(enable = "avx2")]
+fn transpose(rows: [__m128; LANES]) -> [__m256; 4] {
+    // Lanes `k` and `k + 4` side by side, then a 4x4 transpose within each 128-bit half.
+    let pair = |k: usize| _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(rows[k]), rows[k + 4]);
+    let (a0, a1, a2, a3) = (pair(0), pair(1), pair(2), pair(3));
+    let (t0, t1) = (_mm256_unpacklo_ps(a0, a1), _mm256_unpacklo_ps(a2, a3));
+    let (t2, t3) = (_mm256_unpackhi_ps(a0, a1), _mm256_unpackhi_ps(a2, a3));
+    [
+        _mm256_shuffle_ps::<0x44>(t0, t1),
+        _mm256_shuffle_ps::<0xee>(t0, t1),
+        _mm256_shuffle_ps::<0x44>(t2, t3),
+        _mm256_shuffle_ps::<0xee>(t2, t3),
+    ]
+}
+
+/// Loads corner `ids` of eight lanes, with its texture coordinate from `uv` when given.
+///
+/// # Safety
+/// Every index is below `vertices.len()` and below `uv`'s length when given, and the CPU has AVX2.
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+unsafe fn corners(vertices: &[SetupVertex], uv: Option<&[Vertex]>, ids: &[i32; LANES], perspective: bool) -> Corners {
+    // SAFETY (each load): record `i < vertices.len()` is 24 bytes, its first 16 the position, depth and `1/w`.
+    let record = |l: usize| unsafe { _mm_loadu_ps(vertices.as_ptr().add(ids[l] as usize).cast::<f32>()) };
+    let [x, y, depth, q] = transpose(std::array::from_fn(record));
+    let mut attrs = [depth, _mm256_set1_ps(0.0), _mm256_set1_ps(0.0), _mm256_set1_ps(0.0)];
+    if let Some(mesh) = uv {
+        let m = if perspective { q } else { _mm256_set1_ps(1.0) };
+        // SAFETY (each load): the texture coordinate, two `f32`s inside vertex `i < mesh.len()`.
+        let uv = |l: usize| unsafe {
+            let at = mesh.as_ptr().add(ids[l] as usize).cast::<u8>().add(UV_OFFSET);
+            _mm_castpd_ps(_mm_load_sd(at.cast::<f64>()))
+        };
+        let [u, v, _, _] = transpose(std::array::from_fn(uv));
+        attrs[1] = m;
+        attrs[2] = _mm256_mul_ps(u, m);
+        attrs[3] = _mm256_mul_ps(v, m);
+    }
+    Corners { x: _mm256_castps_si256(x), y: _mm256_castps_si256(y), attrs }
+}
+
+// long: one AVX2 body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
+/// [`set_up`]'s body, compiled for AVX2.
+///
+/// # Safety
+/// As [`corners`].
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+unsafe fn set_up_avx2(vertices: &[SetupVertex], mesh: &[Vertex], ids: &[[i32; LANES]; 3], paint: &Paint) -> Lanes {
+    let (perspective, width) = (paint.perspective, paint.width);
+    let uv = paint.textured.then_some(mesh);
+    // SAFETY: the caller's promise, passed on.
+    let [p0, p1, p2] = unsafe {
+        [
+            corners(vertices, uv, &ids[0], perspective),
+            corners(vertices, uv, &ids[1], perspective),
+            corners(vertices, uv, &ids[2], perspective),
+        ]
+    };
+    let i = _mm256_set1_epi32;
+    let zero = _mm256_setzero_si256();
+    // The box: the first centres at or after the corners' least and greatest coordinates (projected corners
+    // are within 2^30 raw units, so `+ 7` cannot overflow).
+    let first = |v: __m256i| _mm256_srai_epi32::<4>(_mm256_add_epi32(v, i(Fx28_4::ONE - 1 - Fx28_4::HALF)));
+    let min3 = |a, b, c| _mm256_min_epi32(_mm256_min_epi32(a, b), c);
+    let max3 = |a, b, c| _mm256_max_epi32(_mm256_max_epi32(a, b), c);
+    let (col0, col1) = (first(min3(p0.x, p1.x, p2.x)), first(max3(p0.x, p1.x, p2.x)));
+    let (row0, row1) = (first(min3(p0.y, p1.y, p2.y)), first(max3(p0.y, p1.y, p2.y)));
+    let side = i(MAX_SIDE + 1);
+    let small = _mm256_and_si256(
+        _mm256_cmpgt_epi32(side, _mm256_sub_epi32(col1, col0)),
+        _mm256_cmpgt_epi32(side, _mm256_sub_epi32(row1, row0)),
+    );
+    let fit = _mm256_movemask_ps(_mm256_castsi256_ps(small)) as u32;
+    // The area from the first corner: within a box that fits every product is below 2^17, and equals the
+    // sum of the corners' cross products exactly (lanes that do not fit are not used).
+    let (e1x, e1y) = (_mm256_sub_epi32(p1.x, p0.x), _mm256_sub_epi32(p1.y, p0.y));
+    let (e2x, e2y) = (_mm256_sub_epi32(p2.x, p0.x), _mm256_sub_epi32(p2.y, p0.y));
+    let area = _mm256_sub_epi32(_mm256_mullo_epi32(e1x, e2y), _mm256_mullo_epi32(e2x, e1y));
+    let x_start = _mm256_max_epi32(col0, zero);
+    let x_end = _mm256_min_epi32(col1, i(width));
+    let some = _mm256_and_si256(_mm256_cmpgt_epi32(x_end, x_start), _mm256_cmpgt_epi32(row1, row0));
+    let empty = !_mm256_movemask_ps(_mm256_castsi256_ps(some)) as u32 & 0xff;
+    let centre = |v: __m256i| _mm256_add_epi32(_mm256_slli_epi32::<4>(v), i(Fx28_4::HALF));
+    let (cx, cy) = (centre(x_start), centre(row0));
+    // `EdgeFn::new`: the function from `p` to `q`, negated when the area is positive.
+    let flip = _mm256_cmpgt_epi32(area, zero);
+    let negate = |v: __m256i| _mm256_sub_epi32(_mm256_xor_si256(v, flip), flip);
+    let edge = |p: &Corners, q: &Corners| {
+        let (dx, dy) = (_mm256_sub_epi32(q.x, p.x), _mm256_sub_epi32(q.y, p.y));
+        let f = _mm256_sub_epi32(
+            _mm256_mullo_epi32(_mm256_sub_epi32(cx, p.x), dy),
+            _mm256_mullo_epi32(dx, _mm256_sub_epi32(cy, p.y)),
+        );
+        let (f, dx, dy) = (negate(f), negate(dx), negate(dy));
+        // After the flip a right edge is one going up (`dy < 0`); its mask (-1) takes the one away.
+        let right = _mm256_cmpgt_epi32(zero, dy);
+        let flat = _mm256_cmpeq_epi32(dy, zero);
+        let at_row = _mm256_blendv_epi8(_mm256_add_epi32(_mm256_add_epi32(f, i(1)), right), i(1), flat);
+        let step_y = _mm256_andnot_si256(flat, _mm256_slli_epi32::<4>(_mm256_sub_epi32(zero, dx)));
+        [at_row, _mm256_slli_epi32::<4>(dy), step_y]
+    };
+    let edges = [edge(&p0, &p1), edge(&p1, &p2), edge(&p2, &p0)];
+    // The attributes' plane, as `from_corners` computes it.
+    let s = _mm256_set1_ps;
+    let to_f32 = |v: __m256i| _mm256_mul_ps(_mm256_cvtepi32_ps(v), s(1.0 / Fx28_4::ONE as f32));
+    let (x0, y0) = (to_f32(p0.x), to_f32(p0.y));
+    let (fe1x, fe1y) = (_mm256_sub_ps(to_f32(p1.x), x0), _mm256_sub_ps(to_f32(p1.y), y0));
+    let (fe2x, fe2y) = (_mm256_sub_ps(to_f32(p2.x), x0), _mm256_sub_ps(to_f32(p2.y), y0));
+    let inv_det = _mm256_div_ps(s(256.0), _mm256_cvtepi32_ps(area));
+    let ox = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(x_start), s(0.5)), x0);
+    let mut out = Lanes { fit, empty, ..Lanes::default() };
+    if !paint.textured {
+        // SAFETY (each load): the colour, four `f32`s inside vertex `i < mesh.len()`.
+        let color = |l: usize| unsafe {
+            _mm_loadu_ps(mesh.as_ptr().add(ids[0][l] as usize).cast::<u8>().add(COLOR_OFFSET).cast::<f32>())
+        };
+        let [r, g, bl, _] = transpose(std::array::from_fn(color));
+        let b = paint.base_color;
+        let packed = pack_rgb_x8([_mm256_mul_ps(r, s(b[0])), _mm256_mul_ps(g, s(b[1])), _mm256_mul_ps(bl, s(b[2]))]);
+        // SAFETY: eight `i32`s, which a 256-bit unaligned store writes exactly.
+        unsafe { _mm256_storeu_si256(out.packed.as_mut_ptr().cast::<__m256i>(), packed) };
+    }
+    let attrs = if uv.is_some() { 4 } else { 1 };
+    for a in 0..attrs {
+        let (d1, d2) = (_mm256_sub_ps(p1.attrs[a], p0.attrs[a]), _mm256_sub_ps(p2.attrs[a], p0.attrs[a]));
+        let dadx = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d1, fe2y), _mm256_mul_ps(d2, fe1y)), inv_det);
+        let dady = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d2, fe1x), _mm256_mul_ps(d1, fe2x)), inv_det);
+        let a0 = _mm256_add_ps(p0.attrs[a], _mm256_mul_ps(dadx, ox));
+        for (slot, v) in out.planes[a].iter_mut().zip([a0, dadx, dady]) {
+            // SAFETY: `slot` is eight `f32`s, which a 256-bit unaligned store writes exactly.
+            unsafe { _mm256_storeu_ps(slot.as_mut_ptr(), v) };
+        }
+    }
+    let columns = _mm256_or_si256(x_start, _mm256_slli_epi32::<24>(_mm256_sub_epi32(x_end, x_start)));
+    let ints = [(&mut out.area, area), (&mut out.x_columns, columns), (&mut out.rows[0], row0)];
+    // SAFETY (every store below): each slot is eight 32-bit values, which a 256-bit unaligned store writes.
+    for (slot, v) in ints {
+        unsafe { _mm256_storeu_si256(slot.as_mut_ptr().cast::<__m256i>(), v) };
+    }
+    unsafe { _mm256_storeu_si256(out.rows[1].as_mut_ptr().cast::<__m256i>(), row1) };
+    unsafe { _mm256_storeu_ps(out.y0.as_mut_ptr(), y0) };
+    for (slots, e) in out.edges.iter_mut().zip(edges) {
+        for (slot, v) in slots.iter_mut().zip(e) {
+            unsafe { _mm256_storeu_si256(slot.as_mut_ptr().cast::<__m256i>(), v) };
+        }
+    }
+    out
+}
