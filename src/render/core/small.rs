@@ -16,6 +16,7 @@ pub const NARROW: usize = 4;
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
 /// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub(crate) struct EdgeFn {
     /// Value at the first pixel centre of the box on the current row.
     pub(crate) at_row: i32,
@@ -42,6 +43,7 @@ pub(crate) struct Corner {
 /// (rather than in each band's fill, from the corners read back) also lets this one record stand in for
 /// its three 40-byte screen vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub(crate) struct SmallTriangle {
     /// The edge functions at the centre of pixel `(x_start, rows.0)`.
     pub(crate) edges: [EdgeFn; 3],
@@ -62,10 +64,21 @@ pub(crate) struct SmallTriangle {
 // textured one live beside it (`TexPlanes`).
 const _: () = assert!(size_of::<SmallTriangle>() == 64);
 
+// The eight-lane set-up (`geometry::small_setup_avx2`) writes records as words in field order: the edges'
+// nine, the packed columns, the rows, the first vertex's y and the depth plane; planes as nine words.
+const _: () = {
+    use std::mem::offset_of;
+    assert!(size_of::<EdgeFn>() == 12 && offset_of!(EdgeFn, step_x) == 4 && offset_of!(EdgeFn, step_y) == 8);
+    assert!(offset_of!(SmallTriangle, x_columns) == 36 && offset_of!(SmallTriangle, rows) == 40);
+    assert!(offset_of!(SmallTriangle, y0) == 48 && offset_of!(SmallTriangle, depth) == 52);
+    assert!(size_of::<TexPlanes>() == 36 && offset_of!(TexPlanes, dadx) == 12 && offset_of!(TexPlanes, dady) == 24);
+};
+
 /// The planes of a textured small triangle's `1/w`, `s/w` and `t/w` (at the centre of column `x_start` on
 /// the line through the first vertex's y, and their change per pixel and per row), kept beside its
 /// [`SmallTriangle`]: a flat colour needs only the depth.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub(crate) struct TexPlanes {
     pub(crate) a0: [f32; 3],
     pub(crate) dadx: [f32; 3],

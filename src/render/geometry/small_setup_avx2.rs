@@ -11,14 +11,13 @@
 //! keys), and hands any other polygon to the scalar path.
 
 use std::arch::x86_64::{
-    __m128, __m256, __m256i, _CMP_GT_OQ, _mm_castpd_ps, _mm_load_sd, _mm_loadu_ps, _mm256_add_epi32, _mm256_add_ps,
-    _mm256_and_ps, _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_castps_si256,
-    _mm256_castps128_ps256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32,
-    _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_insertf128_ps, _mm256_max_epi32, _mm256_max_ps,
-    _mm256_min_epi32, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256,
+    __m128, __m256, __m256i, _CMP_GT_OQ, _mm_loadu_ps, _mm256_add_epi32, _mm256_add_ps, _mm256_and_ps,
+    _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_castps_si256, _mm256_castps128_ps256,
+    _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps,
+    _mm256_cvttps_epi32, _mm256_div_ps, _mm256_insertf128_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32,
+    _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_permute2f128_ps,
     _mm256_set1_epi32, _mm256_set1_ps, _mm256_setzero_si256, _mm256_shuffle_ps, _mm256_slli_epi32, _mm256_srai_epi32,
-    _mm256_storeu_ps, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_sub_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps,
-    _mm256_xor_si256,
+    _mm256_storeu_si256, _mm256_sub_epi32, _mm256_sub_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps, _mm256_xor_si256,
 };
 use std::mem::offset_of;
 
@@ -31,93 +30,93 @@ use crate::render::simd::Avx2;
 /// Triangles per step.
 pub(crate) const LANES: usize = 8;
 
-/// Where a mesh [`Vertex`]'s texture coordinate and colour start, in bytes. A [`SetupVertex`] starts with
-/// its raw x and y, depth and `1/w` (the layout `geometry::vertex` asserts).
-const UV_OFFSET: usize = offset_of!(Vertex, uv);
+/// Where a mesh [`Vertex`]'s colour starts, in bytes. A [`SetupVertex`] starts with its raw x and y, depth
+/// and `1/w` (the layout `geometry::vertex` asserts).
 const COLOR_OFFSET: usize = offset_of!(Vertex, color);
 
-/// How the eight triangles are painted and the frame they are drawn in.
+/// Eight triangles set up lane by lane: which lanes this path takes, and their records.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Paint {
-    /// Whether they are textured: then the `1/w`, `s/w` and `t/w` planes are set up too, else the
-    /// first corner's colour is packed.
-    pub(crate) textured: bool,
-    /// Whether attributes are divided by `w`.
-    pub(crate) perspective: bool,
-    /// The material's base colour, which multiplies the vertex colour.
-    pub(crate) base_color: [f32; 4],
-    /// The frame's width in pixels.
-    pub(crate) width: i32,
-}
-
-/// Eight triangles set up lane by lane: which lanes this path takes, and their records as columns.
-#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Lanes {
-    /// Bit `l` is set when lane `l`'s corners are finite, projected and need no clipping (and are not all
-    /// outside one clip plane), and its bounding box is at most [`MAX_SIDE`] pixels each way: a small
-    /// triangle, whose record below is the one-triangle set-up's (once it is known not to be culled).
+    /// Bit `l` is set when lane `l`'s bounding box is at most [`MAX_SIDE`] pixels each way: when its
+    /// corners are projected and need no clipping (the caller checks), a small triangle whose record below
+    /// is the one-triangle set-up's (once it is known not to be culled).
     pub(crate) fit: u32,
     /// Bit `l` is set when lane `l`'s box has no pixel centre in the frame: its record is the empty one.
     empty: u32,
     /// Each lane's signed area in raw units squared ([`triangle_area2`](crate::render::core::vertex)).
     pub(crate) area: [i32; LANES],
-    /// The record's packed columns and its rows.
-    x_columns: [i32; LANES],
-    rows: [[i32; LANES]; 2],
-    /// Per edge, its value at the box's first centre, step per column and step per row.
-    edges: [[[i32; LANES]; 3]; 3],
-    /// The first corner's y in pixels.
-    y0: [f32; LANES],
-    /// Per attribute (depth, `1/w`, `s/w`, `t/w`), its value at the box's first column and its steps.
-    planes: [[[f32; LANES]; 3]; 4],
     /// [`pack_rgb`](crate::render::core::polygon::pack_rgb) of the first corner's colour times the base
     /// colour, for flat triangles (the colour of the triangle when it has one and it is not NaN).
     pub(crate) packed: [i32; LANES],
+    /// Each lane's record (unless its box is empty), written with vector stores.
+    records: [SmallTriangle; LANES],
 }
 
 impl Lanes {
-    /// Lane `l`'s record and texture planes (zero when the set-up was for flat triangles).
+    /// No lane taken.
+    const NONE: Self = {
+        let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
+        let record = SmallTriangle { edges, x_columns: 0, rows: (0, 0), y0: 0.0, depth: [0.0; 3] };
+        Self { fit: 0, empty: 0, area: [0; LANES], packed: [0; LANES], records: [record; LANES] }
+    };
+
+    /// Lane `l`'s record, and the texture planes of a flat triangle (none).
     #[inline(always)]
     pub(crate) fn triangle(&self, l: usize) -> (SmallTriangle, TexPlanes) {
-        let (r0, r1) = (self.rows[0][l], self.rows[1][l]);
         if self.empty >> l & 1 != 0 {
+            let r0 = self.records[l].rows.0;
             let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
             let empty = SmallTriangle { edges, x_columns: 0, rows: (r0, r0), y0: 0.0, depth: [0.0; 3] };
             return (empty, TexPlanes::NONE);
         }
-        let edge = |e: &[[i32; LANES]; 3]| EdgeFn { at_row: e[0][l], step_x: e[1][l], step_y: e[2][l] };
-        let p = &self.planes;
-        let plane = |a: usize| [p[a][0][l], p[a][1][l], p[a][2][l]];
-        let t = SmallTriangle {
-            edges: [edge(&self.edges[0]), edge(&self.edges[1]), edge(&self.edges[2])],
-            x_columns: self.x_columns[l] as u32,
-            rows: (r0, r1),
-            y0: self.y0[l],
-            depth: plane(0),
-        };
-        let (q, s, tt) = (plane(1), plane(2), plane(3));
-        (t, TexPlanes { a0: [q[0], s[0], tt[0]], dadx: [q[1], s[1], tt[1]], dady: [q[2], s[2], tt[2]] })
+        (self.records[l], TexPlanes::NONE)
     }
 }
 
-/// Sets up the triangles whose corners are `ids[0][l]`, `ids[1][l]`, `ids[2][l]` in `vertices` (transformed
-/// from `mesh`), painted `paint`. A lane with a corner out of range of either is not taken.
+/// The words of eight records, given as eight vectors of one word each (word `k` of lane `l` in lane `l`
+/// of vector `k`), turned into eight vectors of one record each (lane `l`'s words in vector `l`).
+#[target_feature(enable = "avx2")]
+fn transpose8(w: [__m256; 8]) -> [__m256; 8] {
+    let (t0, t1) = (_mm256_unpacklo_ps(w[0], w[1]), _mm256_unpackhi_ps(w[0], w[1]));
+    let (t2, t3) = (_mm256_unpacklo_ps(w[2], w[3]), _mm256_unpackhi_ps(w[2], w[3]));
+    let (t4, t5) = (_mm256_unpacklo_ps(w[4], w[5]), _mm256_unpackhi_ps(w[4], w[5]));
+    let (t6, t7) = (_mm256_unpacklo_ps(w[6], w[7]), _mm256_unpackhi_ps(w[6], w[7]));
+    // Lanes 0-3 of words 0-3 (and lanes 4-7 in the upper halves), then of words 4-7.
+    let (s0, s1) = (_mm256_shuffle_ps::<0x44>(t0, t2), _mm256_shuffle_ps::<0xee>(t0, t2));
+    let (s2, s3) = (_mm256_shuffle_ps::<0x44>(t1, t3), _mm256_shuffle_ps::<0xee>(t1, t3));
+    let (s4, s5) = (_mm256_shuffle_ps::<0x44>(t4, t6), _mm256_shuffle_ps::<0xee>(t4, t6));
+    let (s6, s7) = (_mm256_shuffle_ps::<0x44>(t5, t7), _mm256_shuffle_ps::<0xee>(t5, t7));
+    [
+        _mm256_permute2f128_ps::<0x20>(s0, s4),
+        _mm256_permute2f128_ps::<0x20>(s1, s5),
+        _mm256_permute2f128_ps::<0x20>(s2, s6),
+        _mm256_permute2f128_ps::<0x20>(s3, s7),
+        _mm256_permute2f128_ps::<0x31>(s0, s4),
+        _mm256_permute2f128_ps::<0x31>(s1, s5),
+        _mm256_permute2f128_ps::<0x31>(s2, s6),
+        _mm256_permute2f128_ps::<0x31>(s3, s7),
+    ]
+}
+
+/// Sets up the flat triangles whose corners are `ids[0][l]`, `ids[1][l]`, `ids[2][l]` in `vertices`
+/// (transformed from `mesh`), of a material of colour `base_color`, for a frame `width` pixels wide: the
+/// depth plane and the packed colour. A lane with a corner out of range of either slice is not taken.
 pub(crate) fn set_up(
     _: Avx2,
-    vertices: &[SetupVertex],
-    mesh: &[Vertex],
+    (vertices, mesh): (&[SetupVertex], &[Vertex]),
     ids: &[[i32; LANES]; 3],
-    paint: &Paint,
+    base_color: [f32; 4],
+    width: i32,
 ) -> Lanes {
     let len = mesh.len().min(vertices.len());
     if ids.iter().flatten().any(|&i| i < 0 || i as usize >= len) {
-        return Lanes::default();
+        return Lanes::NONE;
     }
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), and every index was just
     // checked against both slices, which is all `set_up_avx2` needs.
     #[allow(unsafe_code)]
     unsafe {
-        set_up_avx2(vertices, mesh, ids, paint)
+        set_up_avx2((vertices, mesh), ids, base_color, width)
     }
 }
 
@@ -136,11 +135,11 @@ fn pack_rgb_x8(c: [__m256; 3]) -> __m256i {
     _mm256_cvttps_epi32(_mm256_add_ps(rg, whole[2]))
 }
 
-/// One corner of eight lanes: raw position and attributes (depth, `1/w`, `s/w`, `t/w`).
+/// One corner of eight lanes: raw position and depth.
 struct Corners {
     x: __m256i,
     y: __m256i,
-    attrs: [__m256; 4],
+    depth: __m256,
 }
 
 /// The four words lane `l` finds in `rows[l]`, turned into four vectors of eight lanes (word `k` of every
@@ -160,50 +159,34 @@ fn transpose(rows: [__m128; LANES]) -> [__m256; 4] {
     ]
 }
 
-/// Loads corner `ids` of eight lanes, with its texture coordinate from `uv` when given.
+/// Loads corner `ids` of eight lanes.
 ///
 /// # Safety
-/// Every index is below `vertices.len()` and below `uv`'s length when given, and the CPU has AVX2.
+/// Every index is below `vertices.len()`, and the CPU has AVX2.
 #[target_feature(enable = "avx2")]
 #[allow(unsafe_code)]
-unsafe fn corners(vertices: &[SetupVertex], uv: Option<&[Vertex]>, ids: &[i32; LANES], perspective: bool) -> Corners {
+unsafe fn corners(vertices: &[SetupVertex], ids: &[i32; LANES]) -> Corners {
     // SAFETY (each load): record `i < vertices.len()` is 24 bytes, its first 16 the position, depth and `1/w`.
     let record = |l: usize| unsafe { _mm_loadu_ps(vertices.as_ptr().add(ids[l] as usize).cast::<f32>()) };
-    let [x, y, depth, q] = transpose(std::array::from_fn(record));
-    let mut attrs = [depth, _mm256_set1_ps(0.0), _mm256_set1_ps(0.0), _mm256_set1_ps(0.0)];
-    if let Some(mesh) = uv {
-        let m = if perspective { q } else { _mm256_set1_ps(1.0) };
-        // SAFETY (each load): the texture coordinate, two `f32`s inside vertex `i < mesh.len()`.
-        let uv = |l: usize| unsafe {
-            let at = mesh.as_ptr().add(ids[l] as usize).cast::<u8>().add(UV_OFFSET);
-            _mm_castpd_ps(_mm_load_sd(at.cast::<f64>()))
-        };
-        let [u, v, _, _] = transpose(std::array::from_fn(uv));
-        attrs[1] = m;
-        attrs[2] = _mm256_mul_ps(u, m);
-        attrs[3] = _mm256_mul_ps(v, m);
-    }
-    Corners { x: _mm256_castps_si256(x), y: _mm256_castps_si256(y), attrs }
+    let [x, y, depth, _] = transpose(std::array::from_fn(record));
+    Corners { x: _mm256_castps_si256(x), y: _mm256_castps_si256(y), depth }
 }
 
 // long: one AVX2 body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
 /// [`set_up`]'s body, compiled for AVX2.
 ///
 /// # Safety
-/// As [`corners`].
+/// Every index is below both slices' lengths, and the CPU has AVX2.
 #[target_feature(enable = "avx2")]
 #[allow(unsafe_code)]
-unsafe fn set_up_avx2(vertices: &[SetupVertex], mesh: &[Vertex], ids: &[[i32; LANES]; 3], paint: &Paint) -> Lanes {
-    let (perspective, width) = (paint.perspective, paint.width);
-    let uv = paint.textured.then_some(mesh);
+unsafe fn set_up_avx2(
+    (vertices, mesh): (&[SetupVertex], &[Vertex]),
+    ids: &[[i32; LANES]; 3],
+    base_color: [f32; 4],
+    width: i32,
+) -> Lanes {
     // SAFETY: the caller's promise, passed on.
-    let [p0, p1, p2] = unsafe {
-        [
-            corners(vertices, uv, &ids[0], perspective),
-            corners(vertices, uv, &ids[1], perspective),
-            corners(vertices, uv, &ids[2], perspective),
-        ]
-    };
+    let [p0, p1, p2] = unsafe { [corners(vertices, &ids[0]), corners(vertices, &ids[1]), corners(vertices, &ids[2])] };
     let i = _mm256_set1_epi32;
     let zero = _mm256_setzero_si256();
     // The box: the first centres at or after the corners' least and greatest coordinates (projected corners
@@ -248,7 +231,7 @@ unsafe fn set_up_avx2(vertices: &[SetupVertex], mesh: &[Vertex], ids: &[[i32; LA
         [at_row, _mm256_slli_epi32::<4>(dy), step_y]
     };
     let edges = [edge(&p0, &p1), edge(&p1, &p2), edge(&p2, &p0)];
-    // The attributes' plane, as `from_corners` computes it.
+    // The depth's plane, as `from_corners` computes it.
     let s = _mm256_set1_ps;
     let to_f32 = |v: __m256i| _mm256_mul_ps(_mm256_cvtepi32_ps(v), s(1.0 / Fx28_4::ONE as f32));
     let (x0, y0) = (to_f32(p0.x), to_f32(p0.y));
@@ -256,41 +239,31 @@ unsafe fn set_up_avx2(vertices: &[SetupVertex], mesh: &[Vertex], ids: &[[i32; LA
     let (fe2x, fe2y) = (_mm256_sub_ps(to_f32(p2.x), x0), _mm256_sub_ps(to_f32(p2.y), y0));
     let inv_det = _mm256_div_ps(s(256.0), _mm256_cvtepi32_ps(area));
     let ox = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(x_start), s(0.5)), x0);
-    let mut out = Lanes { fit, empty, ..Lanes::default() };
-    if !paint.textured {
-        // SAFETY (each load): the colour, four `f32`s inside vertex `i < mesh.len()`.
-        let color = |l: usize| unsafe {
-            _mm_loadu_ps(mesh.as_ptr().add(ids[0][l] as usize).cast::<u8>().add(COLOR_OFFSET).cast::<f32>())
-        };
-        let [r, g, bl, _] = transpose(std::array::from_fn(color));
-        let b = paint.base_color;
-        let packed = pack_rgb_x8([_mm256_mul_ps(r, s(b[0])), _mm256_mul_ps(g, s(b[1])), _mm256_mul_ps(bl, s(b[2]))]);
-        // SAFETY: eight `i32`s, which a 256-bit unaligned store writes exactly.
-        unsafe { _mm256_storeu_si256(out.packed.as_mut_ptr().cast::<__m256i>(), packed) };
-    }
-    let attrs = if uv.is_some() { 4 } else { 1 };
-    for a in 0..attrs {
-        let (d1, d2) = (_mm256_sub_ps(p1.attrs[a], p0.attrs[a]), _mm256_sub_ps(p2.attrs[a], p0.attrs[a]));
-        let dadx = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d1, fe2y), _mm256_mul_ps(d2, fe1y)), inv_det);
-        let dady = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d2, fe1x), _mm256_mul_ps(d1, fe2x)), inv_det);
-        let a0 = _mm256_add_ps(p0.attrs[a], _mm256_mul_ps(dadx, ox));
-        for (slot, v) in out.planes[a].iter_mut().zip([a0, dadx, dady]) {
-            // SAFETY: `slot` is eight `f32`s, which a 256-bit unaligned store writes exactly.
-            unsafe { _mm256_storeu_ps(slot.as_mut_ptr(), v) };
-        }
-    }
+    let (d1, d2) = (_mm256_sub_ps(p1.depth, p0.depth), _mm256_sub_ps(p2.depth, p0.depth));
+    let dadx = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d1, fe2y), _mm256_mul_ps(d2, fe1y)), inv_det);
+    let dady = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(d2, fe1x), _mm256_mul_ps(d1, fe2x)), inv_det);
+    let a0 = _mm256_add_ps(p0.depth, _mm256_mul_ps(dadx, ox));
+    // The records' sixteen words in their order (`SmallTriangle` is `repr(C)`), eight lanes each, turned
+    // into two vectors a record.
     let columns = _mm256_or_si256(x_start, _mm256_slli_epi32::<24>(_mm256_sub_epi32(x_end, x_start)));
-    let ints = [(&mut out.area, area), (&mut out.x_columns, columns), (&mut out.rows[0], row0)];
-    // SAFETY (every store below): each slot is eight 32-bit values, which a 256-bit unaligned store writes.
-    for (slot, v) in ints {
-        unsafe { _mm256_storeu_si256(slot.as_mut_ptr().cast::<__m256i>(), v) };
-    }
-    unsafe { _mm256_storeu_si256(out.rows[1].as_mut_ptr().cast::<__m256i>(), row1) };
-    unsafe { _mm256_storeu_ps(out.y0.as_mut_ptr(), y0) };
-    for (slots, e) in out.edges.iter_mut().zip(edges) {
-        for (slot, v) in slots.iter_mut().zip(e) {
-            unsafe { _mm256_storeu_si256(slot.as_mut_ptr().cast::<__m256i>(), v) };
-        }
-    }
+    let e = |k: usize, j: usize| _mm256_castsi256_ps(edges[k][j]);
+    let f = _mm256_castsi256_ps;
+    let low = transpose8([e(0, 0), e(0, 1), e(0, 2), e(1, 0), e(1, 1), e(1, 2), e(2, 0), e(2, 1)]);
+    let high = transpose8([e(2, 2), f(columns), f(row0), f(row1), y0, a0, dadx, dady]);
+    // SAFETY: a record is sixteen 4-byte words with no padding (`repr(C)`, its layout asserted in
+    // `core::small`), and any bits are a valid `i32` or `f32`: two vectors are a valid record.
+    let record = |l: usize| unsafe { std::mem::transmute::<[__m256; 2], SmallTriangle>([low[l], high[l]]) };
+    let mut out = Lanes { fit, empty, area: [0; LANES], packed: [0; LANES], records: std::array::from_fn(record) };
+    // The first corner's colour times the material's, packed.
+    // SAFETY (each load): the colour, four `f32`s inside vertex `i < mesh.len()`.
+    let color = |l: usize| unsafe {
+        _mm_loadu_ps(mesh.as_ptr().add(ids[0][l] as usize).cast::<u8>().add(COLOR_OFFSET).cast::<f32>())
+    };
+    let [r, g, b, _] = transpose(std::array::from_fn(color));
+    let [br, bg, bb, _] = base_color;
+    let packed = pack_rgb_x8([_mm256_mul_ps(r, s(br)), _mm256_mul_ps(g, s(bg)), _mm256_mul_ps(b, s(bb))]);
+    // SAFETY (both): eight `i32`s, which a 256-bit unaligned store writes exactly.
+    unsafe { _mm256_storeu_si256(out.packed.as_mut_ptr().cast::<__m256i>(), packed) };
+    unsafe { _mm256_storeu_si256(out.area.as_mut_ptr().cast::<__m256i>(), area) };
     out
 }
