@@ -15,7 +15,7 @@ pub const NARROW: usize = 4;
 
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
 /// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 pub(crate) struct EdgeFn {
     /// Value at the first pixel centre of the box on the current row.
@@ -42,7 +42,7 @@ pub(crate) struct Corner {
 /// Polygon set-up has the corners in cache and has just computed the area; setting the triangle up there
 /// (rather than in each band's fill, from the corners read back) also lets this one record stand in for
 /// its three 40-byte screen vertices.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 pub(crate) struct SmallTriangle {
     /// The edge functions at the centre of pixel `(x_start, rows.0)`.
@@ -51,7 +51,7 @@ pub(crate) struct SmallTriangle {
     /// columns it has there (at most [`MAX_SIDE`]) in the high 8: packed so that the record is 64 bytes.
     pub(crate) x_columns: u32,
     /// Rows of the box (not clipped to a band).
-    pub(crate) rows: (i32, i32),
+    pub(crate) rows: [i32; 2],
     /// The first vertex's y, in pixels.
     pub(crate) y0: f32,
     /// Depth at the centre of column `x_start` on the line through the first vertex's y, and its change per
@@ -64,7 +64,8 @@ pub(crate) struct SmallTriangle {
 // textured one live beside it (`TexPlanes`).
 const _: () = assert!(size_of::<SmallTriangle>() == 64);
 
-// The eight-lane set-up (`geometry::small_setup_avx2`) writes records as words in field order: the edges'
+// The eight-lane set-up (`geometry::small_setup_avx2`) writes records as words in field order (plain old
+// data, so two vectors cast to one): the edges'
 // nine, the packed columns, the rows, the first vertex's y and the depth plane; planes as nine words.
 const _: () = {
     use std::mem::offset_of;
@@ -112,6 +113,6 @@ impl SmallTriangle {
     /// The rows whose centres the triangle may cover, `rows().0..rows().1`.
     #[inline(always)]
     pub(crate) fn rows(&self) -> (i32, i32) {
-        self.rows
+        (self.rows[0], self.rows[1])
     }
 }

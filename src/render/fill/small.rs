@@ -31,7 +31,7 @@ impl SmallTriangle {
     /// top to bottom, with the first `N` attributes (the depth, then those of the texture planes `tex`).
     #[inline(always)]
     pub(crate) fn for_each_run<const N: usize>(&self, tex: &TexPlanes, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
-        let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
+        let (y_start, y_end) = (self.rows[0].max(band.0), self.rows[1].min(band.1));
         if y_start >= y_end {
             return;
         }
@@ -39,7 +39,7 @@ impl SmallTriangle {
         // Exact integers: a band starting inside the box gets the values the rows above it would have
         // stepped to.
         for e in &mut edges {
-            e.at_row += e.step_y * (y_start - self.rows.0).max(0);
+            e.at_row += e.step_y * (y_start - self.rows[0]).max(0);
         }
         let [d0, ddx, ddy] = self.depth;
         let a_start = [d0, tex.a0[0], tex.a0[1], tex.a0[2]];
@@ -76,11 +76,11 @@ impl SmallTriangle {
     /// columns at a time ([`fill_flat_narrow`]); `None` for a wider box or no rows in the band.
     #[inline(always)]
     pub(crate) fn narrow_rows(&self, band: (i32, i32)) -> Option<NarrowRows> {
-        let (y_start, y_end) = (self.rows.0.max(band.0), self.rows.1.min(band.1));
+        let (y_start, y_end) = (self.rows[0].max(band.0), self.rows[1].min(band.1));
         if self.columns() > NARROW as u32 || y_start >= y_end {
             return None;
         }
-        let skip = (y_start - self.rows.0).max(0);
+        let skip = (y_start - self.rows[0]).max(0);
         let e = &self.edges;
         Some(NarrowRows {
             at_row: [

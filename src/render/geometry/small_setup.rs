@@ -100,7 +100,7 @@ impl SmallTriangle {
         let (x_start, x_end) = (col0.max(0), col1.min(width));
         if area == 0 || x_start >= x_end || row0 >= row1 {
             let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
-            let empty = Self { edges, x_columns: 0, rows: (row0, row0), y0: 0.0, depth: [0.0; 3] };
+            let empty = Self { edges, x_columns: 0, rows: [row0, row0], y0: 0.0, depth: [0.0; 3] };
             return Some((empty, TexPlanes::NONE));
         }
         let centre = |i: i32| i * Fx28_4::ONE + Fx28_4::HALF;
@@ -129,7 +129,7 @@ impl SmallTriangle {
         let t = Self {
             edges,
             x_columns: x_start as u32 | columns << 24,
-            rows: (row0, row1),
+            rows: [row0, row1],
             y0,
             depth: [a0[0], dadx[0], dady[0]],
         };

@@ -1,38 +1,39 @@
-//! Small-triangle set-up eight triangles at a time with AVX2, for the triangles that need no clipping.
+//! Small-triangle set-up of flat triangles eight at a time with AVX2, for the triangles that need no
+//! clipping.
 //!
-//! One triangle's set-up ([`SmallTriangle::from_corners`], after the checks of the per-polygon loop) is a
-//! few dozen integer and float operations with one division, all independent from one triangle to the
-//! next, so it maps onto eight lanes: the corners' records are gathered straight from the transformed
-//! vertices ([`SetupVertex`], six words each), and every lane gets its clip checks, bounding box, area,
-//! edge functions and attribute planes at once. Each step repeats the one-triangle code operation for
-//! operation (the same integer arithmetic, the same IEEE operations in the same order, no fused
-//! multiply-add), so a lane's record is bit-identical to the one the scalar path sets up; the caller
-//! (`setup_lanes`) keeps the order, the counts and everything a lane cannot decide (colours, culling,
-//! keys), and hands any other polygon to the scalar path.
+//! One flat triangle's set-up ([`SmallTriangle::from_corners`] with the depth plane only, after the checks
+//! of the per-polygon loop) is a few dozen integer and float operations with one division, all independent
+//! from one triangle to the next, so it maps onto eight lanes: each lane's corner records are loaded from
+//! the transformed vertices ([`SetupVertex`]) and transposed into vectors (gathers measured slower), and
+//! every lane gets its bounding box, area, edge functions, depth plane and packed colour at once; the
+//! records go back with an 8x8 transpose, two vectors a record. Each step repeats the one-triangle code
+//! operation for operation (the same integer arithmetic, the same IEEE operations in the same order, no
+//! fused multiply-add), so a lane's record is bit-identical to the one the scalar path sets up; the caller
+//! (`setup::lanes`) keeps the order, the counts and everything a lane cannot decide (clip flags, colours
+//! compared, culling, keys), and hands any other polygon to the scalar path.
+//!
+//! Textured triangles are not taken: with their three more planes they measured slower in lanes than one
+//! at a time on the game's frames.
 
 use std::arch::x86_64::{
-    __m128, __m256, __m256i, _CMP_GT_OQ, _mm_loadu_ps, _mm256_add_epi32, _mm256_add_ps, _mm256_and_ps,
+    __m128, __m256, __m256i, _CMP_GT_OQ, _mm_setzero_ps, _mm256_add_epi32, _mm256_add_ps, _mm256_and_ps,
     _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_castps_si256, _mm256_castps128_ps256,
     _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_ps,
     _mm256_cvttps_epi32, _mm256_div_ps, _mm256_insertf128_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32,
     _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi32, _mm256_or_si256, _mm256_permute2f128_ps,
     _mm256_set1_epi32, _mm256_set1_ps, _mm256_setzero_si256, _mm256_shuffle_ps, _mm256_slli_epi32, _mm256_srai_epi32,
-    _mm256_storeu_si256, _mm256_sub_epi32, _mm256_sub_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps, _mm256_xor_si256,
+    _mm256_sub_epi32, _mm256_sub_ps, _mm256_unpackhi_ps, _mm256_unpacklo_ps, _mm256_xor_si256,
 };
-use std::mem::offset_of;
 
 use super::vertex::SetupVertex;
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::Vertex;
 use crate::render::core::small::{EdgeFn, MAX_SIDE, SmallTriangle, TexPlanes};
 use crate::render::simd::Avx2;
+use crate::render::simd::x86::load4;
 
 /// Triangles per step.
 pub(crate) const LANES: usize = 8;
-
-/// Where a mesh [`Vertex`]'s colour starts, in bytes. A [`SetupVertex`] starts with its raw x and y, depth
-/// and `1/w` (the layout `geometry::vertex` asserts).
-const COLOR_OFFSET: usize = offset_of!(Vertex, color);
 
 /// Eight triangles set up lane by lane: which lanes this path takes, and their records.
 #[derive(Clone, Copy, Debug)]
@@ -53,20 +54,13 @@ pub(crate) struct Lanes {
 }
 
 impl Lanes {
-    /// No lane taken.
-    const NONE: Self = {
-        let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
-        let record = SmallTriangle { edges, x_columns: 0, rows: (0, 0), y0: 0.0, depth: [0.0; 3] };
-        Self { fit: 0, empty: 0, area: [0; LANES], packed: [0; LANES], records: [record; LANES] }
-    };
-
     /// Lane `l`'s record, and the texture planes of a flat triangle (none).
     #[inline(always)]
     pub(crate) fn triangle(&self, l: usize) -> (SmallTriangle, TexPlanes) {
         if self.empty >> l & 1 != 0 {
-            let r0 = self.records[l].rows.0;
+            let r0 = self.records[l].rows[0];
             let edges = [EdgeFn { at_row: 0, step_x: 0, step_y: 0 }; 3];
-            let empty = SmallTriangle { edges, x_columns: 0, rows: (r0, r0), y0: 0.0, depth: [0.0; 3] };
+            let empty = SmallTriangle { edges, x_columns: 0, rows: [r0, r0], y0: 0.0, depth: [0.0; 3] };
             return (empty, TexPlanes::NONE);
         }
         (self.records[l], TexPlanes::NONE)
@@ -100,20 +94,15 @@ fn transpose8(w: [__m256; 8]) -> [__m256; 8] {
 
 /// Sets up the flat triangles whose corners are `ids[0][l]`, `ids[1][l]`, `ids[2][l]` in `vertices`
 /// (transformed from `mesh`), of a material of colour `base_color`, for a frame `width` pixels wide: the
-/// depth plane and the packed colour. A lane with a corner out of range of either slice is not taken.
+/// depth plane and the packed colour. The indices are the mesh's, which building it checked.
 pub(crate) fn set_up(
     _: Avx2,
     (vertices, mesh): (&[SetupVertex], &[Vertex]),
-    ids: &[[i32; LANES]; 3],
+    ids: &[[u32; LANES]; 3],
     base_color: [f32; 4],
     width: i32,
 ) -> Lanes {
-    let len = mesh.len().min(vertices.len());
-    if ids.iter().flatten().any(|&i| i < 0 || i as usize >= len) {
-        return Lanes::NONE;
-    }
-    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), and every index was just
-    // checked against both slices, which is all `set_up_avx2` needs.
+    // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `set_up_avx2` needs.
     #[allow(unsafe_code)]
     unsafe {
         set_up_avx2((vertices, mesh), ids, base_color, width)
@@ -160,33 +149,26 @@ fn transpose(rows: [__m128; LANES]) -> [__m256; 4] {
 }
 
 /// Loads corner `ids` of eight lanes.
-///
-/// # Safety
-/// Every index is below `vertices.len()`, and the CPU has AVX2.
 #[target_feature(enable = "avx2")]
-#[allow(unsafe_code)]
-unsafe fn corners(vertices: &[SetupVertex], ids: &[i32; LANES]) -> Corners {
-    // SAFETY (each load): record `i < vertices.len()` is 24 bytes, its first 16 the position, depth and `1/w`.
-    let record = |l: usize| unsafe { _mm_loadu_ps(vertices.as_ptr().add(ids[l] as usize).cast::<f32>()) };
+fn corners(vertices: &[SetupVertex], ids: &[u32; LANES]) -> Corners {
+    let record = |l: usize| {
+        let words: &[f32; 6] = bytemuck::cast_ref(&vertices[ids[l] as usize]);
+        load4::<f32, __m128>(words).unwrap_or(_mm_setzero_ps())
+    };
     let [x, y, depth, _] = transpose(std::array::from_fn(record));
     Corners { x: _mm256_castps_si256(x), y: _mm256_castps_si256(y), depth }
 }
 
 // long: one AVX2 body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
 /// [`set_up`]'s body, compiled for AVX2.
-///
-/// # Safety
-/// Every index is below both slices' lengths, and the CPU has AVX2.
 #[target_feature(enable = "avx2")]
-#[allow(unsafe_code)]
-unsafe fn set_up_avx2(
+fn set_up_avx2(
     (vertices, mesh): (&[SetupVertex], &[Vertex]),
-    ids: &[[i32; LANES]; 3],
+    ids: &[[u32; LANES]; 3],
     base_color: [f32; 4],
     width: i32,
 ) -> Lanes {
-    // SAFETY: the caller's promise, passed on.
-    let [p0, p1, p2] = unsafe { [corners(vertices, &ids[0]), corners(vertices, &ids[1]), corners(vertices, &ids[2])] };
+    let [p0, p1, p2] = [corners(vertices, &ids[0]), corners(vertices, &ids[1]), corners(vertices, &ids[2])];
     let i = _mm256_set1_epi32;
     let zero = _mm256_setzero_si256();
     // The box: the first centres at or after the corners' least and greatest coordinates (projected corners
@@ -250,20 +232,18 @@ unsafe fn set_up_avx2(
     let f = _mm256_castsi256_ps;
     let low = transpose8([e(0, 0), e(0, 1), e(0, 2), e(1, 0), e(1, 1), e(1, 2), e(2, 0), e(2, 1)]);
     let high = transpose8([e(2, 2), f(columns), f(row0), f(row1), y0, a0, dadx, dady]);
-    // SAFETY: a record is sixteen 4-byte words with no padding (`repr(C)`, its layout asserted in
-    // `core::small`), and any bits are a valid `i32` or `f32`: two vectors are a valid record.
-    let record = |l: usize| unsafe { std::mem::transmute::<[__m256; 2], SmallTriangle>([low[l], high[l]]) };
-    let mut out = Lanes { fit, empty, area: [0; LANES], packed: [0; LANES], records: std::array::from_fn(record) };
+    // A record is sixteen 4-byte words in this order, plain old data (its layout asserted in `core::small`).
+    let record = |l: usize| bytemuck::cast::<[__m256; 2], SmallTriangle>([low[l], high[l]]);
     // The first corner's colour times the material's, packed.
-    // SAFETY (each load): the colour, four `f32`s inside vertex `i < mesh.len()`.
-    let color = |l: usize| unsafe {
-        _mm_loadu_ps(mesh.as_ptr().add(ids[0][l] as usize).cast::<u8>().add(COLOR_OFFSET).cast::<f32>())
-    };
+    let color = |l: usize| __m128::from(mesh[ids[0][l] as usize].color);
     let [r, g, b, _] = transpose(std::array::from_fn(color));
     let [br, bg, bb, _] = base_color;
     let packed = pack_rgb_x8([_mm256_mul_ps(r, s(br)), _mm256_mul_ps(g, s(bg)), _mm256_mul_ps(b, s(bb))]);
-    // SAFETY (both): eight `i32`s, which a 256-bit unaligned store writes exactly.
-    unsafe { _mm256_storeu_si256(out.packed.as_mut_ptr().cast::<__m256i>(), packed) };
-    unsafe { _mm256_storeu_si256(out.area.as_mut_ptr().cast::<__m256i>(), area) };
-    out
+    Lanes {
+        fit,
+        empty,
+        area: bytemuck::cast(area),
+        packed: bytemuck::cast(packed),
+        records: std::array::from_fn(record),
+    }
 }

@@ -63,7 +63,7 @@ impl ObjectSetup<'_> {
         };
         // The lanes' corners; a lane whose polygon is not a triangle of this material keeps corners 0 and is
         // not taken.
-        let mut ids = [[0i32; LANES]; 3];
+        let mut ids = [[0u32; LANES]; 3];
         let mut taken = 0u32;
         for l in 0..LANES {
             let Some(poly) = self.polygon_at(k + l) else { continue };
@@ -72,7 +72,7 @@ impl ObjectSetup<'_> {
                 && self.needs_no_clipping([a, b, c])
             {
                 for (corner, i) in ids.iter_mut().zip([a, b, c]) {
-                    corner[l] = i as i32;
+                    corner[l] = i;
                 }
                 taken |= 1 << l;
             }
