@@ -38,11 +38,15 @@ pub(crate) struct Target<'p, 'b> {
 
 /// Draws one polygon (corners `v`) with its shading into the band's samples, for a pattern of `N` samples
 /// (a constant, so that every loop over a pixel's samples unrolls).
+///
+/// `pending` is the band's list of pixels gathered to be shaded eight at a time, empty between polygons:
+/// one list for the band rather than one per polygon, whose 768 bytes were cleared for every polygon.
 pub(crate) fn fill_polygon<const N: usize>(
     v: &[ScreenVertex],
     sh: &Shading<'_>,
     prepared: &Prepared<'_>,
     t: &mut Target<'_, '_>,
+    pending: &mut Pending,
 ) -> SpanCounts {
     let Some(planes) = Planes::of(v) else { return SpanCounts::default() };
     let mut dz = [0.0f32; N];
@@ -57,7 +61,7 @@ pub(crate) fn fill_polygon<const N: usize>(
     let paint = Paint { shading: sh, fast, planes: &planes, dz: &dz };
     // A texel's colour is shaded eight pixels at a time, gathered from any rows (a flat one costs nothing).
     let batched = fast.filter(|(source, _)| !matches!(source, Source::Flat(_)));
-    let mut pending = Pending { at: [(0, 0, 0); BATCH], n: 0 };
+    debug_assert_eq!(pending.n, 0, "pixels left from the last polygon");
     for_each_row::<N>(v, &pattern, t.band, width, |cov| {
         let inner = if fast.is_some() && cov.inner.0 < cov.inner.1 { cov.inner } else { (cov.hi, cov.hi) };
         for (x0, x1) in [(cov.lo, inner.0), (inner.1, cov.hi)] {
@@ -88,12 +92,16 @@ pub(crate) fn fill_polygon<const N: usize>(
 const BATCH: usize = 8 * LANES;
 
 /// A polygon's pixels waiting to be shaded eight at a time: each one's column, row and samples.
-struct Pending {
+#[derive(Debug)]
+pub(crate) struct Pending {
     at: [(i32, i32, u16); BATCH],
     n: usize,
 }
 
 impl Pending {
+    /// An empty list.
+    pub(crate) const EMPTY: Self = Self { at: [(0, 0, 0); BATCH], n: 0 };
+
     /// Draws samples `mask` of pixel `(x, y)` now, or when `batched` gathers it to be shaded with others
     /// (shading and drawing the list when it is full).
     #[inline]

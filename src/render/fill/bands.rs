@@ -248,11 +248,12 @@ impl<'a> FillContext<'a> {
         target: &mut Target<'_, '_>,
     ) -> SpanCounts {
         let mut total = SpanCounts::default();
+        let mut pending = antialias::Pending::EMPTY;
         for p in bin {
             // Set-up makes no small triangles when the frame is anti-aliased: every polygon has corners.
             let Some(verts) = self.screens.of(p) else { continue };
             let shading = self.shading(p);
-            total += antialias::fill_polygon::<N>(verts, &shading, &shading.prepare(), target);
+            total += antialias::fill_polygon::<N>(verts, &shading, &shading.prepare(), target, &mut pending);
         }
         antialias::resolve::<N>(target, self.visibility);
         total
