@@ -133,15 +133,21 @@ pub fn lod_from_squares(rho_x2: f32, rho_y2: f32) -> f32 {
 /// (pixels) and `1/w`, `s/w`, `t/w` (so `u = s/q`, `v = t/q`), for a texture of `size` texels: the ratio
 /// of its area in texels to its area in pixels.
 #[must_use]
-pub fn polygon_lod(corners: impl Iterator<Item = [f32; 5]> + Clone, (tw, th): (u32, u32)) -> u8 {
-    let mut screen = 0.0f32;
-    let mut texels = 0.0f32;
-    let next = corners.clone().skip(1).chain(corners.clone().take(1));
-    for (a, b) in corners.zip(next) {
-        let (ua, va, ub, vb) = (a[3] / a[2], a[4] / a[2], b[3] / b[2], b[4] / b[2]);
+pub fn polygon_lod(mut corners: impl Iterator<Item = [f32; 5]>, (tw, th): (u32, u32)) -> u8 {
+    // Each corner's `(x, y, u, v)`, its divisions done once (each edge's two ends would do them twice).
+    let at = |c: [f32; 5]| [c[0], c[1], c[3] / c[2], c[4] / c[2]];
+    let Some(first) = corners.next().map(at) else { return 0 };
+    let (mut screen, mut texels) = (0.0f32, 0.0f32);
+    let mut edge = |a: &[f32; 4], b: &[f32; 4]| {
         screen += a[0] * b[1] - b[0] * a[1];
-        texels += ua * vb - ub * va;
+        texels += a[2] * b[3] - b[2] * a[3];
+    };
+    let mut a = first;
+    for b in corners.map(at) {
+        edge(&a, &b);
+        a = b;
     }
+    edge(&a, &first);
     let ratio = (texels * tw as f32 * th as f32 / screen).abs();
     let lod = if ratio.is_finite() && ratio > 0.0 { 0.5 * log2_approx(ratio) } else { 0.0 };
     // `as u8` saturates, NaN and negatives giving 0.

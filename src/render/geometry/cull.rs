@@ -45,10 +45,20 @@ impl Frustum {
 /// The world-space bounding sphere of a model-space sphere under `model` (radius scaled by the largest axis).
 #[must_use]
 pub fn world_sphere(s: Sphere, model: &Mat4) -> (glam::Vec3, f32) {
-    let c = model.transform_point3(s.center);
-    let scale =
-        model.x_axis.truncate().length().max(model.y_axis.truncate().length()).max(model.z_axis.truncate().length());
-    (c, s.radius * scale)
+    world_sphere_scaled(s, model, model_scale(model))
+}
+
+/// The largest length of `model`'s three axes: the factor it scales a bounding sphere's radius by.
+#[must_use]
+pub fn model_scale(model: &Mat4) -> f32 {
+    model.x_axis.truncate().length().max(model.y_axis.truncate().length()).max(model.z_axis.truncate().length())
+}
+
+/// [`world_sphere`] with `model`'s [`model_scale`] already known: the spheres of one instance's models share
+/// it, and its three square roots are a good part of choosing and culling a model.
+#[must_use]
+pub fn world_sphere_scaled(s: Sphere, model: &Mat4, scale: f32) -> (glam::Vec3, f32) {
+    (model.transform_point3(s.center), s.radius * scale)
 }
 
 #[cfg(test)]

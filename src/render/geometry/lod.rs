@@ -13,7 +13,7 @@ use crate::render::core::draw_list::{DrawList, Instance};
 use crate::render::core::options::{Level, LodMode, RenderOptions};
 use crate::render::core::stats::Stats;
 
-use crate::render::geometry::cull::world_sphere;
+use crate::render::geometry::cull::{model_scale, world_sphere_scaled};
 
 /// Relative margin around each threshold: switching to a finer model needs the size to exceed the threshold
 /// by this much, switching to a coarser one to fall this much below it.
@@ -120,7 +120,7 @@ impl LodState {
         stats: &mut Stats,
     ) -> Option<Picked> {
         let slot = self.slots(index + 1).last_mut()?;
-        pick_level(slot, inst, list, view, options, stats)
+        pick_level(slot, (inst, model_scale(&inst.model)), list, view, options, stats)
     }
 }
 
@@ -144,7 +144,7 @@ pub(crate) struct Picked {
 /// a unit radius at unit depth.
 pub(crate) fn pick_level(
     slot: &mut u8,
-    inst: &Instance,
+    (inst, scale): (&Instance, f32),
     list: &DrawList<'_>,
     (camera, y_scale_px): (&Camera, f32),
     options: &RenderOptions,
@@ -159,8 +159,10 @@ pub(crate) fn pick_level(
     let level = match options.lod {
         LodMode::Force(level) => level,
         LodMode::Auto => {
-            let (center, radius) = world_sphere(close.bounds(), &inst.model);
-            let size = projected_size((center, radius), camera, y_scale_px) * libm::exp2f(options.lod_bias);
+            let (center, radius) = world_sphere_scaled(close.bounds(), &inst.model, scale);
+            // `exp2f(0)` is exactly 1: the default bias needs no call of it for each of thousands of instances.
+            let bias = if options.lod_bias == 0.0 { 1.0 } else { libm::exp2f(options.lod_bias) };
+            let size = projected_size((center, radius), camera, y_scale_px) * bias;
             choose(if size.is_nan() { 0.0 } else { size }, set.switch_px, previous)
         }
     };
@@ -284,7 +286,15 @@ mod tests {
             let inst = Instance::of_lod_set(0, glam::Mat4::from_scale(glam::Vec3::splat(scale)));
             let list =
                 DrawList { meshes: &meshes, textures: &[], instances: &[inst], lod_sets: &sets, view_lists: None };
-            pick_level(&mut slot, &inst, &list, (&camera, 400.0), options, &mut Stats::default()).unwrap()
+            pick_level(
+                &mut slot,
+                (&inst, model_scale(&inst.model)),
+                &list,
+                (&camera, 400.0),
+                options,
+                &mut Stats::default(),
+            )
+            .unwrap()
         };
         // Near (close model), then far enough for the middle one: six frames of fade, quarters 1, 1, 2, 2, 3, 3.
         assert_eq!(pick(4.0, &fade).fading, None);

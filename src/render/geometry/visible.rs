@@ -12,7 +12,7 @@ use glam::Vec3;
 use rayon::iter::{IndexedParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
 use rayon::slice::{ParallelSlice, ParallelSliceMut};
 
-use super::cull::{Frustum, world_sphere};
+use super::cull::{Frustum, model_scale, world_sphere, world_sphere_scaled};
 use super::lod::{LodState, pick_level};
 use crate::render::core::camera::Camera;
 use crate::render::core::door::Door;
@@ -65,26 +65,33 @@ impl<'a> PassView<'a> {
     fn classify(&self, index: usize, inst: &Instance, slot: &mut u8, stats: &mut Stats) -> [Option<Visible>; 2] {
         stats.objects_in += 1;
         let view = (self.camera, self.y_scale_px);
-        let Some(picked) = pick_level(slot, inst, self.list, view, self.options, stats) else {
+        let scale = model_scale(&inst.model);
+        let Some(picked) = pick_level(slot, (inst, scale), self.list, view, self.options, stats) else {
             stats.objects_culled += 1;
             return [None, None];
         };
-        let chosen = self.placed(index, inst, (picked.mesh, picked.door), stats);
+        let chosen = self.placed((index, inst, scale), (picked.mesh, picked.door), stats);
         // The model fading out is drawn only where the chosen one is (a culled object is culled whole).
-        let fading = chosen.and(picked.fading).and_then(|m| self.placed(index, inst, m, stats));
+        let fading = chosen.and(picked.fading).and_then(|m| self.placed((index, inst, scale), m, stats));
         [chosen, fading]
     }
 
-    /// Instance `index` drawing mesh `m` through `door`, or `None` (counted in `stats`) when the mesh is not
-    /// in the list or the frustum excludes it.
-    fn placed(&self, index: usize, inst: &Instance, (m, door): (usize, Door), stats: &mut Stats) -> Option<Visible> {
+    /// Instance `index` (of model scale `scale`) drawing mesh `m` through `door`, or `None` (counted in
+    /// `stats`) when the mesh is not in the list or the frustum excludes it.
+    fn placed(
+        &self,
+        (index, inst, scale): (usize, &Instance, f32),
+        (m, door): (usize, Door),
+        stats: &mut Stats,
+    ) -> Option<Visible> {
         let Some(mesh) = self.drawn_mesh(m) else {
             stats.objects_culled += 1;
             return None;
         };
         let npoly = mesh.polygons().len() as u64;
         stats.polygons_in += npoly;
-        let (sphere, culled) = cull(mesh, inst, self.frustum);
+        let sphere = world_sphere_scaled(mesh.bounds(), &inst.model, scale);
+        let culled = excluded(sphere, self.frustum);
         if culled {
             stats.objects_culled += 1;
             stats.polygons_in_culled_objects += npoly;
@@ -96,9 +103,13 @@ impl<'a> PassView<'a> {
 
 /// The world bounding sphere of `mesh` placed by `inst`, and whether the frustum excludes it.
 pub(crate) fn cull(mesh: &Mesh, inst: &Instance, frustum: &Frustum) -> ((Vec3, f32), bool) {
-    let (center, radius) = world_sphere(mesh.bounds(), &inst.model);
-    let culled = center.is_finite() && radius.is_finite() && frustum.excludes(center, radius);
-    ((center, radius), culled)
+    let sphere = world_sphere(mesh.bounds(), &inst.model);
+    (sphere, excluded(sphere, frustum))
+}
+
+/// Whether the frustum excludes world sphere `(center, radius)`; a sphere that is not finite never is.
+fn excluded((center, radius): (Vec3, f32), frustum: &Frustum) -> bool {
+    center.is_finite() && radius.is_finite() && frustum.excludes(center, radius)
 }
 
 /// Chooses and culls every instance of the view's list into `out` (in instance order), on the current pool
