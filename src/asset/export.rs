@@ -257,7 +257,7 @@ fn glb(doc: &Value, mut bin: Vec<u8>) -> Result<Vec<u8>, ExportError> {
 }
 
 /// The GLB of the instances `meshes` says are drawn (one entry per instance of `list`, as
-/// [`crate::render::Renderer::frame_meshes`] gives), seen by `camera` in a `width` x `height` frame.
+/// the meshes [`crate::render::Renderer::frame_lod`] gives), seen by `camera` in a `width` x `height` frame.
 pub fn export_glb(
     list: &DrawList<'_>,
     meshes: &[Option<usize>],

@@ -336,7 +336,7 @@ mod tests {
         let differ = a.iter().zip(&c).filter(|(p, q)| p != q).count();
         assert!(differ * 100 < 2 * w * h, "{differ} of {} pixels differ from all-close", w * h);
         renderer.reset_lod();
-        assert_eq!(renderer.frame_meshes(w, h, &bumper.camera, &list, &auto)[player], Some(set.meshes[0]));
+        assert_eq!(renderer.frame_lod(w, h, &bumper.camera, &list, &auto)[player], Some((set.meshes[0], false)));
     }
 
     #[test]

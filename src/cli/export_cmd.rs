@@ -54,7 +54,9 @@ pub fn export_command(args: &ExportArgs) -> Result<(), CliError> {
     let camera = camera_for(&replay.world, View::ChaseNear);
     let instances = scene.instances(&replay.world, None);
     let list = scene.draw_list(&instances);
-    let chosen = Renderer::new().frame_meshes(args.width, args.height, &camera, &list, &RenderOptions::default());
+    let options = RenderOptions::default();
+    let lod = Renderer::new().frame_lod(args.width, args.height, &camera, &list, &options);
+    let chosen: Vec<Option<usize>> = lod.into_iter().map(|m| m.map(|(mesh, _)| mesh)).collect();
     let (bytes, summary) = export_glb(&list, &chosen, &camera, (args.width, args.height))?;
     crate::userfile::replace_atomically(&args.out, &bytes).map_err(CliError::Write)?;
     eprintln!(

@@ -140,23 +140,10 @@ impl Renderer {
         self.geometry.lod.clear();
     }
 
-    /// The mesh each instance of `list` would draw in a frame `height` pixels tall (after the LOD choice,
-    /// which updates this renderer's LOD history like a frame does), or `None` for an instance culled by the
-    /// view frustum or naming no mesh. For exporting exactly what a frame draws.
-    pub fn frame_meshes(
-        &mut self,
-        width: usize,
-        height: usize,
-        camera: &Camera,
-        list: &DrawList<'_>,
-        options: &RenderOptions,
-    ) -> Vec<Option<usize>> {
-        self.frame_lod(width, height, camera, list, options).into_iter().map(|m| m.map(|(m, _)| m)).collect()
-    }
-
-    /// As [`Renderer::frame_meshes`], with whether each instance is in a level-of-detail cross-fade
-    /// ([`RenderOptions::lod_fade`]): then it also draws the model fading out, and its change of model is no
-    /// sudden swap.
+    /// The mesh each instance of `list` would draw in a `width` x `height` frame (after the LOD choice, which
+    /// updates this renderer's LOD history like a frame does) and whether it is in a level-of-detail
+    /// cross-fade ([`RenderOptions::lod_fade`]: then it also draws the model fading out), or `None` for an
+    /// instance culled by the view frustum or naming no mesh. For exporting exactly what a frame draws.
     pub fn frame_lod(
         &mut self,
         width: usize,
@@ -165,7 +152,7 @@ impl Renderer {
         list: &DrawList<'_>,
         options: &RenderOptions,
     ) -> Vec<Option<(usize, bool)>> {
-        self.geometry.frame_meshes((width, height), camera, list, options)
+        self.geometry.frame_lod((width, height), camera, list, options)
     }
 
     /// The pool for `threads` workers: the one kept from the last frame when the count is the same, none for

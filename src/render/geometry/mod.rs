@@ -99,7 +99,7 @@ impl Geometry {
     /// The mesh each instance of `list` would draw (after the LOD choice, which updates the LOD history as
     /// a frame does) and whether a cross-fade from another is under way, or `None` for an instance culled by
     /// the view frustum or naming no mesh.
-    pub(crate) fn frame_meshes(
+    pub(crate) fn frame_lod(
         &mut self,
         (width, height): (usize, usize),
         camera: &Camera,
