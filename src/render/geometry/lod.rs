@@ -21,8 +21,8 @@ pub const HYSTERESIS: f32 = 0.15;
 
 /// How far [`HYSTERESIS`]'s band moves up when changes of model are cross-faded: a fade draws both models
 /// for [`FADE_FRAMES`] frames, and stepping down 5% sooner and up 5% later draws fewer polygons over a race
-/// than those frames add (`examples/lod_polygons.rs`: 0.04-0.52% fewer than swapping on the demo races,
-/// where the unmoved band drew 0.03-0.25% more). Frames without history keep the plain thresholds.
+/// than those frames add (`examples/lod_polygons.rs` at 640x480: 0.52-1.25% fewer than swapping on the demo
+/// races, where the unmoved band drew 0.07-0.28% more). Frames without history keep the plain thresholds.
 pub const FADE_SHIFT: f32 = 0.05;
 
 /// The level for a projected height, given the level used last frame (if any). An infinite height (the eye
@@ -169,7 +169,8 @@ pub(crate) fn pick_level(
     let set = set?;
     let close = list.meshes.get(set.meshes[0])?;
     let previous = slot_level(*slot);
-    // A fade under way goes on a frame; a change of level starts a new one from the level drawn last frame.
+    // Fades draw both models for a few frames: they move the hysteresis band (`FADE_SHIFT`) and, below, go
+    // on from frame to frame.
     let fades = options.lod_fade && options.lod == LodMode::Auto && !inst.see_through;
     let level = match options.lod {
         LodMode::Force(level) => level,
@@ -182,6 +183,7 @@ pub(crate) fn pick_level(
             choose_shifted(if size.is_nan() { 0.0 } else { size }, set.switch_px, previous, shift)
         }
     };
+    // A fade under way goes on a frame; a change of level starts a new one from the level drawn last frame.
     let mut fade = slot_fade(*slot).and_then(|(from, left)| (left > 1 && fades).then_some((from, left - 1)));
     if let Some(before) = previous.filter(|p| *p != level && fades) {
         fade = Some((before, FADE_FRAMES));
