@@ -7,8 +7,9 @@ use crate::render::Stats;
 
 /// When this environment variable names a file, every frame's render time in milliseconds, its polygons
 /// drawn, the quality it was drawn at (`high(auto)`, `low`, `custom`, `-` for none) and the seconds since
-/// the first frame are written to it, a line each (`ms polygons quality seconds`): F3's numbers for a
-/// whole run, for measuring a course's frame times in the window (created anew; written as frames are
+/// the first frame, then the milliseconds of its stages (transform, clip and set-up, order, fill) are
+/// written to it, a line each (`ms polygons quality seconds transform clip order fill`): F3's numbers for
+/// a whole run, for measuring a course's frame times in the window (created anew; written as frames are
 /// drawn).
 pub const FRAME_TIMES_ENV: &str = "SCANLINE_RACER_FRAME_TIMES";
 
@@ -54,7 +55,10 @@ impl DebugOverlay {
             let quality = self.quality.as_deref().unwrap_or("-").replace(' ', "");
             let t = self.started.get_or_insert_with(std::time::Instant::now).elapsed().as_secs_f64();
             // Flushed each frame, so a reader follows the run as it goes (60 small writes a second).
-            if writeln!(w, "{ms:.4} {} {quality} {t:.3}", stats.polygons_drawn).and_then(|()| w.flush()).is_err() {
+            let s = stats;
+            let stages = format!("{:.4} {:.4} {:.4} {:.4}", s.ms_transform, s.ms_clip, s.ms_order, s.ms_fill);
+            let line = writeln!(w, "{ms:.4} {} {quality} {t:.3} {stages}", s.polygons_drawn);
+            if line.and_then(|()| w.flush()).is_err() {
                 self.log = Some(None);
             }
         }

@@ -288,10 +288,16 @@ impl App<'_> {
         let status = self.content.draw(&mut self.frame, fw, fh)?;
         let mut buffer = surface.buffer_mut().map_err(surface_error(SurfaceStep::Buffer))?;
         let (bw, s) = (size.width as usize, scale as usize);
+        // Each frame pixel fills `s` window pixels of a row (the last block cut at the window's edge).
         for (y, row) in buffer.chunks_mut(bw).enumerate() {
             let src = &self.frame[(y / s) * fw..(y / s) * fw + fw];
-            for (x, px) in row.iter_mut().enumerate() {
-                *px = src[(x / s).min(fw - 1)];
+            if s == 1 {
+                let n = row.len().min(src.len());
+                row[..n].copy_from_slice(&src[..n]);
+            } else {
+                for (block, &p) in row.chunks_mut(s).zip(src) {
+                    block.fill(p);
+                }
             }
         }
         if let Some(ui) = self.ui.as_mut() {
