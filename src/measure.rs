@@ -24,8 +24,9 @@ use crate::render::{
 /// channels (docs/performance.md, "The reference"); 16 x 16 against 32 x 32 differs by 0.0030-0.0046.
 pub const REFERENCE_GRID: usize = 32;
 
-/// The finest grid [`reference_frame_at`] draws (at 8 times the frame's size, shifted 8 x 8 times).
-pub const MAX_REFERENCE_GRID: usize = 64;
+/// The finest grid [`reference_frame_at`] draws (at 16 times the frame's size, shifted 8 x 8 times): for
+/// measuring the convergence of [`REFERENCE_GRID`] one and two doublings up.
+pub const MAX_REFERENCE_GRID: usize = 128;
 
 /// Renders the reference image of a view at [`REFERENCE_GRID`] samples per axis of a pixel.
 pub fn reference_frame(
@@ -43,7 +44,7 @@ pub fn reference_frame(
 /// level 0, the samples box-filtered (each channel the rounded mean).
 ///
 /// The samples sit on a regular grid, at `(i + 0.5) / grid` of the pixel for `i` in `0..grid`. They are
-/// drawn as an image `s` times the size (`s` = `grid` up to 4, 8 for a grid of 64) drawn `p^2` times
+/// drawn as an image `s` times the size (`s` = `grid` up to 4, `grid / 8` above 32) drawn `p^2` times
 /// (`p = grid / s`, at most 8), each time shifted by `(k + 0.5) / p - 0.5` of one of its pixels
 /// ([`RenderOptions::pixel_offset`]). Those shifts are whole steps of the fill's 1/16 pixel (`Fx28_4`) for
 /// every `p` up to 8, so every sample of the grid is a distinct position, not one rounded onto another.
