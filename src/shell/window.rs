@@ -288,18 +288,7 @@ impl App<'_> {
         let status = self.content.draw(&mut self.frame, fw, fh)?;
         let mut buffer = surface.buffer_mut().map_err(surface_error(SurfaceStep::Buffer))?;
         let (bw, s) = (size.width as usize, scale as usize);
-        // Each frame pixel fills `s` window pixels of a row (the last block cut at the window's edge).
-        for (y, row) in buffer.chunks_mut(bw).enumerate() {
-            let src = &self.frame[(y / s) * fw..(y / s) * fw + fw];
-            if s == 1 {
-                let n = row.len().min(src.len());
-                row[..n].copy_from_slice(&src[..n]);
-            } else {
-                for (block, &p) in row.chunks_mut(s).zip(src) {
-                    block.fill(p);
-                }
-            }
-        }
+        upscale(&self.frame, fw, &mut buffer, bw, s);
         if let Some(ui) = self.ui.as_mut() {
             let content = &mut *self.content;
             let mut quit = false;
@@ -404,5 +393,50 @@ impl ApplicationHandler for App<'_> {
             self.due = Pacing::next_due(period, self.due, now);
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.due));
+    }
+}
+
+/// Copies `frame` (`fw` pixels a row) into `window` (`ww` a row), each frame pixel filling `s` x `s` window
+/// pixels, the last blocks cut at the window's edges: scale 1 copies whole rows (a division per pixel here
+/// was a millisecond of the main thread a frame at 1280x720).
+fn upscale(frame: &[u32], fw: usize, window: &mut [u32], ww: usize, s: usize) {
+    if fw == 0 || ww == 0 || s == 0 {
+        return;
+    }
+    for (y, row) in window.chunks_mut(ww).enumerate() {
+        let Some(src) = frame.get((y / s) * fw..(y / s + 1) * fw) else { return };
+        if s == 1 {
+            let n = row.len().min(src.len());
+            row[..n].copy_from_slice(&src[..n]);
+        } else {
+            for (block, &p) in row.chunks_mut(s).zip(src) {
+                block.fill(p);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::upscale;
+
+    #[test]
+    fn each_frame_pixel_fills_its_block_and_the_edges_are_cut() {
+        // A 3x2 frame at scale 3 in a 7x5 window: columns 0-2, 3-5 and 6 (cut); rows 0-2 and 3-4 (cut).
+        let frame = [1, 2, 3, 4, 5, 6];
+        let mut window = [0u32; 35];
+        upscale(&frame, 3, &mut window, 7, 3);
+        for (i, &p) in window.iter().enumerate() {
+            let (x, y) = (i % 7, i / 7);
+            assert_eq!(p, frame[(y / 3) * 3 + x / 3], "pixel ({x}, {y})");
+        }
+        // Scale 1 is a copy.
+        let mut same = [0u32; 6];
+        upscale(&frame, 3, &mut same, 3, 1);
+        assert_eq!(same, frame);
+        // A frame too small for the window leaves the rest untouched rather than panicking.
+        let mut big = [9u32; 12];
+        upscale(&frame, 3, &mut big, 3, 1);
+        assert_eq!(big, [1, 2, 3, 4, 5, 6, 9, 9, 9, 9, 9, 9]);
     }
 }
