@@ -16,7 +16,6 @@
 //!
 //! Sub-pixel and fill rules are written in [`fill::scanline`] and `geometry::small_setup`.
 
-mod affinity;
 pub mod core;
 pub mod fill;
 pub mod geometry;

@@ -162,16 +162,9 @@ impl Renderer {
             Some((n, pool)) if n == threads => Some((n, pool)),
             _ if threads == 1 => None,
             _ => {
-                let cores = super::affinity::allowed_cores();
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .thread_name(|i| format!("fill-{i}"))
-                    .start_handler(move |i| {
-                        // One worker to a core when they fill the machine (see `affinity` for why).
-                        if let Some(core) = super::affinity::core_for(i, threads, &cores) {
-                            super::affinity::pin_current_thread(core);
-                        }
-                    })
                     .build()
                     .map_err(|_| RenderError::WorkerFailed)?;
                 Some((threads, pool))
