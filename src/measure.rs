@@ -1,8 +1,8 @@
 //! The project's measures (DESIGN.md): the supersampled reference image and error metrics against it.
 //!
 //! - Reference image: z-buffer, perspective-correct, the close-up LOD everywhere, nearest texels of level 0
-//!   (no mip-maps, no anti-aliasing: the samples themselves are the filter), 32x32 samples a pixel on a
-//!   regular grid, box-filtered: a grid fine enough that doubling it changes the image by about 0.003
+//!   (no mip-maps, no anti-aliasing: the samples themselves are the filter), 64x64 samples a pixel on a
+//!   regular grid, box-filtered: a grid fine enough that doubling it changes the image by at most 0.0021
 //!   FLIP mean on the bench's frames (it has converged, to the 8-bit rounding of its channels; 4x4 had
 //!   not, and an isotropic texture filter never does: it blurs surfaces seen at a grazing angle).
 //! - Wrong pixels: the share of pixels whose colour differs by more than 8/255 in any channel.
@@ -17,12 +17,13 @@ use crate::render::{
     TextureMode,
 };
 
-/// Samples per axis of a pixel in the reference image: 32 x 32 nearest samples on a regular grid.
+/// Samples per axis of a pixel in the reference image: 64 x 64 nearest samples on a regular grid.
 ///
-/// Chosen by convergence (DESIGN.md): on the bench's frames the reference at this grid and at twice it
-/// differ by 0.0023-0.0034 FLIP mean (0.30-0.35 shimmer), most of it one-step rounding of the 8-bit
-/// channels (docs/performance.md, "The reference"); 16 x 16 against 32 x 32 differs by 0.0030-0.0046.
-pub const REFERENCE_GRID: usize = 32;
+/// Chosen by convergence (DESIGN.md: at most 0.003 FLIP mean and 1 shimmer unit between N and 2N): on
+/// the bench's frames of every course the reference at this grid and at twice it differ by 0.0015-0.0021
+/// FLIP mean (0.19-0.21 shimmer), most of it one-step rounding of the 8-bit channels (docs/performance.md,
+/// "The reference"); 32 x 32 against 64 x 64 differs by 0.0023-0.0034, over the line on the street course.
+pub const REFERENCE_GRID: usize = 64;
 
 /// The finest grid [`reference_frame_at`] draws (at 16 times the frame's size, shifted 8 x 8 times): for
 /// measuring the convergence of [`REFERENCE_GRID`] one and two doublings up.
