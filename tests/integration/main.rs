@@ -47,6 +47,7 @@ mod user_files;
 mod view_lists;
 mod watertight;
 mod window;
+mod workers;
 
 /// Every `.rs` file in this folder is declared as a module above (a file that is not is never compiled, so
 /// its tests would silently not run), and `tests/` holds no test file or folder cargo would build as a
