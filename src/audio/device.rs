@@ -2,10 +2,14 @@
 //!
 //! The game thread renders a tick of samples after each simulation tick and [`Output::push`]es them; the
 //! device's callback takes what is there and plays silence for what is not. Neither side ever waits: the
-//! push drops what does not fit, the callback never blocks on the game. The stream asks for a 10 ms
-//! device buffer (falling back to the device's default size where a fixed size is refused), and the ring
-//! holds at most [`RING_SECONDS`] (20 ms), so sound lags the picture by at most about 30 ms plus what the
-//! game queues beyond the ring (two ticks).
+//! push drops what does not fit, the callback never blocks on the game.
+//!
+//! The stream asks for periods of [`DEVICE_FRAMES`] (21 ms; cpal's ALSA host keeps two of them), falling
+//! back to the device's default size where a fixed size is refused. Why so many: through PulseAudio's
+//! ALSA plugin, periods of 10 ms and less underran every 15-60 s even for a callback that only copies, and
+//! each underrun cost about 2 s of silence while the stream recovered. The ring holds at most one period
+//! as the stream really made it ([`Output::limit`]) plus [`LEAD_FRAMES`] (a frame's two ticks), so sound
+//! lags the picture by at most the device's two periods, that, and the two ticks the game queues beyond it.
 //! With no device (a server, a container, CI) [`open`] returns an [`AudioError`] for the caller to say once
 //! and run silent.
 
@@ -14,15 +18,16 @@ use std::sync::Arc;
 use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
 use thiserror::Error;
 
-use super::format::{CHANNELS, SAMPLE_RATE};
+use super::format::{CHANNELS, FRAMES_PER_TICK, SAMPLE_RATE};
 use super::ring::Ring;
 
-/// Device buffer asked for (frames): 10 ms at 48 kHz.
-pub const DEVICE_FRAMES: u32 = 480;
-/// Most sound the ring holds ahead of the device (seconds): the game fills it once a frame (two ticks at
-/// 60 Hz, 16.7 ms), so 20 ms covers a frame with a little to spare while keeping the sound close to the
-/// picture.
-pub const RING_SECONDS: f32 = 0.02;
+/// Device period asked for (frames): 21 ms at 48 kHz.
+pub const DEVICE_FRAMES: u32 = 1024;
+/// Frames the ring may hold beyond one device period: the game fills it once a frame, two ticks at 60 Hz.
+pub const LEAD_FRAMES: usize = 2 * FRAMES_PER_TICK;
+/// Largest device period the ring makes room for (frames, 85 ms); a device that asks more per callback
+/// gets the rest as silence.
+pub const MAX_PERIOD_FRAMES: usize = 4096;
 
 /// Why there is no sound.
 #[derive(Debug, Error)]
@@ -55,21 +60,31 @@ pub enum AudioError {
 /// A playing output stream and the ring that feeds it; dropping it stops the sound.
 pub struct Output {
     ring: Arc<Ring>,
+    /// Most samples queued in the ring: one period of the stream plus [`LEAD_FRAMES`].
+    limit: usize,
     /// Kept alive for as long as the sound should play.
     _stream: cpal::Stream,
 }
 
 impl std::fmt::Debug for Output {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Output").field("queued", &self.ring.len()).finish_non_exhaustive()
+        f.debug_struct("Output").field("queued", &self.ring.len()).field("limit", &self.limit).finish_non_exhaustive()
     }
 }
 
 impl Output {
-    /// Queues interleaved stereo samples for the device; returns how many fitted (the rest are dropped, so
-    /// the game never waits for the device).
+    /// Queues interleaved stereo samples for the device, up to [`Output::limit`] queued; returns how many
+    /// fitted (the caller keeps or drops the rest, so the game never waits for the device).
     pub fn push(&self, samples: &[f32]) -> usize {
-        self.ring.push(samples)
+        let room = self.limit.saturating_sub(self.ring.len());
+        self.ring.push(&samples[..samples.len().min(room)])
+    }
+
+    /// Most samples queued for the device at once: one period of the stream as it was made, plus
+    /// [`LEAD_FRAMES`]; more would only delay the sound.
+    #[must_use]
+    pub fn limit(&self) -> usize {
+        self.limit
     }
 
     /// Samples queued and not yet played: the game can skip rendering when it is far ahead.
@@ -85,10 +100,18 @@ impl Output {
     }
 }
 
-/// The samples a ring of [`RING_SECONDS`] holds.
+/// The samples the ring is made with: room for the largest period and the lead.
 #[must_use]
 pub fn ring_capacity() -> usize {
-    (RING_SECONDS * SAMPLE_RATE as f32) as usize * CHANNELS
+    (MAX_PERIOD_FRAMES + LEAD_FRAMES) * CHANNELS
+}
+
+/// The most samples queued for a stream whose callback asks `period` frames at a time (`None`: unknown, taken
+/// as [`DEVICE_FRAMES`]).
+#[must_use]
+pub fn queue_limit(period: Option<u32>) -> usize {
+    let period = period.map_or(DEVICE_FRAMES as usize, |p| p as usize).clamp(FRAMES_PER_TICK / 4, MAX_PERIOD_FRAMES);
+    (period + LEAD_FRAMES) * CHANNELS
 }
 
 /// Whether this system has anything that could play sound: a sound card under `/dev/snd`, or a PulseAudio
@@ -119,7 +142,20 @@ pub fn open() -> Result<Output, AudioError> {
     if !anything_to_open() {
         return Err(AudioError::NothingHere);
     }
-    let host = cpal::default_host();
+    // A PulseAudio server (or PipeWire's) is spoken to directly when there is one: through ALSA's pulse
+    // plugin an underrun cost about 2 s of silence (the plugin waits for a timing update, at intervals that
+    // double from 10 ms, before it asks for samples again), and so did the start.
+    #[cfg(target_os = "linux")]
+    if let Ok(out) =
+        cpal::host_from_id(cpal::HostId::PulseAudio).map_err(|_| AudioError::NoDevice).and_then(|h| open_on(&h))
+    {
+        return Ok(out);
+    }
+    open_on(&cpal::default_host())
+}
+
+/// Opens `host`'s default output device at 48 kHz stereo, playing what the ring is given.
+fn open_on(host: &cpal::Host) -> Result<Output, AudioError> {
     let device = host.default_output_device().ok_or(AudioError::NoDevice)?;
     let name = device.description().map_or_else(|_| "default".to_string(), |d| d.to_string());
     let ring = Ring::new(ring_capacity());
@@ -140,7 +176,8 @@ pub fn open() -> Result<Output, AudioError> {
         .or_else(|_| build(cpal::BufferSize::Default))
         .map_err(|source| AudioError::Stream { device: name.clone(), source })?;
     stream.play().map_err(|source| AudioError::Play { device: name, source })?;
-    Ok(Output { ring, _stream: stream })
+    let limit = queue_limit(stream.buffer_size().ok());
+    Ok(Output { ring, limit, _stream: stream })
 }
 
 #[cfg(test)]
@@ -153,10 +190,20 @@ mod tests {
         match open() {
             Ok(out) => {
                 assert!(out.push(&[0.0; 800]) > 0);
-                assert!(out.queued() <= ring_capacity());
+                // The device may take some meanwhile, never more than a period: the ring fills to the limit only.
+                let taken = out.push(&vec![0.0; ring_capacity()]);
+                assert!(taken > 0 && taken <= out.limit(), "{taken} of {}", out.limit());
+                assert!(out.queued() <= out.limit() && out.limit() <= ring_capacity());
             }
             Err(e) => assert!(!e.to_string().contains('\n'), "{e}"),
         }
-        assert_eq!(ring_capacity(), 1920);
+    }
+
+    #[test]
+    fn the_queue_holds_one_period_and_a_frame_of_ticks() {
+        assert_eq!(queue_limit(Some(682)), (682 + 800) * 2);
+        assert_eq!(queue_limit(None), (1024 + 800) * 2);
+        assert_eq!(queue_limit(Some(1 << 20)), ring_capacity(), "a huge period is capped at the ring");
+        assert_eq!(queue_limit(Some(0)), (100 + 800) * 2, "a nonsense period still queues a frame");
     }
 }

@@ -337,10 +337,15 @@ fn the_soundtrack_is_bit_identical_across_runs_and_thread_counts() {
 const REQUIRE_AUDIO: &str = "SCANLINE_RACER_REQUIRE_AUDIO";
 /// The same for Xvfb.
 const REQUIRE_XVFB: &str = "SCANLINE_RACER_REQUIRE_XVFB";
-/// Seconds of the window's sound recorded.
-const RECORD_SECONDS: f32 = 11.0;
-/// The stretch of the recording compared (seconds from its first sound): the start and the first gears.
+/// Most seconds the window's sound is recorded for, from the game's start, waiting for its sound to begin and
+/// run through [`STRETCH`]: a cold, busy host can take seconds to open the window and the device.
+const RECORD_DEADLINE: f32 = 45.0;
+/// The stretch of the recording compared (seconds from its steady sound): the start and the first gears.
 const STRETCH: (f32, f32) = (1.5, 9.0);
+/// Least RMS of every 50 ms block of a second for the sound to count as steady from that second's start:
+/// the engines idle well above it, while a device that plays a few blocks and then stalls (the game busy
+/// opening its window) falls below it.
+const STEADY_FLOOR: f32 = 0.002;
 /// Least RMS (full scale 1) of the loudest second of the recording: the engines at this level are plainly
 /// audible; a null sink that got nothing records digital zero.
 const RMS_FLOOR: f32 = 0.01;
@@ -441,6 +446,14 @@ fn recorded_mono(bytes: &[u8]) -> (Vec<f32>, u32) {
     (mono, rate)
 }
 
+/// Where the sound of `x` (48 kHz) becomes steady: the start of the first 50 ms block that begins a second
+/// of blocks all above [`STEADY_FLOOR`] RMS; `None` before there is such a second.
+fn steady_start(x: &[f32]) -> Option<usize> {
+    let block = 2_400;
+    let loud: Vec<bool> = x.chunks_exact(block).map(|b| rms(b) > STEADY_FLOOR).collect();
+    loud.windows(20).position(|w| w.iter().all(|&l| l)).map(|b| b * block)
+}
+
 /// `x` (at `rate`) resampled to 48 kHz by linear interpolation.
 fn to_48k(x: &[f32], rate: u32) -> Vec<f32> {
     if rate == 48_000 {
@@ -463,9 +476,9 @@ fn rms(x: &[f32]) -> f32 {
 
 /// The real device path: a private PulseAudio server with a null sink, the game replaying the demo race in
 /// a window under Xvfb with its sound on the server's default device, and the sink's monitor recorded
-/// with `parec` for about 11 s. The recording must not be silent (its loudest second above
-/// [`RMS_FLOOR`]), and its engine pitch over the stretch [`STRETCH`] of the race (the grid's idle, the
-/// start, the first gears), in 0.5 s windows every 0.5 s, must match the headless WAV's pitch of the same
+/// with `parec` until its steady sound has run through [`STRETCH`] (at most [`RECORD_DEADLINE`]). The
+/// recording must not be silent (its loudest second above [`RMS_FLOOR`]), and its engine pitch over the
+/// stretch of the race (the grid's idle, the start, the first gears), in 0.5 s windows every 0.5 s, must match the headless WAV's pitch of the same
 /// stretch: with the recording aligned to the WAV by the lag (searched from -0.5 s to +6 s in 50 ms steps:
 /// the device may take a moment to start pulling samples, and the race's sound meanwhile is dropped, not
 /// queued) at which most windows agree, at least 80% of the windows within 5%.
@@ -522,8 +535,22 @@ fn the_window_plays_the_race_on_a_real_audio_server() {
         .spawn()
         .expect("the game starts");
     children.0.push(("game", game));
-    std::thread::sleep(std::time::Duration::from_secs_f32(RECORD_SECONDS));
-    let early = children.find("game").and_then(|g| g.try_wait().ok().flatten());
+    // Recorded until the steady sound has run through the stretch and a second beyond, or the deadline.
+    let (t, need) = (std::time::Instant::now(), (STRETCH.1 + 1.0) * 48_000.0);
+    let mut early = None;
+    while t.elapsed().as_secs_f32() < RECORD_DEADLINE {
+        std::thread::sleep(std::time::Duration::from_millis(250));
+        early = children.find("game").and_then(|g| g.try_wait().ok().flatten());
+        let bytes = std::fs::read(&recording).unwrap_or_default();
+        let ready = bytes.len() > 44 && {
+            let (rec, rate) = recorded_mono(&bytes);
+            let got = to_48k(&rec, rate);
+            steady_start(&got).is_some_and(|s| got.len() >= s + need as usize)
+        };
+        if early.is_some() || ready {
+            break;
+        }
+    }
     children.end("game");
     std::thread::sleep(std::time::Duration::from_millis(300));
     children.end("parec");
@@ -536,10 +563,12 @@ fn the_window_plays_the_race_on_a_real_audio_server() {
     let (rec, rate) = recorded_mono(&std::fs::read(&recording).expect("parec wrote the recording"));
     let got = to_48k(&rec, rate);
     let loudest = got.chunks(48_000).map(rms).fold(0.0f32, f32::max);
-    let start = got.iter().position(|x| x.abs() > 1e-3).unwrap_or(got.len());
+    let heard = got.iter().position(|x| x.abs() > 1e-3).unwrap_or(got.len());
+    let start = steady_start(&got).unwrap_or(got.len());
     eprintln!(
-        "recorded {:.1} s at {rate} Hz; sound from {:.2} s; loudest second RMS {loudest:.4}",
+        "recorded {:.1} s at {rate} Hz; sound from {:.2} s, steady from {:.2} s; loudest second RMS {loudest:.4}",
         rec.len() as f32 / rate as f32,
+        heard as f32 / 48_000.0,
         start as f32 / 48_000.0
     );
     assert!(loudest > RMS_FLOOR, "the window's sound is silent: loudest second RMS {loudest} (floor {RMS_FLOOR})");
@@ -550,7 +579,7 @@ fn the_window_plays_the_race_on_a_real_audio_server() {
     let mut t = STRETCH.0;
     while t + 0.5 <= STRETCH.1 {
         let from = start + at(t);
-        assert!(from + window <= got.len(), "the recording ends before {t} s of the race");
+        assert!(from + window <= got.len(), "the recording ends before {t} s of the steady sound");
         ours.push((t, pitch(&got[from..from + window])));
         t += 0.5;
     }

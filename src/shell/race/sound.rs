@@ -16,8 +16,8 @@ use crate::game::{TICK_HZ, World};
 
 /// Most sound queued here beyond the device's ring (two ticks): what a frame's burst of ticks does not fit
 /// in the ring waits here for the next frame; beyond it the oldest is dropped, so that a device that
-/// started late or a long stall never leaves the sound lagging the picture (the ring holds
-/// [`crate::audio::device::RING_SECONDS`] more).
+/// started late or a long stall never leaves the sound lagging the picture (the ring holds at most a device
+/// period and a frame's ticks more: [`crate::audio::Output::limit`]).
 const MAX_QUEUED: usize = 2 * CHANNELS * FRAMES_PER_TICK;
 /// Most real time a frame sounds by held ticks (seconds): a stall is not made up.
 const MAX_HELD: f64 = 0.1;
