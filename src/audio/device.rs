@@ -145,12 +145,18 @@ pub fn open() -> Result<Output, AudioError> {
     // A PulseAudio server (or PipeWire's) is spoken to directly when there is one: through ALSA's pulse
     // plugin an underrun cost about 2 s of silence (the plugin waits for a timing update, at intervals that
     // double from 10 ms, before it asks for samples again), and so did the start.
+    // (cpal's default host would try the server again before ALSA: a server that did not answer would
+    // then hold the first frame twice.)
     #[cfg(target_os = "linux")]
-    if let Ok(out) =
-        cpal::host_from_id(cpal::HostId::PulseAudio).map_err(|_| AudioError::NoDevice).and_then(|h| open_on(&h))
     {
-        return Ok(out);
+        let pulse = cpal::host_from_id(cpal::HostId::PulseAudio).map_err(|_| AudioError::NoDevice);
+        if let Ok(out) = pulse.and_then(|h| open_on(&h)) {
+            return Ok(out);
+        }
+        let alsa = cpal::host_from_id(cpal::HostId::Alsa).map_err(|_| AudioError::NoDevice)?;
+        open_on(&alsa)
     }
+    #[cfg(not(target_os = "linux"))]
     open_on(&cpal::default_host())
 }
 
