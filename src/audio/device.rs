@@ -39,6 +39,9 @@ pub enum AudioError {
     /// The system has no default output device (no sound card, no sound server).
     #[error("no audio output device")]
     NoDevice,
+    /// A PulseAudio (or PipeWire) socket exists but no server answered on it, and there is no sound card.
+    #[error("the PulseAudio server's socket is there but no server answered on it")]
+    NoServer,
     /// The device refused a 48 kHz stereo stream of floats.
     #[error("audio device '{device}' cannot play 48 kHz stereo: {source}")]
     Stream {
@@ -149,9 +152,14 @@ pub fn open() -> Result<Output, AudioError> {
     // then hold the first frame twice.)
     #[cfg(target_os = "linux")]
     {
-        let pulse = cpal::host_from_id(cpal::HostId::PulseAudio).map_err(|_| AudioError::NoDevice);
-        if let Ok(out) = pulse.and_then(|h| open_on(&h)) {
-            return Ok(out);
+        let pulse = cpal::host_from_id(cpal::HostId::PulseAudio).map_err(|_| AudioError::NoServer);
+        let why = match pulse.and_then(|h| open_on(&h)) {
+            Ok(out) => return Ok(out),
+            Err(e) => e,
+        };
+        // Without a sound card ALSA could only reach the same server (and would print its own lines).
+        if !std::path::Path::new("/dev/snd").is_dir() {
+            return Err(why);
         }
         let alsa = cpal::host_from_id(cpal::HostId::Alsa).map_err(|_| AudioError::NoDevice)?;
         open_on(&alsa)
