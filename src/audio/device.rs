@@ -1,10 +1,11 @@
-//! The real audio path: the default output device through cpal, fed from a lock-free [`Ring`].
+//! The real audio path: the default output device through cpal (a PulseAudio or PipeWire server spoken to
+//! directly where one runs, ALSA otherwise), fed from a lock-free [`Ring`].
 //!
 //! The game thread renders a tick of samples after each simulation tick and [`Output::push`]es them; the
 //! device's callback takes what is there and plays silence for what is not. Neither side ever waits: the
 //! push drops what does not fit, the callback never blocks on the game.
 //!
-//! The stream asks for periods of [`DEVICE_FRAMES`] (21 ms; cpal's ALSA host keeps two of them), falling
+//! The stream asks for periods of [`DEVICE_FRAMES`] (21 ms; cpal keeps two of them), falling
 //! back to the device's default size where a fixed size is refused. Why so many: through PulseAudio's
 //! ALSA plugin, periods of 10 ms and less underran every 15-60 s even for a callback that only copies, and
 //! each underrun cost about 2 s of silence while the stream recovered. The ring holds at most one period
