@@ -1,7 +1,8 @@
 //! The fill (Quake's `d_*` half): the frame's polygons drawn, in order, band by band on the worker pool.
 //!
 //! The ordered polygons are binned once by the bands of about 32 rows they touch (in pieces, on the pool);
-//! each band then clears its own rows and draws its bin (`bands`). A polygon is drawn by the scanline walk
+//! each band then clears its own rows and draws its bin (`bands`), the threads taking the bands from one
+//! queue, costliest first (`schedule`). A polygon is drawn by the scanline walk
 //! of seeds 001 and 002 ([`scanline`]) into spans, shaded by the general span ([`span`]) or a fast path's
 //! pixel loop (`span_lanes`, with its AVX2 child), or, for a small triangle set up in advance, by `small`
 //! (with its AVX2 child). An anti-aliased frame draws each polygon's coverage samples (`coverage`) into the
@@ -18,6 +19,7 @@ pub(crate) mod row;
 pub(crate) mod sample_lanes;
 pub(crate) mod samples;
 pub mod scanline;
+mod schedule;
 pub(crate) mod small;
 #[cfg(target_arch = "x86_64")]
 mod small_avx2;
@@ -29,10 +31,11 @@ pub(crate) mod texel;
 
 use std::ops::Range;
 
-use rayon::iter::{IndexedParallelIterator, IntoParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
+use rayon::iter::{IndexedParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
 
 use self::bands::{BinnedRun, FillContext};
 use self::row::{SpanCounts, Visibility};
+use self::schedule::BandCosts;
 use crate::render::core::band::{FrameLayout, bin, split_bands};
 use crate::render::core::batch::{Batch, Screens, Stretch};
 use crate::render::core::draw_list::DrawList;
@@ -50,6 +53,8 @@ pub(crate) struct Fill {
     jobs: Vec<Range<u32>>,
     /// The polygons of each band (inner), for each of `jobs` (outer).
     bins: Vec<Vec<Vec<u32>>>,
+    /// Each band's time in the last frame drawn on several threads: the order bands are handed out in.
+    costs: BandCosts,
 }
 
 /// What the geometry and ordering stages left for the fill.
@@ -75,6 +80,8 @@ impl Fill {
         options: &RenderOptions,
     ) -> SpanCounts {
         let ordered = options.method != Method::ZBuffer;
+        // Out of `self` while the runs below borrow its bins.
+        let mut costs = std::mem::take(&mut self.costs);
         let chunk = self.bin(layout, polygons, ordered);
         let runs = self.runs(polygons, ordered, chunk);
         let ctx = FillContext {
@@ -92,20 +99,22 @@ impl Fill {
             words: layout.width.div_ceil(64),
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
         };
-        let jobs = split_bands(frame, layout.width, layout.rows_per_band).into_iter().enumerate();
-        if layout.threads == 1 {
-            return jobs.map(|(i, band)| ctx.fill_band(band, i)).fold(SpanCounts::default(), |a, b| a + b);
-        }
-        // Bands are handed out by work stealing, as the sky and the ground cost very different amounts: one
-        // band a task (`with_max_len(1)`), so that an idle thread can take any band not yet begun. Left to
-        // itself, rayon cuts the list into a few runs of bands, each drawn in turn by one thread; a run that
-        // holds the horizon's bands (ten times a sky band's cost when anti-aliased) then finished alone
-        // while the other thread idled.
-        let jobs: Vec<_> = jobs.collect();
-        jobs.into_par_iter()
-            .with_max_len(1)
-            .map(|(i, band)| ctx.fill_band(band, i))
-            .reduce(SpanCounts::default, |a, b| a + b)
+        let bands = split_bands(frame, layout.width, layout.rows_per_band);
+        let counts = if layout.threads == 1 {
+            bands
+                .into_iter()
+                .enumerate()
+                .map(|(i, band)| ctx.fill_band(band, i))
+                .fold(SpanCounts::default(), |a, b| a + b)
+        } else {
+            // Bands are handed out one at a time from a queue, costliest first (`schedule`): the sky and the
+            // horizon cost very different amounts, and a costly band drawn last by one thread left the other
+            // idle.
+            costs.draw(&ctx, bands, layout)
+        };
+        drop(runs);
+        self.costs = costs;
+        counts
     }
 
     /// Bins what the fill bins itself (the painter's order, or the z-buffer's stretches of the main batch) in
