@@ -4,9 +4,13 @@
 //! The rules, in the order they keep the picture steady:
 //! - A frame's time counts through the median of the last [`WINDOW`] frames at the step in use: a spike
 //!   of fewer than half of them moves nothing.
-//! - Down: when that median is over the budget ([`SHARE`] of the frame period).
+//! - Down: when that median is over the budget ([`SHARE`] of the frame period), or when at least
+//!   [`LATE_LIMIT`] of the last [`LATE_FRAMES`] frames came more than half a period late (the cores are
+//!   busy with other programs: the drawing itself may stay quick, since the renderer's threads take
+//!   whatever bands are left, but the frames miss their refreshes, and a cheaper step asks for less of the
+//!   cores).
 //! - Up: only after [`ROOM_SECONDS`] in a row in which the next step's predicted time fits
-//!   [`UP_MARGIN`] of the budget. The prediction is the current median times the ratio of the two steps'
+//!   [`UP_MARGIN`] of the budget and no frame of the last [`LATE_FRAMES`] came late. The prediction is the current median times the ratio of the two steps'
 //!   costs as the bench measured them ([`BENCH_COST`]).
 //! - A step up that has to be taken back within [`TRIAL_SECONDS`] is a failed trial: that step is not
 //!   tried again for [`BACK_OFF_SECONDS`], doubled with each failure in a row (at most
@@ -43,6 +47,12 @@ pub const MAX_BACK_OFF_SECONDS: f64 = 80.0;
 pub const ROOM_SECONDS: f64 = 2.0;
 /// Least seconds between two changes.
 pub const HOLD_SECONDS: f64 = 1.0;
+/// Frames over which late frames are counted (at most 32: they are bits of a word).
+pub const LATE_FRAMES: u32 = 30;
+/// Late frames among the last [`LATE_FRAMES`] that step down: a quarter, about 45 frames a second at 60 Hz.
+pub const LATE_LIMIT: u32 = 8;
+/// A frame this many periods after the one before is late (it missed at least one refresh).
+pub const LATE_PERIODS: f64 = 1.5;
 
 /// Each step's frame time relative to `low`'s: the means over the three courses of the presets' times
 /// measured as the bench measures them (1 thread, 640x480; docs/performance.md, "Quality presets").
@@ -98,6 +108,8 @@ pub struct AutoQuality {
     room: f64,
     /// Changes made so far.
     changes: u32,
+    /// Which of the last [`LATE_FRAMES`] frames came late (bit 0 the newest).
+    late: u32,
 }
 
 impl AutoQuality {
@@ -113,6 +125,7 @@ impl AutoQuality {
             since_change: 0.0,
             room: 0.0,
             changes: 0,
+            late: 0,
         }
     }
 
@@ -135,6 +148,8 @@ impl AutoQuality {
             return None;
         }
         let seconds = if seconds.is_finite() { seconds.clamp(0.0, 1.0) } else { 0.0 };
+        let late = seconds * 1e3 > LATE_PERIODS * period_ms;
+        self.late = ((self.late << 1) | u32::from(late)) & ((1u32 << LATE_FRAMES.min(31)) - 1);
         self.since_change += seconds;
         self.clock += seconds;
         if self.climbed && self.since_change >= TRIAL_SECONDS {
@@ -151,13 +166,15 @@ impl AutoQuality {
         let next = self.step.up();
         let fits = next.is_some_and(|up| {
             let waited = self.clock >= self.failures[up as usize].1;
-            waited && median * BENCH_COST[up as usize] / BENCH_COST[self.step as usize] <= UP_MARGIN * budget
+            waited
+                && self.late == 0
+                && median * BENCH_COST[up as usize] / BENCH_COST[self.step as usize] <= UP_MARGIN * budget
         });
         self.room = if fits { self.room + seconds } else { 0.0 };
         if self.since_change < HOLD_SECONDS {
             return None;
         }
-        let to = if median > budget {
+        let to = if median > budget || self.late.count_ones() >= LATE_LIMIT {
             self.step.down()
         } else if self.room >= ROOM_SECONDS {
             next
@@ -174,6 +191,7 @@ impl AutoQuality {
         self.recent.clear();
         self.since_change = 0.0;
         self.room = 0.0;
+        self.late = 0;
         self.changes += 1;
         Some(to)
     }
@@ -243,6 +261,32 @@ mod tests {
         assert_eq!(loaded.last(), Some(&Quality::Medium));
         let unloaded = run(&mut auto, 60 * 10, machine(2.0));
         assert_eq!(unloaded.last(), Some(&Quality::Ultra));
+    }
+
+    #[test]
+    fn missed_refreshes_step_down_though_the_drawing_is_quick_and_a_few_do_not() {
+        // Frames that take 2 ms to draw but come every 16.7 or 33.3 ms: the cores are busy elsewhere.
+        let feed = |auto: &mut AutoQuality, frames: usize, late_every: usize| -> Vec<Quality> {
+            (0..frames)
+                .map(|i| {
+                    let seconds = if late_every > 0 && i % late_every == 0 { 2.0 } else { 1.0 } / 60.0;
+                    auto.frame(2.0, seconds, 1000.0 / 60.0);
+                    auto.step()
+                })
+                .collect()
+        };
+        let mut auto = AutoQuality::new(Quality::Ultra);
+        // One frame in ten late (54 a second): fewer than the limit in any 30; nothing moves.
+        let steps = feed(&mut auto, 60 * 5, 10);
+        assert!(steps.iter().all(|s| *s == Quality::Ultra), "{steps:?}");
+        // One in three late (45 a second): down within a second or so, one step a second at most.
+        let steps = feed(&mut auto, 60 * 3, 3);
+        let down = steps.iter().position(|s| *s != Quality::Ultra).unwrap();
+        assert!(down <= 60 + WINDOW, "stepped down after {down} frames");
+        assert!(steps.windows(2).filter(|w| w[0] != w[1]).count() <= 3);
+        // The load gone, back to the top; no step up while frames still came late.
+        let unloaded = feed(&mut auto, 60 * 12, 0);
+        assert_eq!(unloaded.last(), Some(&Quality::Ultra), "climbed back: {}", auto.changes());
     }
 
     #[test]
