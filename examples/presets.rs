@@ -6,7 +6,7 @@
 //! `cargo run --release --example presets -- [course,...] [threads] [width] [height] [aa/filter/mip,...]`
 //! (defaults: every course, 1 thread, 640x480, as `bench`; the last argument adds points beside the
 //! presets, each named by its `--aa`, `--filter` and `--mip` values, as `ssaa/aniso8/pixel`, or by a
-//! preset and a filter, as `ultra/aniso4`). A few
+//! preset and a filter, as `ultra/aniso4`; either may end in `:BIAS`, a LOD bias, as `ultra/nearest:2`). A few
 //! minutes a course: most of it is the reference frames.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -29,7 +29,8 @@ fn main() {
     let mut configs: Vec<Config> =
         Quality::ALL.iter().map(|q| config(q.name().to_string(), q.apply(RenderOptions::default()))).collect();
     for point in args.get(4).map(|a| a.split(',').collect::<Vec<_>>()).unwrap_or_default() {
-        let parts: Vec<&str> = point.split('/').collect();
+        let (body, bias) = point.split_once(':').map_or((point, None), |(b, x)| (b, Some(x.parse::<f32>().unwrap())));
+        let parts: Vec<&str> = body.split('/').collect();
         let options = match parts[..] {
             [preset, filter] => RenderOptions {
                 filter: filter.parse::<Filter>().unwrap(),
@@ -43,6 +44,7 @@ fn main() {
             },
             _ => panic!("a point is aa/filter/mip or preset/filter, got {point}"),
         };
+        let options = RenderOptions { lod_bias: bias.unwrap_or(options.lod_bias), ..options };
         configs.push(config(point.to_string(), options));
     }
     for (course, trace) in COURSES.iter().filter(|c| chosen.contains(&c.0)) {

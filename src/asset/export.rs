@@ -189,14 +189,19 @@ impl Writer {
 
 /// Every drawn instance's polygons in world space, fanned into triangles and grouped by material; with
 /// the instances and triangles counted.
-fn group_by_material(list: &DrawList<'_>, meshes: &[Option<usize>]) -> (BTreeMap<String, Group>, usize, usize) {
+fn group_by_material(
+    list: &DrawList<'_>,
+    meshes: &[Option<usize>],
+    eye: Vec3,
+) -> (BTreeMap<String, Group>, usize, usize) {
     let mut groups: BTreeMap<String, Group> = BTreeMap::new();
     let mut instances = 0;
     let mut triangles = 0;
     for (inst, chosen) in list.instances.iter().zip(meshes) {
         let Some(mesh) = chosen.and_then(|m| list.meshes.get(m)) else { continue };
         instances += 1;
-        let model: Mat4 = inst.model;
+        // A mesh that faces the eye is written turned as this frame draws it.
+        let model: Mat4 = mesh.placed_model(&inst.model, eye);
         for poly in mesh.polygons() {
             let material = mesh.materials().get(poly.material as usize).cloned().unwrap_or_default();
             let g = groups.entry(material_key(&material)).or_default();
@@ -264,7 +269,8 @@ pub fn export_glb(
     camera: &Camera,
     (width, height): (usize, usize),
 ) -> Result<(Vec<u8>, ExportSummary), ExportError> {
-    let (groups, instances, triangles) = group_by_material(list, meshes);
+    let eye = camera.view.inverse().w_axis.truncate();
+    let (groups, instances, triangles) = group_by_material(list, meshes, eye);
     let mut w = Writer::default();
     for g in groups.values() {
         w.group(g, list)?;

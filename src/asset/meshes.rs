@@ -102,6 +102,7 @@ impl Loader<'_> {
             }
         })?;
         super::decals::mark_decals(&mut built, self.meter.decal_pairs_left());
+        built.set_faces_eye(faces_eye(mesh));
         Ok(built)
     }
 
@@ -217,6 +218,16 @@ impl Loader<'_> {
     }
 }
 
+/// Whether a glTF mesh asks to turn about its Y axis to face the eye: `"extras": {"billboard": "y"}` (glTF
+/// has no billboards of its own; any other value, or none, is an ordinary mesh).
+fn faces_eye(mesh: &gltf::Mesh<'_>) -> bool {
+    mesh.extras().as_ref().is_some_and(|raw| {
+        serde_json::from_str::<serde_json::Value>(raw.get())
+            .ok()
+            .is_some_and(|v| v.get("billboard").and_then(serde_json::Value::as_str) == Some("y"))
+    })
+}
+
 /// The same mesh with every polygon's winding reversed (first vertex kept, the rest in reverse order), for
 /// a placement whose transform mirrors (negative determinant): glTF says the front face flips there.
 pub fn reversed_winding(mesh: &Mesh) -> Result<Mesh, MeshError> {
@@ -236,7 +247,9 @@ pub fn reversed_winding(mesh: &Mesh) -> Result<Mesh, MeshError> {
         rev.extend(rest.iter().rev());
         b.polygon(&rev, p.material);
     }
-    b.build()
+    let mut copy = b.build()?;
+    copy.set_faces_eye(mesh.faces_eye());
+    Ok(copy)
 }
 
 /// The first `n` vertices from their positions, texture coordinates (zero without) and colours (white

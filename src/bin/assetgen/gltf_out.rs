@@ -147,6 +147,14 @@ impl Doc {
         self.materials.len() - 1
     }
 
+    /// Marks mesh `index` as turning about its Y axis to face the eye (the loader reads
+    /// `"extras": {"billboard": "y"}`).
+    pub fn face_eye(&mut self, index: usize) {
+        if let Some(m) = self.meshes.get_mut(index) {
+            m["extras"] = json!({"billboard": "y"});
+        }
+    }
+
     /// Adds a mesh of primitives; returns its index.
     pub fn mesh(&mut self, name: &str, prims: &[Primitive]) -> usize {
         let mut out = vec![];

@@ -4,7 +4,7 @@
 //! triangles when the mesh is built (a non-planar polygon has no single depth plane or texture mapping);
 //! planar polygons are kept whole, and the fill stage splits the ones that are not y-monotone in a given view.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::render::core::texture::Sampler;
@@ -140,6 +140,8 @@ pub struct Mesh {
     bounds: Sphere,
     /// Polygons given to the builder (before non-planar ones were split).
     source_polygons: usize,
+    /// Turns about its model's Y axis to face the eye ([`Mesh::placed_model`]).
+    faces_eye: bool,
 }
 
 impl Mesh {
@@ -196,6 +198,47 @@ impl Mesh {
     #[must_use]
     pub fn source_polygon_count(&self) -> usize {
         self.source_polygons
+    }
+
+    /// Whether the mesh turns about its model's Y axis to face the eye (an upright impostor: a tree's
+    /// single quad standing in, at a distance, for the crossed quads of its close model).
+    #[must_use]
+    pub fn faces_eye(&self) -> bool {
+        self.faces_eye
+    }
+
+    /// Makes the mesh turn (or not) about its model's Y axis to face the eye: see [`Mesh::placed_model`].
+    /// A turning mesh's [bounds](Mesh::bounds) hold it in every turn (a sphere centred on the axis).
+    pub fn set_faces_eye(&mut self, faces: bool) {
+        self.faces_eye = faces;
+        let b = bounding_sphere(&self.vertices);
+        self.bounds = if faces {
+            let off = Vec2::new(b.center.x, b.center.z).length();
+            Sphere { center: Vec3::new(0.0, b.center.y, 0.0), radius: b.radius + off }
+        } else {
+            b
+        };
+    }
+
+    /// The model-to-world matrix the mesh is drawn with when an instance places it by `model` and the eye
+    /// is at `eye` (world space): `model` itself, or for a mesh that [faces the eye](Mesh::faces_eye),
+    /// `model` turned about its Y axis so that the model's +Z points at the eye's projection on its XZ
+    /// plane (a quad in the XY plane then shows its full width from every side, as Sega's Model 1 drew its
+    /// trees). An eye on the axis, or a model that cannot be inverted, leaves `model` as it is.
+    #[must_use]
+    pub fn placed_model(&self, model: &Mat4, eye: Vec3) -> Mat4 {
+        if !self.faces_eye {
+            return *model;
+        }
+        let local = model.inverse().transform_point3(eye);
+        let len = (local.x * local.x + local.z * local.z).sqrt();
+        if !(len.is_finite() && len > 1e-6) {
+            return *model;
+        }
+        let (s, c) = (local.x / len, local.z / len);
+        // A turn about Y taking +Z to (s, 0, c).
+        let turn = Mat4::from_cols(Vec4::new(c, 0.0, -s, 0.0), Vec4::Y, Vec4::new(s, 0.0, c, 0.0), Vec4::W);
+        *model * turn
     }
 }
 
@@ -292,7 +335,15 @@ impl MeshBuilder {
             }
         }
         let bounds = bounding_sphere(&self.vertices);
-        Ok(Mesh { vertices: self.vertices, indices, polygons, materials: self.materials, bounds, source_polygons })
+        Ok(Mesh {
+            vertices: self.vertices,
+            indices,
+            polygons,
+            materials: self.materials,
+            bounds,
+            source_polygons,
+            faces_eye: false,
+        })
     }
 }
 
@@ -344,6 +395,66 @@ mod tests {
 
     fn v(x: f32, y: f32, z: f32) -> Vertex {
         Vertex::new(Vec3::new(x, y, z), Vec2::ZERO)
+    }
+
+    /// A quad in the XY plane, `x0..x0 + 2` wide and 3 high, facing +Z; turning to the eye when `faces`.
+    fn quad(x0: f32, faces: bool) -> Mesh {
+        let mut b = MeshBuilder::new();
+        let q = [
+            b.vertex(v(x0, 0., 0.)),
+            b.vertex(v(x0 + 2., 0., 0.)),
+            b.vertex(v(x0 + 2., 3., 0.)),
+            b.vertex(v(x0, 3., 0.)),
+        ];
+        b.polygon(&q, 0);
+        let mut m = b.build().unwrap();
+        m.set_faces_eye(faces);
+        m
+    }
+
+    #[test]
+    fn a_mesh_that_faces_the_eye_turns_its_front_to_it_about_its_y_axis() {
+        let model = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(10.0, 1.0, -4.0),
+        );
+        let m = quad(-1.0, true);
+        assert!(m.faces_eye());
+        for eye in [Vec3::new(30.0, 5.0, -4.0), Vec3::new(-7.0, -2.0, 12.0), Vec3::new(10.5, 40.0, -60.0)] {
+            let placed = m.placed_model(&model, eye);
+            // The model's +Z, placed, points at the eye seen from above; its Y axis and origin stay.
+            let front = placed.transform_vector3(Vec3::Z);
+            let to_eye = eye - placed.transform_point3(Vec3::ZERO);
+            let flat = |d: Vec3| Vec3::new(d.x, 0.0, d.z).normalize();
+            assert!(flat(front).dot(flat(to_eye)) > 0.9999, "{eye}");
+            assert_eq!(placed.transform_vector3(Vec3::Y), model.transform_vector3(Vec3::Y));
+            assert_eq!(placed.w_axis, model.w_axis);
+            // The length of a model axis is kept (the turn is a rotation in model space).
+            assert!((front.length() - 2.0).abs() < 1e-5);
+        }
+        // An ordinary mesh, or an eye on the axis, keeps the instance's matrix.
+        assert_eq!(quad(-1.0, false).placed_model(&model, Vec3::new(30.0, 5.0, -4.0)), model);
+        assert_eq!(m.placed_model(&model, Vec3::new(10.0, 9.0, -4.0)), model);
+        assert_eq!(m.placed_model(&model, Vec3::NAN), model);
+    }
+
+    #[test]
+    fn a_mesh_that_faces_the_eye_is_bounded_in_every_turn() {
+        // Off the axis (x from 1 to 3): every turn stays inside the bounds.
+        let m = quad(1.0, true);
+        let b = m.bounds();
+        assert_eq!((b.center.x, b.center.z), (0.0, 0.0));
+        for k in 0..16 {
+            let turn = Mat4::from_rotation_y(k as f32 * 0.4);
+            for p in m.vertices() {
+                assert!(turn.transform_point3(p.position).distance(b.center) <= b.radius + 1e-5);
+            }
+        }
+        // Turning it back into an ordinary mesh gives the ordinary bounds.
+        let mut plain = m.clone();
+        plain.set_faces_eye(false);
+        assert_eq!(plain.bounds(), quad(1.0, false).bounds());
     }
 
     #[test]

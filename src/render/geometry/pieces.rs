@@ -75,16 +75,18 @@ impl<'a> FrameView<'a> {
     fn prepare(&self, pass: &PassView<'a>, v: &Visible) -> Option<Prepared<'a>> {
         let (list, options) = (self.list, self.options);
         let inst = list.instances.get(v.index)?;
-        let own_polygons = list.meshes.get(v.mesh)?.polygons().len();
+        let own = list.meshes.get(v.mesh)?;
+        let own_polygons = own.polygons().len();
+        let model = own.placed_model(&inst.model, self.eye);
         let mesh = pass.drawn_mesh(v.mesh)?;
         // `view-lists`: the mesh with its split pieces, drawn in the stored order for this view. The extended
         // mesh begins with the original polygons, so it also serves per-polygon ordering.
         let lists = (options.method == Method::ViewLists).then(|| list.view_lists.and_then(|l| l.get(v.mesh)));
         let stored =
-            lists.flatten().and_then(|l| stored_order(l, &inst.model, v.sphere, self.camera, (self.eye, self.forward)));
+            lists.flatten().and_then(|l| stored_order(l, &model, v.sphere, self.camera, (self.eye, self.forward)));
         let transform = VertexTransform {
-            clip_from_model: self.clip_from_world * inst.model,
-            depth_row: (self.camera.view * inst.model).row(2),
+            clip_from_model: self.clip_from_world * model,
+            depth_row: (self.camera.view * model).row(2),
             volume: self.volume,
             size: (self.layout.width as f32, self.layout.height as f32),
             perspective: self.camera.is_perspective(),

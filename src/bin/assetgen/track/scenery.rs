@@ -168,8 +168,9 @@ pub(super) fn buildings(scene: &mut Scene, m: &Mats, c: &Circuit) {
     }
 }
 
-/// The three tree models of each species (shared by all trees): two crossed quads, one quad, one quad turned
-/// 45 degrees.
+/// The three tree models of each species (shared by all trees): two crossed quads close by; further away
+/// one quad that turns to face the eye (the middle and long models are the same mesh), so that a distant
+/// tree keeps the width its close model shows from every side rather than thinning to a sliver seen edge on.
 fn tree_meshes(doc: &mut Doc, m: &Mats) -> [[usize; 3]; 2] {
     let mut out = [[0; 3]; 2];
     for (sp, (w, h)) in [(3.0f32, 12.0f32), (2.75, 11.0)].into_iter().enumerate() {
@@ -179,17 +180,13 @@ fn tree_meshes(doc: &mut Doc, m: &Mats) -> [[usize; 3]; 2] {
         let mut close = MeshBuilder::default();
         close.face(m.tree, &quad(Vec3::X), &uvs, Vec3::Z, WHITE);
         close.face(m.tree, &quad(Vec3::NEG_Z), &uvs, Vec3::X, WHITE);
-        let mut mid = MeshBuilder::default();
-        mid.face(m.tree, &quad(Vec3::X), &uvs, Vec3::Z, WHITE);
-        let mut long = MeshBuilder::default();
-        let diag = Vec3::new(1.0, 0.0, -1.0).normalize();
-        long.face(m.tree, &quad(diag), &uvs, Vec3::new(1.0, 0.0, 1.0), WHITE);
+        let mut far = MeshBuilder::default();
+        far.face(m.tree, &quad(Vec3::X), &uvs, Vec3::Z, WHITE);
         let name = ["broadleaf", "conifer"][sp];
-        out[sp] = [
-            doc.mesh(&format!("{name} close"), &close.prims),
-            doc.mesh(&format!("{name} mid"), &mid.prims),
-            doc.mesh(&format!("{name} long"), &long.prims),
-        ];
+        let close = doc.mesh(&format!("{name} close"), &close.prims);
+        let far = doc.mesh(&format!("{name} far"), &far.prims);
+        doc.face_eye(far);
+        out[sp] = [close, far, far];
     }
     out
 }
