@@ -407,3 +407,95 @@ fn the_built_in_assets_draw_what_the_folder_draws() {
     }
     assert_eq!(drawn, 3);
 }
+
+/// A glTF of three copies of one quad (2 m wide, 3 m high, in the XY plane, facing +Z) side by side along
+/// X, their meshes' extras `{"billboard": "y"}`, `{"billboard": "x"}` and none.
+fn three_quads_gltf() -> serde_json::Value {
+    use base64::Engine;
+    let mut bin: Vec<u8> = vec![];
+    for p in [[-1.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 3.0, 0.0], [-1.0, 3.0, 0.0]] {
+        bin.extend(p.iter().flat_map(|c| c.to_le_bytes()));
+    }
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    let uri =
+        format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bin));
+    let prim = serde_json::json!([{"attributes": {"POSITION": 0}, "indices": 1}]);
+    serde_json::json!({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": bin.len(), "uri": uri}],
+        "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, 0.0], "max": [1.0, 3.0, 0.0]},
+            {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ],
+        "meshes": [
+            {"primitives": prim, "extras": {"billboard": "y"}},
+            {"primitives": prim, "extras": {"billboard": "x"}},
+            {"primitives": prim}
+        ],
+        "nodes": [
+            {"mesh": 0, "translation": [-20.0, 0.0, 0.0]},
+            {"mesh": 1, "translation": [0.0, 0.0, 0.0]},
+            {"mesh": 2, "translation": [20.0, 0.0, 0.0]}
+        ],
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "scene": 0
+    })
+}
+
+/// A mesh whose extras say `"billboard": "y"` turns to face the eye: seen edge on it still shows its full
+/// width, the same pixels from every side, where the same quad without it (or with another value) is a
+/// sliver; and the mountain's trees are drawn so at a distance, never close by.
+#[test]
+fn a_mesh_marked_billboard_faces_the_eye_and_distant_trees_are_such_meshes() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("billboard");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("quads.gltf");
+    std::fs::write(&path, serde_json::to_vec(&three_quads_gltf()).unwrap()).unwrap();
+    let scene = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let faces: Vec<bool> = scene.instances.iter().map(|i| scene.meshes[i.mesh].faces_eye()).collect();
+    assert_eq!(faces, [true, false, false]);
+    // Each quad alone, seen from eight sides at 12 m, level with its middle.
+    let (w, h) = (160usize, 120usize);
+    let mut r = Renderer::new();
+    let mut covered = |k: usize, angle: f32| {
+        let mut one = LoadedScene { instances: vec![scene.instances[k]], ..scene.clone() };
+        one.instances[0].model = glam::Mat4::from_translation(Vec3::ZERO);
+        let eye = Vec3::new(12.0 * angle.sin(), 1.5, 12.0 * angle.cos());
+        let camera = Camera::look_at(eye, Vec3::new(0.0, 1.5, 0.0), 0.8, 0.1, Some(100.0));
+        let mut frame = vec![0u32; w * h];
+        let o = RenderOptions { background: Some(0), ..RenderOptions::default() };
+        r.render(&mut frame, w, h, &camera, &one.draw_list(), &o).unwrap();
+        frame.iter().filter(|&&p| p != 0).count()
+    };
+    let facing: Vec<usize> = (0..8).map(|s| covered(0, s as f32 * std::f32::consts::FRAC_PI_4 + 0.1)).collect();
+    let front = covered(2, 0.0);
+    assert!(front > 500, "the quad seen square on covers {front} pixels");
+    for &n in &facing {
+        assert!(n.abs_diff(front) * 100 <= front, "a facing quad covers {facing:?}, seen square on {front}");
+    }
+    // Edge on, the quads that do not turn show (nearly) nothing.
+    for k in [1, 2] {
+        let edge = covered(k, std::f32::consts::FRAC_PI_2);
+        assert!(edge * 20 < front, "quad {k} seen edge on covers {edge} pixels");
+    }
+    // export-frame writes the facing quad turned as the frame draws it: seen from +X, in the YZ plane.
+    let camera = Camera::look_at(Vec3::new(-8.0, 1.5, 0.0), Vec3::new(-20.0, 1.5, 0.0), 0.8, 0.1, Some(100.0));
+    let list = scene.draw_list();
+    let chosen: Vec<Option<usize>> =
+        scene.instances.iter().enumerate().map(|(k, i)| (k == 0).then_some(i.mesh)).collect();
+    let (glb, _) = scanline_racer::asset::export::export_glb(&list, &chosen, &camera, (w, h)).unwrap();
+    std::fs::write(dir.join("exported.glb"), glb).unwrap();
+    let (lo, hi) = load(&dir.join("exported.glb")).unwrap().bounds.unwrap();
+    assert!((hi.x - lo.x).abs() < 1e-4 && (hi.z - lo.z - 2.0).abs() < 1e-4, "exported quad spans {lo} to {hi}");
+    // The mountain: every tree's middle and long models face the eye, its close model (crossed quads) not.
+    let mountain = load(&assets().join("track/mountain/mountain.gltf")).unwrap();
+    let turning = mountain
+        .lod_sets
+        .iter()
+        .filter(|s| s.meshes[1..].iter().all(|&m| mountain.meshes[m].faces_eye()))
+        .inspect(|s| assert!(!mountain.meshes[s.meshes[0]].faces_eye()))
+        .count();
+    assert!(turning >= 8000, "{turning} LOD sets with facing far models");
+}
