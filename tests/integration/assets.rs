@@ -462,7 +462,7 @@ fn a_mesh_marked_billboard_faces_the_eye_and_distant_trees_are_such_meshes() {
     let mut covered = |k: usize, angle: f32| {
         let mut one = LoadedScene { instances: vec![scene.instances[k]], ..scene.clone() };
         one.instances[0].model = glam::Mat4::from_translation(Vec3::ZERO);
-        let eye = Vec3::new(12.0 * angle.sin(), 1.5, 12.0 * angle.cos());
+        let eye = Vec3::new(12.0 * libm::sinf(angle), 1.5, 12.0 * libm::cosf(angle));
         let camera = Camera::look_at(eye, Vec3::new(0.0, 1.5, 0.0), 0.8, 0.1, Some(100.0));
         let mut frame = vec![0u32; w * h];
         let o = RenderOptions { background: Some(0), ..RenderOptions::default() };
