@@ -8,34 +8,16 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod points;
+
 use scanline_racer::bench::collect_frames;
 use scanline_racer::measure::{flip, reference_frame};
-use scanline_racer::render::{Antialias, Filter, MipMode, Quality, RenderOptions, Renderer, SKY_BLUE};
+use scanline_racer::render::{RenderOptions, Renderer, SKY_BLUE};
 use scanline_racer::shell::race_scene::RaceScene;
 
 /// The demo race of each course.
 const COURSES: [(&str, &str); 3] =
     [("circuit", "demo-race.trace"), ("city", "demo-city.trace"), ("mountain", "demo-mountain.trace")];
-
-fn options(point: &str) -> RenderOptions {
-    let (body, bias) = point.split_once(':').map_or((point, None), |(b, x)| (b, Some(x.parse::<f32>().unwrap())));
-    let parts: Vec<&str> = body.split('/').collect();
-    let o = match parts[..] {
-        [preset] => preset.parse::<Quality>().unwrap().apply(RenderOptions::default()),
-        [preset, filter] => RenderOptions {
-            filter: filter.parse::<Filter>().unwrap(),
-            ..preset.parse::<Quality>().unwrap().apply(RenderOptions::default())
-        },
-        [aa, filter, mip] => RenderOptions {
-            antialias: aa.parse::<Antialias>().unwrap(),
-            filter: filter.parse::<Filter>().unwrap(),
-            mip: mip.parse::<MipMode>().unwrap(),
-            ..RenderOptions::default()
-        },
-        _ => panic!("a point is a preset, preset/filter or aa/filter/mip, got {point}"),
-    };
-    RenderOptions { lod_bias: bias.unwrap_or(o.lod_bias), ..o }
-}
 
 fn save(path: &std::path::Path, img: &[u32], w: usize, h: usize) {
     let rgb: Vec<u8> = img.iter().flat_map(|p| [(p >> 16) as u8, (p >> 8) as u8, *p as u8]).collect();
@@ -58,7 +40,7 @@ fn main() {
     let list = scene.draw_list(&f.instances);
     let reference = reference_frame(&f.camera, &list, w, h, SKY_BLUE).unwrap();
     let mut test = vec![0u32; w * h];
-    let o = RenderOptions { threads: 2, ..options(point) };
+    let o = RenderOptions { threads: 2, ..points::options(point) };
     Renderer::new().render(&mut test, w, h, &f.camera, &list, &o).unwrap();
     let e = flip(&reference, &test, w, h).unwrap();
     let map: Vec<u32> = e.map.iter().map(|&v| (v.clamp(0.0, 1.0) * 255.0) as u32 * 0x010101).collect();

@@ -11,8 +11,10 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod points;
+
 use scanline_racer::bench::{Config, collect_frames, collect_sequence, run};
-use scanline_racer::render::{Antialias, Filter, MipMode, Quality, RenderOptions};
+use scanline_racer::render::{Quality, RenderOptions};
 use scanline_racer::shell::race_scene::RaceScene;
 
 /// The demo race of each course.
@@ -29,22 +31,7 @@ fn main() {
     let mut configs: Vec<Config> =
         Quality::ALL.iter().map(|q| config(q.name().to_string(), q.apply(RenderOptions::default()))).collect();
     for point in args.get(4).map(|a| a.split(',').collect::<Vec<_>>()).unwrap_or_default() {
-        let (body, bias) = point.split_once(':').map_or((point, None), |(b, x)| (b, Some(x.parse::<f32>().unwrap())));
-        let parts: Vec<&str> = body.split('/').collect();
-        let options = match parts[..] {
-            [preset, filter] => RenderOptions {
-                filter: filter.parse::<Filter>().unwrap(),
-                ..preset.parse::<Quality>().unwrap().apply(RenderOptions::default())
-            },
-            [aa, filter, mip] => RenderOptions {
-                antialias: aa.parse::<Antialias>().unwrap(),
-                filter: filter.parse::<Filter>().unwrap(),
-                mip: mip.parse::<MipMode>().unwrap(),
-                ..RenderOptions::default()
-            },
-            _ => panic!("a point is aa/filter/mip or preset/filter, got {point}"),
-        };
-        let options = RenderOptions { lod_bias: bias.unwrap_or(options.lod_bias), ..options };
+        let options = points::options(point);
         configs.push(config(point.to_string(), options));
     }
     for (course, trace) in COURSES.iter().filter(|c| chosen.contains(&c.0)) {
