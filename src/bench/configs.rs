@@ -149,6 +149,7 @@ fn mips_and_antialiasing(v: &mut Vec<Config>, base: RenderOptions, main: (usize,
         (Method::BucketNear, Antialias::Samples16),
         (Method::BucketFar, Antialias::Samples4),
         (Method::ZBuffer, Antialias::Supersample2x2),
+        (Method::ZBuffer, Antialias::RotatedGrid),
     ] {
         add("antialias", format!("{method} aa {antialias}"), RenderOptions { method, antialias, ..base }, main);
     }

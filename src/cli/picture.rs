@@ -29,7 +29,8 @@ pub struct PictureArgs {
     /// middle pixel) or pixel (at every pixel). Default: polygon (play's race: the settings file's, else polygon).
     #[arg(long)]
     pub mip: Option<MipMode>,
-    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, or ssaa (2x2 supersampling). Default:
+    /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, ssaa (2x2 supersampling) or rgss (four
+    /// samples on a rotated grid, the frame drawn four times). Default:
     /// off (play's race: the settings file's, else off).
     #[arg(long)]
     pub aa: Option<Antialias>,

@@ -35,8 +35,10 @@ pub struct Renderer {
     fill: Fill,
     /// The worker pool and its thread count, kept while the count stays the same.
     pool: Option<Pool>,
-    /// The frame at twice the size, for 2x2 supersampling.
+    /// The frame at twice the size, for 2x2 supersampling, or the four passes of a rotated-grid frame.
     big: Vec<u32>,
+    /// The cell of a 2x2 block the pass being drawn stands for, while a rotated-grid frame is drawn.
+    cell: Option<(u8, u8)>,
 }
 
 impl Renderer {
@@ -73,6 +75,9 @@ impl Renderer {
         }
         if options.antialias == Antialias::Supersample2x2 {
             return self.supersampled(&mut frame[..needed], (width, height), camera, list, options);
+        }
+        if options.antialias == Antialias::RotatedGrid {
+            return self.rotated_grid(&mut frame[..needed], (width, height), camera, list, options);
         }
         let threads = match options.threads {
             0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -127,6 +132,60 @@ impl Renderer {
         }
         self.big = big;
         stats
+    }
+
+    /// Draws the frame four times at its own size, each shifted by one of the rotated grid's sub-pixel
+    /// offsets, and averages them (four samples a pixel on four rows and four columns). The models are
+    /// chosen once: each pass after the first starts from the LOD history the frame started with, so a
+    /// cross-fade advances one frame, not four; each pass stands for one cell of a 2x2 block, whose screen
+    /// door ranks it takes, and samples textures a level finer, as a frame of twice the size would.
+    fn rotated_grid(
+        &mut self,
+        frame: &mut [u32],
+        (width, height): (usize, usize),
+        camera: &Camera,
+        list: &DrawList<'_>,
+        options: &RenderOptions,
+    ) -> Result<Stats, RenderError> {
+        let n = width * height;
+        let mut planes = std::mem::take(&mut self.big);
+        // Not cleared: each plane is drawn whole with the background, or starts as a copy of the frame.
+        planes.resize(4 * n, 0);
+        let history = self.geometry.lod.clone();
+        let mut after = None;
+        let mut stats = Stats::default();
+        let [dx, dy] = options.pixel_offset;
+        for (k, (plane, &([ox, oy], cell))) in planes.chunks_exact_mut(n).zip(&supersample::ROTATED_GRID).enumerate() {
+            if options.background.is_none() {
+                plane.copy_from_slice(frame);
+            }
+            if k > 0 {
+                self.geometry.lod = history.clone();
+            }
+            let inner = RenderOptions { antialias: Antialias::Off, pixel_offset: [dx + ox, dy + oy], ..*options };
+            self.cell = Some(cell);
+            let pass = self.render(plane, width, height, camera, list, &inner);
+            self.cell = None;
+            let pass = match pass {
+                Ok(pass) => pass,
+                Err(e) => {
+                    self.big = planes;
+                    return Err(e);
+                }
+            };
+            if k == 0 {
+                after = Some(self.geometry.lod.clone());
+                stats = pass;
+            } else {
+                supersample::add_pass(&mut stats, &pass);
+            }
+        }
+        if let Some(after) = after {
+            self.geometry.lod = after;
+        }
+        supersample::mean_planes(&planes, frame, width, self.pool.as_ref().map(|p| &p.pool));
+        self.big = planes;
+        Ok(stats)
     }
 
     /// How many polygons each ordering-table bucket held in the last frame (nearest first); empty when the
@@ -191,7 +250,7 @@ impl Renderer {
             stretches: &self.geometry.set_up.stretches,
             order: &self.order.order,
         };
-        let counts = self.fill.run(frame, layout, &polygons, list, options);
+        let counts = self.fill.run(frame, layout, &polygons, list, (options, self.cell));
         stats.ms_fill = ms_since(t_fill);
         debug_assert!(stats.ms_transform + stats.ms_clip <= ms_since(t) + 1.0);
         counts

@@ -21,6 +21,18 @@ fn square(color: Vec4) -> scanline_racer::render::Mesh {
 /// The frames of an object whose projected size drops from the close model's range into the middle
 /// model's after the first frame, then stays: `(red, blue, other)` pixel counts of each frame.
 fn frames(options: &RenderOptions, n: usize) -> Vec<(usize, usize, usize)> {
+    pictures(options, n)
+        .iter()
+        .map(|frame| {
+            let count = |c: u32| frame.iter().filter(|&&p| p == c).count();
+            let (red, blue) = (count(0x00ff_0000), count(0x0000_00ff));
+            (red, blue, frame.iter().filter(|&&p| p != 0 && p != 0x00ff_0000 && p != 0x0000_00ff).count())
+        })
+        .collect()
+}
+
+/// The frames [`frames`] counts, as drawn.
+fn pictures(options: &RenderOptions, n: usize) -> Vec<Vec<u32>> {
     let (w, h) = (64usize, 64usize);
     let camera = pixel_camera(w, h);
     let meshes = [square(RED), square(BLUE), square(GREEN)];
@@ -37,9 +49,7 @@ fn frames(options: &RenderOptions, n: usize) -> Vec<(usize, usize, usize)> {
                 DrawList { meshes: &meshes, textures: &[], instances: &instances, lod_sets: &sets, view_lists: None };
             let mut frame = vec![0u32; w * h];
             renderer.render(&mut frame, w, h, &camera, &list, options).unwrap();
-            let count = |c: u32| frame.iter().filter(|&&p| p == c).count();
-            let (red, blue) = (count(0x00ff_0000), count(0x0000_00ff));
-            (red, blue, frame.iter().filter(|&&p| p != 0 && p != 0x00ff_0000 && p != 0x0000_00ff).count())
+            frame
         })
         .collect()
 }
@@ -75,4 +85,29 @@ fn a_fade_is_the_same_on_every_thread_count_and_with_supersampling() {
     // 2x2 supersampling draws the doors at the doubled size: the shares are the same, the colours blend.
     let ssaa = frames(&RenderOptions { antialias: scanline_racer::render::Antialias::Supersample2x2, ..base }, 8);
     assert_eq!(ssaa[7].1, one[7].1, "the middle model alone after the fade");
+}
+
+#[test]
+fn a_rotated_grid_frame_fades_once_a_frame_and_blends_the_doors_as_supersampling_does() {
+    use scanline_racer::render::Antialias;
+    let base = RenderOptions { background: Some(0), lod_fade: true, threads: 1, ..RenderOptions::default() };
+    let plain = frames(&base, 8);
+    let rgss = RenderOptions { antialias: Antialias::RotatedGrid, ..base };
+    let pictures = pictures(&rgss, 8);
+    let counts = frames(&rgss, 8);
+    assert_eq!(frames(&RenderOptions { threads: 3, ..rgss }, 8), counts, "the same on three threads");
+    // Each pass takes one cell of the doors' 2x2 blocks, and every 2x2 block of the 4x4 ranks holds one rank
+    // of each quarter: inside the square every pixel is the same blend, a quarter, half, three quarters
+    // blue as the fade goes, never red or blue alone until it ends.
+    let area = plain[7].1;
+    let blend = |blue: u32| (((255 * (4 - blue) + 2) / 4) << 16) | ((255 * blue + 2) / 4);
+    for (k, blue) in [(1usize, 1u32), (2, 1), (3, 2), (4, 2), (5, 3), (6, 3)] {
+        let inside = pictures[k].iter().filter(|&&p| p == blend(blue)).count();
+        assert!(inside > area * 8 / 10, "frame {k}: {inside} of about {area} pixels {:06x}", blend(blue));
+        assert_eq!((counts[k].0, counts[k].1), (0, 0), "frame {k}: {counts:?}");
+    }
+    // Six frames, as without the four passes: had each pass advanced the history, the fade would have ended
+    // within the second frame.
+    assert!(counts[7].0 == 0 && counts[7].1 > area * 8 / 10, "{counts:?}");
+    assert!(counts[0].0 > area, "the close model first: {counts:?}");
 }

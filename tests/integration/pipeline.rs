@@ -320,7 +320,13 @@ fn anti_aliased_frames_are_bit_identical_for_every_thread_count() {
     };
     for method in Method::ALL {
         let plain = draw(method, Antialias::Off, 1);
-        for aa in [Antialias::Samples4, Antialias::Samples8, Antialias::Samples16, Antialias::Supersample2x2] {
+        for aa in [
+            Antialias::Samples4,
+            Antialias::Samples8,
+            Antialias::Samples16,
+            Antialias::Supersample2x2,
+            Antialias::RotatedGrid,
+        ] {
             let first = draw(method, aa, 1);
             // Anti-aliasing changes the edges (some thousands of pixels of the duck's outline and its
             // polygons' seams) and keeps the inside: most pixels stay as they were.
@@ -333,19 +339,24 @@ fn anti_aliased_frames_are_bit_identical_for_every_thread_count() {
     }
 }
 
-/// 2x2 supersampling keeps its big frame from frame to frame without clearing it: a renderer reused across
-/// sizes, thread counts and backgrounds (drawn over noise when there is none) draws what a fresh one draws.
+/// 2x2 supersampling keeps its big frame from frame to frame without clearing it, and the rotated grid its
+/// four passes: a renderer reused across sizes, thread counts, backgrounds (drawn over noise when there is
+/// none) and the two draws what a fresh one draws.
 #[test]
 fn a_supersampling_renderer_reused_across_sizes_and_backgrounds_draws_what_a_fresh_one_draws() {
     let scene = scanline_racer::asset::load(&samples().join("Duck/Duck.gltf")).expect("Duck loads");
     let mut reused = Renderer::new();
     let mut seed = 1u32;
-    for (w, h, background, threads) in
+    for (i, (w, h, background, threads)) in
         [(64usize, 48usize, true, 1usize), (40, 30, false, 2), (80, 60, true, 3), (64, 48, false, 1), (33, 17, true, 2)]
+            .into_iter()
+            .cycle()
+            .take(10)
+            .enumerate()
     {
         let camera = scene.framing_camera(w as f32 / h as f32);
         let o = RenderOptions {
-            antialias: Antialias::Supersample2x2,
+            antialias: if i % 3 == 1 { Antialias::RotatedGrid } else { Antialias::Supersample2x2 },
             threads,
             background: if background { RenderOptions::default().background } else { None },
             ..RenderOptions::default()

@@ -255,6 +255,9 @@ fn closed_meshes_are_watertight_under_every_anti_aliasing_and_method() {
     let camera = pixel_camera(w, h);
     let mut rng = Rng(0x5a3b1e);
     let ssaa: Vec<(i64, i64)> = vec![(4, 4), (12, 4), (4, 12), (12, 12)];
+    // The rotated grid's samples: each pass shifts the image by (-2, -6), (6, -2), (-6, 2) and (2, 6)
+    // sixteenths, so the pixel centre (8, 8) sees the scene at the opposite offsets.
+    let rgss: Vec<(i64, i64)> = vec![(10, 14), (2, 10), (14, 6), (6, 2)];
     let mut tested = 0;
     for case in 0..60 {
         let faces = random_convex_hull(&mut rng, w, h);
@@ -264,9 +267,16 @@ fn closed_meshes_are_watertight_under_every_anti_aliasing_and_method() {
         tested += 1;
         let screen = front_faces(&faces, h);
         let mesh = tri_mesh(&faces, &[Vec4::ONE], false);
-        for aa in [Antialias::Samples4, Antialias::Samples8, Antialias::Samples16, Antialias::Supersample2x2] {
+        for aa in [
+            Antialias::Samples4,
+            Antialias::Samples8,
+            Antialias::Samples16,
+            Antialias::Supersample2x2,
+            Antialias::RotatedGrid,
+        ] {
             let samples: Vec<(i64, i64)> = match aa.coverage_samples().and_then(SamplePattern::standard) {
                 Some(p) => p.positions[..p.count].iter().map(|&(x, y)| (i64::from(x), i64::from(y))).collect(),
+                None if aa == Antialias::RotatedGrid => rgss.clone(),
                 None => ssaa.clone(),
             };
             let n = samples.len() as u32;

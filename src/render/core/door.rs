@@ -7,6 +7,9 @@
 //! is what a level-of-detail cross-fade needs: the new model through `k` quarters, the old one through the
 //! rest. Half coverage not inverted is the checkerboard of pixels with `x + y` even (the ghost car).
 
+/// Set in a door that is drawn on one cell of a 2x2 block ([`Door::on_cell`]), bits 4-5 the cell.
+const CELL: u8 = 8;
+
 /// The ordered-dither ranks of a 4x4 block, by row.
 const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
 
@@ -31,7 +34,7 @@ impl Door {
     /// The 3-bit code (0 for none), for packing.
     #[must_use]
     pub(crate) fn bits(self) -> u8 {
-        self.0
+        self.0 & 7
     }
 
     /// The door of a 3-bit code from [`Door::bits`] (a code with no quarters is none).
@@ -44,16 +47,33 @@ impl Door {
     #[must_use]
     #[inline(always)]
     pub fn is_none(self) -> bool {
-        self.0 == 0
+        self.0 & 3 == 0
+    }
+
+    /// The same door for one pass of a frame drawn in four passes ([`crate::render::Antialias::RotatedGrid`]):
+    /// pixel `(x, y)` of pass `cell` (`(0, 0)` to `(1, 1)`) takes the rank of pixel `(2x + cx, 2y + cy)`,
+    /// so the four passes together see each pixel's 2x2 block of ranks, as 2x2 supersampling does, and a
+    /// fade blends in steps of a quarter instead of dithering. No door stays none.
+    #[must_use]
+    pub(crate) fn on_cell(self, cell: Option<(u8, u8)>) -> Door {
+        match cell {
+            Some((cx, cy)) if self.0 & 3 != 0 => Door((self.0 & 7) | CELL | (cx & 1) << 4 | (cy & 1) << 5),
+            _ => self,
+        }
     }
 
     /// Whether the pixel at `(x, y)` is left alone (always false without a door).
     #[must_use]
     #[inline(always)]
     pub fn hides(self, x: i32, y: i32) -> bool {
-        if self.0 == 0 {
+        if self.0 & 3 == 0 {
             return false;
         }
+        let (x, y) = if self.0 & CELL != 0 {
+            (2 * x + i32::from(self.0 >> 4 & 1), 2 * y + i32::from(self.0 >> 5 & 1))
+        } else {
+            (x, y)
+        };
         let rank = BAYER[(y & 3) as usize][(x & 3) as usize];
         let inside = rank < 4 * (self.0 & 3);
         inside == (self.0 & 4 != 0)
@@ -63,6 +83,32 @@ impl Door {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_door_on_a_cell_takes_the_ranks_of_that_cell_of_the_doubled_frame() {
+        let cells = [(0u8, 0u8), (1, 0), (0, 1), (1, 1)];
+        for q in 1..=3 {
+            for inverted in [false, true] {
+                let door = Door::quarters(q, inverted).unwrap();
+                for y in -6..6 {
+                    for x in -6..6 {
+                        let drawn: Vec<bool> = cells.iter().map(|&c| !door.on_cell(Some(c)).hides(x, y)).collect();
+                        let want: Vec<bool> = cells
+                            .iter()
+                            .map(|&(cx, cy)| !door.hides(2 * x + i32::from(cx), 2 * y + i32::from(cy)))
+                            .collect();
+                        assert_eq!(drawn, want, "({x}, {y}) at {q} quarters, inverted {inverted}");
+                        // Every 2x2 block of ranks holds one of each quarter: the four cells draw q of 4.
+                        let n = drawn.iter().filter(|&&d| d).count();
+                        assert_eq!(n, if inverted { 4 - usize::from(q) } else { usize::from(q) });
+                    }
+                }
+                assert_eq!(door.on_cell(None), door);
+                assert_eq!(door.on_cell(Some((1, 1))).bits(), door.bits(), "the packed code is unchanged");
+            }
+        }
+        assert!(Door::NONE.on_cell(Some((1, 0))).is_none(), "no door stays none");
+    }
 
     #[test]
     fn a_door_and_its_inverse_draw_every_pixel_exactly_once() {

@@ -172,6 +172,13 @@ pub struct TexGradients {
 }
 
 impl TexGradients {
+    /// The planes of the same polygon in a frame of twice the width and height: every change per pixel
+    /// halved (exactly, a power of two).
+    #[must_use]
+    pub(crate) fn halved(self) -> Self {
+        Self { dx: self.dx.map(|d| d * 0.5), dy: self.dy.map(|d| d * 0.5) }
+    }
+
     /// The planes through a polygon's corners, from the fan triangle of largest area (the best
     /// conditioned); all zero for a polygon with no area.
     #[must_use]

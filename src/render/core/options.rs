@@ -348,12 +348,22 @@ pub enum Antialias {
     /// The frame drawn at twice the width and height and box-filtered down: the quality yardstick, at
     /// four times the pixels.
     Supersample2x2,
+    /// Four samples a pixel on a rotated grid (RGSS): the frame drawn four times at its own size, each
+    /// shifted by a sub-pixel offset, and averaged. Four rows and four columns of samples where 2x2
+    /// supersampling has two of each, so an edge near the horizontal or the vertical gets five levels.
+    RotatedGrid,
 }
 
 impl Antialias {
     /// Every choice, in the order the command line lists them.
-    pub const ALL: [Antialias; 5] =
-        [Antialias::Off, Antialias::Samples4, Antialias::Samples8, Antialias::Samples16, Antialias::Supersample2x2];
+    pub const ALL: [Antialias; 6] = [
+        Antialias::Off,
+        Antialias::Samples4,
+        Antialias::Samples8,
+        Antialias::Samples16,
+        Antialias::Supersample2x2,
+        Antialias::RotatedGrid,
+    ];
 
     /// The command-line name.
     #[must_use]
@@ -364,6 +374,7 @@ impl Antialias {
             Antialias::Samples8 => "8x",
             Antialias::Samples16 => "16x",
             Antialias::Supersample2x2 => "ssaa",
+            Antialias::RotatedGrid => "rgss",
         }
     }
 
@@ -374,7 +385,7 @@ impl Antialias {
             Antialias::Samples4 => Some(4),
             Antialias::Samples8 => Some(8),
             Antialias::Samples16 => Some(16),
-            Antialias::Off | Antialias::Supersample2x2 => None,
+            Antialias::Off | Antialias::Supersample2x2 | Antialias::RotatedGrid => None,
         }
     }
 }
@@ -391,6 +402,6 @@ impl FromStr for Antialias {
         Antialias::ALL
             .into_iter()
             .find(|a| a.name() == s)
-            .ok_or_else(|| UnknownName::new("anti-aliasing", s, "off, 4x, 8x, 16x or ssaa"))
+            .ok_or_else(|| UnknownName::new("anti-aliasing", s, "off, 4x, 8x, 16x, ssaa or rgss"))
     }
 }

@@ -110,6 +110,10 @@ pub(crate) struct FillContext<'a> {
     pub(crate) words: usize,
     /// The coverage samples when anti-aliased.
     pub(crate) pattern: Option<SamplePattern>,
+    /// The cell of a 2x2 block this pass of a rotated-grid frame stands for (`None` for a frame drawn in
+    /// one pass): its screen doors take that cell's ranks, and its textures a level finer, the level a
+    /// frame of twice the size would choose.
+    pub(crate) cell: Option<(u8, u8)>,
 }
 
 impl<'a> FillContext<'a> {
@@ -131,18 +135,24 @@ impl<'a> FillContext<'a> {
             Some(v) if measured && texture.is_some() => TexGradients::of(v),
             _ => TexGradients::default(),
         };
+        // A pass of a rotated-grid frame samples like a frame of twice the size: its texel footprints are
+        // half as wide (halving the planes is exact) and its polygons' levels one finer.
+        let (gradients, lod) = match self.cell {
+            Some(_) => (gradients.halved(), (p.lod() - 1.0).max(0.0)),
+            None => (gradients, p.lod()),
+        };
         Shading {
             texture,
             sampler: p.sampler,
             filter: self.options.filter,
             mip,
-            lod: p.lod(),
+            lod,
             gradients,
             mode: self.options.texture_mode,
             alpha_cutoff: p.alpha_cutoff(),
             constant_color: p.constant_color(),
             visibility: self.visibility,
-            door: p.door(),
+            door: p.door().on_cell(self.cell),
         }
     }
 

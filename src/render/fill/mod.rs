@@ -77,7 +77,7 @@ impl Fill {
         layout: FrameLayout,
         polygons: &Polygons<'_>,
         list: &DrawList<'_>,
-        options: &RenderOptions,
+        (options, cell): (&RenderOptions, Option<(u8, u8)>),
     ) -> SpanCounts {
         let ordered = options.method != Method::ZBuffer;
         // Out of `self` while the runs below borrow its bins.
@@ -98,6 +98,7 @@ impl Fill {
             width: layout.width,
             words: layout.width.div_ceil(64),
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
+            cell,
         };
         let bands = split_bands(frame, layout.width, layout.rows_per_band);
         let counts = if layout.threads == 1 {

@@ -166,12 +166,12 @@ mod tests {
             (
                 r#"{"antialias": "6x", "filter": "bilinear"}"#,
                 (Antialias::Off, Filter::Bilinear, MipMode::Polygon),
-                "antialias \"6x\" is not off, 4x, 8x, 16x or ssaa: off used",
+                "antialias \"6x\" is not off, 4x, 8x, 16x, ssaa or rgss: off used",
             ),
             (
                 r#"{"antialias": 4, "mip": "pixel"}"#,
                 (Antialias::Off, Filter::Nearest, MipMode::Pixel),
-                "antialias 4 is not off, 4x, 8x, 16x or ssaa: off used",
+                "antialias 4 is not off, 4x, 8x, 16x, ssaa or rgss: off used",
             ),
             (
                 r#"{"antialias": "ssaa", "filter": ["trilinear"]}"#,
