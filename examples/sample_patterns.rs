@@ -8,8 +8,8 @@
 //! `cargo run --release --example sample_patterns -- [course,...] [mip] [threads]` (defaults: every
 //! course, `off`, 2 threads; 640x480, as `bench`). Every picture uses one mip choice (`off` compares the
 //! patterns alone: the four small frames would otherwise pick levels a step blurrier than the big one), no
-//! LOD cross-fade and LOD bias +1, as `ultra`; about a minute a course. Not yet a renderer option: this
-//! is the measurement behind choosing one.
+//! LOD cross-fade and LOD bias +1, as `ultra`; about a minute a course. `--aa rgss` draws the rotated
+//! grid (with textures a level finer); this measures the patterns alone.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
