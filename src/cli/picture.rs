@@ -30,7 +30,7 @@ pub struct PictureArgs {
     #[arg(long)]
     pub mip: Option<MipMode>,
     /// Anti-aliasing: off, 4x, 8x or 16x coverage samples per pixel, ssaa (2x2 supersampling) or rgss (four
-    /// samples on a rotated grid, the frame drawn four times). Default:
+    /// samples on a rotated grid, the frame drawn four rows a pixel). Default:
     /// off (play's race: the settings file's, else off).
     #[arg(long)]
     pub aa: Option<Antialias>,

@@ -35,10 +35,10 @@ pub struct Renderer {
     fill: Fill,
     /// The worker pool and its thread count, kept while the count stays the same.
     pool: Option<Pool>,
-    /// The frame at twice the size, for 2x2 supersampling, or the four passes of a rotated-grid frame.
+    /// The frame at twice the size, for 2x2 supersampling, or at four times the height, for the rotated grid.
     big: Vec<u32>,
-    /// The cell of a 2x2 block the pass being drawn stands for, while a rotated-grid frame is drawn.
-    cell: Option<(u8, u8)>,
+    /// Whether the frame being drawn is a rotated-grid frame, four rows a pixel.
+    tall: bool,
 }
 
 impl Renderer {
@@ -134,11 +134,11 @@ impl Renderer {
         stats
     }
 
-    /// Draws the frame four times at its own size, each shifted by one of the rotated grid's sub-pixel
-    /// offsets, and averages them (four samples a pixel on four rows and four columns). The models are
-    /// chosen once: each pass after the first starts from the LOD history the frame started with, so a
-    /// cross-fade advances one frame, not four; each pass stands for one cell of a 2x2 block, whose screen
-    /// door ranks it takes, and samples textures a level finer, as a frame of twice the size would.
+    /// Draws the frame at four times its height, each row's samples shifted by its own fraction of a pixel
+    /// (the fill's [`ROW_SHIFTS`](super::core::samples::ROW_SHIFTS)), and averages each column of four rows:
+    /// four samples a pixel on four rows and four columns, a rotated grid. The geometry runs once, with the
+    /// camera's aspect and the models of the frame's own size; the screen doors take the ranks of a frame
+    /// of twice the size, and the textures are sampled as there.
     fn rotated_grid(
         &mut self,
         frame: &mut [u32],
@@ -147,45 +147,24 @@ impl Renderer {
         list: &DrawList<'_>,
         options: &RenderOptions,
     ) -> Result<Stats, RenderError> {
-        let n = width * height;
-        let mut planes = std::mem::take(&mut self.big);
-        // Not cleared: each plane is drawn whole with the background, or starts as a copy of the frame.
-        planes.resize(4 * n, 0);
-        let history = self.geometry.lod.clone();
-        let mut after = None;
-        let mut stats = Stats::default();
+        let th =
+            height.checked_mul(4).filter(|&h| h <= MAX_SIDE).ok_or(RenderError::FrameTooLarge { width, height })?;
+        let mut tall = std::mem::take(&mut self.big);
+        // Not cleared: the drawing fills every pixel with the background, or the expansion writes them all.
+        tall.resize(width * th, 0);
+        if options.background.is_none() {
+            supersample::expand_rows(frame, width, &mut tall);
+        }
         let [dx, dy] = options.pixel_offset;
-        for (k, (plane, &([ox, oy], cell))) in planes.chunks_exact_mut(n).zip(&supersample::ROTATED_GRID).enumerate() {
-            if options.background.is_none() {
-                plane.copy_from_slice(frame);
-            }
-            if k > 0 {
-                self.geometry.lod = history.clone();
-            }
-            let inner = RenderOptions { antialias: Antialias::Off, pixel_offset: [dx + ox, dy + oy], ..*options };
-            self.cell = Some(cell);
-            let pass = self.render(plane, width, height, camera, list, &inner);
-            self.cell = None;
-            let pass = match pass {
-                Ok(pass) => pass,
-                Err(e) => {
-                    self.big = planes;
-                    return Err(e);
-                }
-            };
-            if k == 0 {
-                after = Some(self.geometry.lod.clone());
-                stats = pass;
-            } else {
-                supersample::add_pass(&mut stats, &pass);
-            }
+        let inner = RenderOptions { antialias: Antialias::Off, pixel_offset: [dx, 4.0 * dy], ..*options };
+        self.tall = true;
+        let stats = self.render(&mut tall, width, th, camera, list, &inner);
+        self.tall = false;
+        if stats.is_ok() {
+            supersample::mean_rows(&tall, frame, width, self.pool.as_ref().map(|p| &p.pool));
         }
-        if let Some(after) = after {
-            self.geometry.lod = after;
-        }
-        supersample::mean_planes(&planes, frame, width, self.pool.as_ref().map(|p| &p.pool));
-        self.big = planes;
-        Ok(stats)
+        self.big = tall;
+        stats
     }
 
     /// How many polygons each ordering-table bucket held in the last frame (nearest first); empty when the
@@ -237,7 +216,7 @@ impl Renderer {
         stats: &mut Stats,
     ) -> SpanCounts {
         let t = Instant::now();
-        self.geometry.run(layout, camera, list, options, stats);
+        self.geometry.run((layout, self.tall), camera, list, options, stats);
         let t_order = Instant::now();
         let keys = &self.geometry.set_up.main.keys;
         debug_assert!(keys.is_empty() || keys.len() == self.geometry.set_up.main.polys.len());
@@ -250,7 +229,7 @@ impl Renderer {
             stretches: &self.geometry.set_up.stretches,
             order: &self.order.order,
         };
-        let counts = self.fill.run(frame, layout, &polygons, list, (options, self.cell));
+        let counts = self.fill.run(frame, layout, &polygons, list, (options, self.tall));
         stats.ms_fill = ms_since(t_fill);
         debug_assert!(stats.ms_transform + stats.ms_clip <= ms_since(t) + 1.0);
         counts

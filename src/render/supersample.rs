@@ -1,15 +1,14 @@
 //! 2x2 supersampling's two passes around the drawing at twice the size: each pixel of the frame becomes its
 //! four when the frame is drawn over what is there, and each 2x2 block of the big frame becomes one pixel, the
-//! rounded mean of its four colours channel by channel (`(sum + 2) / 4`). And the rotated grid's: its four
-//! sub-pixel offsets, and the mean of its four frames, pixel by pixel, by the same rounding.
+//! rounded mean of its four colours channel by channel (`(sum + 2) / 4`). And the rotated grid's, around its
+//! frame of four rows a pixel (whose rows the fill samples at shifted columns, `core::samples::ROW_SHIFTS`):
+//! each pixel becomes a column of four, and each column of four one pixel, by the same rounding.
 //!
 //! The mean adds red and blue in one word (each sum of four fits in ten bits, sixteen bits apart) and green
 //! in another, so a pixel costs a few integer operations; the rows are shared among the renderer's threads,
 //! each output pixel depending only on its own block, so the frame is the same for every thread count.
 
 use rayon::prelude::*;
-
-use super::core::stats::Stats;
 
 /// Output rows per task when the box filter is shared among threads.
 const ROWS_PER_TASK: usize = 16;
@@ -48,49 +47,35 @@ fn filter_rows(big: &[u32], out: &mut [u32], width: usize) {
     }
 }
 
-/// The rotated grid's four passes: each one's shift of the image in pixels (whole sixteenths, the fill's
-/// grid, so no two samples round onto one place) and the cell of a 2x2 block whose screen-door ranks it
-/// takes. The samples lie on four rows and four columns, a quarter pixel apart, each row and column
-/// holding one (the pattern of 4x RGSS hardware).
-pub(crate) const ROTATED_GRID: [([f32; 2], (u8, u8)); 4] =
-    [([-0.125, -0.375], (0, 0)), ([0.375, -0.125], (1, 0)), ([-0.375, 0.125], (0, 1)), ([0.125, 0.375], (1, 1))];
-
-/// Adds a later pass's work to the first pass's statistics: the times and the pixel counts (the polygons
-/// and objects are the first pass's, the picture's).
-pub(crate) fn add_pass(stats: &mut Stats, pass: &Stats) {
-    stats.ms_transform += pass.ms_transform;
-    stats.ms_clip += pass.ms_clip;
-    stats.ms_order += pass.ms_order;
-    stats.ms_fill += pass.ms_fill;
-    stats.pixels_shaded += pass.pixels_shaded;
-    stats.pixels_written += pass.pixels_written;
-    stats.pixels_rejected += pass.pixels_rejected;
+/// Copies each row of `frame` (`width` pixels a row) into four rows of `tall`, which is four times the height.
+pub(crate) fn expand_rows(frame: &[u32], width: usize, tall: &mut [u32]) {
+    for (row, four) in frame.chunks_exact(width).zip(tall.chunks_exact_mut(4 * width)) {
+        for copy in four.chunks_exact_mut(width) {
+            copy.copy_from_slice(row);
+        }
+    }
 }
 
-/// The mean of four frames of `frame`'s size stored one after the other in `planes`, into `frame`
-/// (`width` pixels a row), the rows shared among `pool`'s threads when there is a pool.
-pub(crate) fn mean_planes(planes: &[u32], frame: &mut [u32], width: usize, pool: Option<&rayon::ThreadPool>) {
-    let n = frame.len();
-    if width == 0 || planes.len() < 4 * n {
+/// Each column of four pixels of `tall` (four times `frame`'s height) as the rounded mean of the four, into
+/// `frame` (`width` pixels a row), the rows shared among `pool`'s threads when there is a pool.
+pub(crate) fn mean_rows(tall: &[u32], frame: &mut [u32], width: usize, pool: Option<&rayon::ThreadPool>) {
+    if width == 0 || tall.len() < 4 * frame.len() {
         return;
     }
-    let (a, rest) = planes.split_at(n);
-    let (b, rest) = rest.split_at(n);
-    let (c, d) = rest.split_at(n);
-    let chunk = width * ROWS_PER_TASK;
-    let rows = |(k, out): (usize, &mut [u32])| {
-        let at = k * chunk..k * chunk + out.len();
-        let (Some(a), Some(b), Some(c), Some(d)) = (a.get(at.clone()), b.get(at.clone()), c.get(at.clone()), d.get(at))
-        else {
-            return;
-        };
-        for ((((o, &a), &b), &c), &d) in out.iter_mut().zip(a).zip(b).zip(c).zip(d) {
-            *o = mean4(a, b, c, d);
+    let rows = |(out, four): (&mut [u32], &[u32])| {
+        for (row, four) in out.chunks_exact_mut(width).zip(four.chunks_exact(4 * width)) {
+            let (a, rest) = four.split_at(width);
+            let (b, rest) = rest.split_at(width);
+            let (c, d) = rest.split_at(width);
+            for ((((o, &a), &b), &c), &d) in row.iter_mut().zip(a).zip(b).zip(c).zip(d) {
+                *o = mean4(a, b, c, d);
+            }
         }
     };
+    let chunk = width * ROWS_PER_TASK;
     match pool {
-        Some(pool) => pool.install(|| frame.par_chunks_mut(chunk).enumerate().for_each(rows)),
-        None => frame.chunks_mut(chunk).enumerate().for_each(rows),
+        Some(pool) => pool.install(|| frame.par_chunks_mut(chunk).zip(tall.par_chunks(4 * chunk)).for_each(rows)),
+        None => rows((frame, tall)),
     }
 }
 
@@ -128,36 +113,29 @@ mod tests {
     }
 
     #[test]
-    fn the_rotated_grid_has_four_rows_and_four_columns_on_the_fill_grid_and_each_cell_once() {
-        let sixteenths = |v: f32| {
-            assert_eq!(v * 16.0, (v * 16.0).round(), "{v} is a whole sixteenth");
-            (v * 16.0) as i32
-        };
-        let mut xs: Vec<i32> = ROTATED_GRID.iter().map(|(o, _)| sixteenths(o[0])).collect();
-        let mut ys: Vec<i32> = ROTATED_GRID.iter().map(|(o, _)| sixteenths(o[1])).collect();
-        xs.sort_unstable();
-        ys.sort_unstable();
-        assert_eq!((xs, ys), (vec![-6, -2, 2, 6], vec![-6, -2, 2, 6]), "a quarter pixel apart, centred");
-        let mut cells: Vec<(u8, u8)> = ROTATED_GRID.iter().map(|&(_, c)| c).collect();
-        cells.sort_unstable();
-        assert_eq!(cells, [(0, 0), (0, 1), (1, 0), (1, 1)]);
-    }
-
-    #[test]
-    fn the_mean_of_four_planes_is_each_pixels_mean_on_any_thread_count() {
+    fn expanded_rows_come_back_and_the_mean_of_four_rows_is_each_columns_mean_on_any_thread_count() {
         let (w, h) = (23, 37);
         let mut rng = Lcg(5);
-        let planes: Vec<u32> = (0..4 * w * h).map(|_| word(&mut rng)).collect();
-        let n = w * h;
-        let want: Vec<u32> = (0..n)
-            .map(|i| mean4_per_channel([planes[i], planes[n + i], planes[2 * n + i], planes[3 * n + i]]))
+        let frame: Vec<u32> = (0..w * h).map(|_| word(&mut rng) & 0x00ff_ffff).collect();
+        let mut tall = vec![0u32; 4 * w * h];
+        expand_rows(&frame, w, &mut tall);
+        assert_eq!(tall[(4 * 5 + 3) * w + 7], frame[5 * w + 7]);
+        let mut back = vec![0u32; w * h];
+        mean_rows(&tall, &mut back, w, None);
+        assert_eq!(back, frame);
+        let tall: Vec<u32> = (0..4 * w * h).map(|_| word(&mut rng)).collect();
+        let want: Vec<u32> = (0..w * h)
+            .map(|i| {
+                let (y, x) = (i / w, i % w);
+                mean4_per_channel(std::array::from_fn(|k| tall[(4 * y + k) * w + x]))
+            })
             .collect();
-        let mut one = vec![0u32; n];
-        mean_planes(&planes, &mut one, w, None);
+        let mut one = vec![0u32; w * h];
+        mean_rows(&tall, &mut one, w, None);
         assert_eq!(one, want);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
-        let mut three = vec![0u32; n];
-        mean_planes(&planes, &mut three, w, Some(&pool));
+        let mut three = vec![0u32; w * h];
+        mean_rows(&tall, &mut three, w, Some(&pool));
         assert_eq!(three, want);
     }
 

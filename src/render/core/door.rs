@@ -7,8 +7,8 @@
 //! is what a level-of-detail cross-fade needs: the new model through `k` quarters, the old one through the
 //! rest. Half coverage not inverted is the checkerboard of pixels with `x + y` even (the ghost car).
 
-/// Set in a door that is drawn on one cell of a 2x2 block ([`Door::on_cell`]), bits 4-5 the cell.
-const CELL: u8 = 8;
+/// Set in a door drawn in a frame of four rows a pixel ([`Door::in_tall_frame`]).
+const TALL: u8 = 8;
 
 /// The ordered-dither ranks of a 4x4 block, by row.
 const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
@@ -50,16 +50,13 @@ impl Door {
         self.0 & 3 == 0
     }
 
-    /// The same door for one pass of a frame drawn in four passes ([`crate::render::Antialias::RotatedGrid`]):
-    /// pixel `(x, y)` of pass `cell` (`(0, 0)` to `(1, 1)`) takes the rank of pixel `(2x + cx, 2y + cy)`,
-    /// so the four passes together see each pixel's 2x2 block of ranks, as 2x2 supersampling does, and a
-    /// fade blends in steps of a quarter instead of dithering. No door stays none.
+    /// The same door for a frame drawn four rows a pixel ([`crate::render::Antialias::RotatedGrid`]), when
+    /// `tall`: pixel `(x, 4y + k)` of that frame takes the rank of pixel `(2x + k % 2, 2y + k / 2)` of a frame
+    /// of twice the width and height, so a pixel's four rows see its 2x2 block of ranks, as 2x2 supersampling
+    /// does, and a fade blends in steps of a quarter instead of dithering. No door stays none.
     #[must_use]
-    pub(crate) fn on_cell(self, cell: Option<(u8, u8)>) -> Door {
-        match cell {
-            Some((cx, cy)) if self.0 & 3 != 0 => Door((self.0 & 7) | CELL | (cx & 1) << 4 | (cy & 1) << 5),
-            _ => self,
-        }
+    pub(crate) fn in_tall_frame(self, tall: bool) -> Door {
+        if tall && self.0 & 3 != 0 { Door((self.0 & 7) | TALL) } else { self }
     }
 
     /// Whether the pixel at `(x, y)` is left alone (always false without a door).
@@ -69,11 +66,7 @@ impl Door {
         if self.0 & 3 == 0 {
             return false;
         }
-        let (x, y) = if self.0 & CELL != 0 {
-            (2 * x + i32::from(self.0 >> 4 & 1), 2 * y + i32::from(self.0 >> 5 & 1))
-        } else {
-            (x, y)
-        };
+        let (x, y) = if self.0 & TALL != 0 { (2 * x + (y & 1), 2 * (y >> 2) + (y >> 1 & 1)) } else { (x, y) };
         let rank = BAYER[(y & 3) as usize][(x & 3) as usize];
         let inside = rank < 4 * (self.0 & 3);
         inside == (self.0 & 4 != 0)
@@ -85,29 +78,27 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_door_on_a_cell_takes_the_ranks_of_that_cell_of_the_doubled_frame() {
-        let cells = [(0u8, 0u8), (1, 0), (0, 1), (1, 1)];
+    fn a_door_in_a_tall_frame_takes_the_ranks_of_the_doubled_frame() {
         for q in 1..=3 {
             for inverted in [false, true] {
                 let door = Door::quarters(q, inverted).unwrap();
+                let tall = door.in_tall_frame(true);
                 for y in -6..6 {
                     for x in -6..6 {
-                        let drawn: Vec<bool> = cells.iter().map(|&c| !door.on_cell(Some(c)).hides(x, y)).collect();
-                        let want: Vec<bool> = cells
-                            .iter()
-                            .map(|&(cx, cy)| !door.hides(2 * x + i32::from(cx), 2 * y + i32::from(cy)))
-                            .collect();
+                        // Rows 4y..4y + 4 of the tall frame stand for the cells (0, 0), (1, 0), (0, 1), (1, 1).
+                        let drawn: Vec<bool> = (0..4).map(|k| !tall.hides(x, 4 * y + k)).collect();
+                        let want: Vec<bool> = (0..4).map(|k| !door.hides(2 * x + k % 2, 2 * y + k / 2)).collect();
                         assert_eq!(drawn, want, "({x}, {y}) at {q} quarters, inverted {inverted}");
-                        // Every 2x2 block of ranks holds one of each quarter: the four cells draw q of 4.
+                        // Every 2x2 block of ranks holds one of each quarter: the four rows draw q of 4.
                         let n = drawn.iter().filter(|&&d| d).count();
                         assert_eq!(n, if inverted { 4 - usize::from(q) } else { usize::from(q) });
                     }
                 }
-                assert_eq!(door.on_cell(None), door);
-                assert_eq!(door.on_cell(Some((1, 1))).bits(), door.bits(), "the packed code is unchanged");
+                assert_eq!(door.in_tall_frame(false), door);
+                assert_eq!(tall.bits(), door.bits(), "the packed code is unchanged");
             }
         }
-        assert!(Door::NONE.on_cell(Some((1, 0))).is_none(), "no door stays none");
+        assert!(Door::NONE.in_tall_frame(true).is_none(), "no door stays none");
     }
 
     #[test]

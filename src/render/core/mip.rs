@@ -172,11 +172,12 @@ pub struct TexGradients {
 }
 
 impl TexGradients {
-    /// The planes of the same polygon in a frame of twice the width and height: every change per pixel
-    /// halved (exactly, a power of two).
+    /// The planes of a polygon measured in a frame of four rows a pixel, as in a frame of twice the width
+    /// and height: the change per pixel along x halved, and along y (per row, a quarter of a pixel) doubled
+    /// (exactly, powers of two).
     #[must_use]
-    pub(crate) fn halved(self) -> Self {
-        Self { dx: self.dx.map(|d| d * 0.5), dy: self.dy.map(|d| d * 0.5) }
+    pub(crate) fn in_tall_frame(self) -> Self {
+        Self { dx: self.dx.map(|d| d * 0.5), dy: self.dy.map(|d| d * 2.0) }
     }
 
     /// The planes through a polygon's corners, from the fan triangle of largest area (the best

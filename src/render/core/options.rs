@@ -348,9 +348,10 @@ pub enum Antialias {
     /// The frame drawn at twice the width and height and box-filtered down: the quality yardstick, at
     /// four times the pixels.
     Supersample2x2,
-    /// Four samples a pixel on a rotated grid (RGSS): the frame drawn four times at its own size, each
-    /// shifted by a sub-pixel offset, and averaged. Four rows and four columns of samples where 2x2
-    /// supersampling has two of each, so an edge near the horizontal or the vertical gets five levels.
+    /// Four samples a pixel on a rotated grid (RGSS): the frame drawn at four times its height, each row's
+    /// samples shifted right or left by its own fraction of a pixel, and each column of four rows averaged.
+    /// Four rows and four columns of samples where 2x2 supersampling has two of each, so an edge near the
+    /// horizontal or the vertical gets five levels.
     RotatedGrid,
 }
 

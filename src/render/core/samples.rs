@@ -21,6 +21,13 @@ pub struct SamplePattern {
 
 /// The standard offsets from the pixel centre, 1/16 pixel, for 4 samples.
 const OFFSETS_4: [(i32, i32); 4] = [(-2, -6), (6, -2), (-6, 2), (2, 6)];
+/// The 4-sample pattern as four rows of a frame drawn four rows a pixel (the rotated grid,
+/// [`Antialias::RotatedGrid`](crate::render::Antialias::RotatedGrid)): row `4y + k` of that frame samples
+/// pixel row `y` at `(2k - 3) * 2` sixteenths from its centre, that is [`OFFSETS_4`]'s `y`s in order, and
+/// each of its samples lies `ROW_SHIFTS[k]` sixteenths right of its pixel's centre, the `x` of the pattern's
+/// sample on that row. So the four rows of a pixel hold the pattern's four samples.
+pub const ROW_SHIFTS: [i32; 4] = [-2, 6, -6, 2];
+
 /// For 8 samples.
 const OFFSETS_8: [(i32, i32); 8] = [(1, -3), (-1, 3), (5, 1), (-3, -5), (-5, 5), (-7, -1), (3, 7), (7, -7)];
 /// For 16 samples.
@@ -77,6 +84,16 @@ impl SamplePattern {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_row_shifts_are_the_four_sample_pattern_row_by_row() {
+        let mut by_row = OFFSETS_4;
+        by_row.sort_by_key(|&(_, y)| y);
+        let rows: Vec<i32> = by_row.iter().map(|&(_, y)| y).collect();
+        // Row 4y + k of a frame four rows a pixel has its centre (2k - 3) * 2 sixteenths from pixel y's.
+        assert_eq!(rows, (0..4).map(|k| (2 * k - 3) * 2).collect::<Vec<_>>());
+        assert_eq!(by_row.map(|(x, _)| x), ROW_SHIFTS);
+    }
 
     #[test]
     fn patterns_lie_inside_the_pixel_and_spread_over_its_rows_and_columns() {

@@ -6,7 +6,7 @@
 use super::antialias::{self, Target};
 use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
-use super::scanline::{Span, fill_spans, fill_spans_first};
+use super::scanline::{Span, fill_spans_first, fill_spans_shifted};
 use super::small::{self, NextFlat};
 use super::span::{Prepared, Shading, draw_prepared};
 use super::span_lanes::{Fill, Paint, Source, dispatch, span_run, walk};
@@ -16,9 +16,9 @@ use crate::render::core::draw_list::DrawList;
 use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
-use crate::render::core::samples::SamplePattern;
+use crate::render::core::samples::{ROW_SHIFTS, SamplePattern};
 use crate::render::core::small::{SmallTriangle, TexPlanes};
-use crate::render::core::vertex::ScreenVertex;
+use crate::render::core::vertex::{ATTRS, ScreenVertex};
 use crate::render::simd::{self, Avx2};
 
 /// A thread's depth and coverage rows for the band it is drawing.
@@ -110,10 +110,11 @@ pub(crate) struct FillContext<'a> {
     pub(crate) words: usize,
     /// The coverage samples when anti-aliased.
     pub(crate) pattern: Option<SamplePattern>,
-    /// The cell of a 2x2 block this pass of a rotated-grid frame stands for (`None` for a frame drawn in
-    /// one pass): its screen doors take that cell's ranks, and its textures a level finer, the level a
-    /// frame of twice the size would choose.
-    pub(crate) cell: Option<(u8, u8)>,
+    /// Whether the frame is a rotated-grid frame drawn four rows a pixel: each row's samples are shifted by
+    /// [`ROW_SHIFTS`], its screen doors take the ranks of a frame of twice the size
+    /// ([`Door::in_tall_frame`](crate::render::core::door::Door::in_tall_frame)), and its textures are
+    /// sampled as in such a frame.
+    pub(crate) tall: bool,
 }
 
 impl<'a> FillContext<'a> {
@@ -135,24 +136,23 @@ impl<'a> FillContext<'a> {
             Some(v) if measured && texture.is_some() => TexGradients::of(v),
             _ => TexGradients::default(),
         };
-        // A pass of a rotated-grid frame samples like a frame of twice the size: its texel footprints are
-        // half as wide (halving the planes is exact) and its polygons' levels one finer.
-        let (gradients, lod) = match self.cell {
-            Some(_) => (gradients.halved(), (p.lod() - 1.0).max(0.0)),
-            None => (gradients, p.lod()),
-        };
+        // A rotated-grid frame samples like a frame of twice the width and height: its texel footprints
+        // are half as wide and, its rows being a quarter of a pixel, twice as tall (scaling the planes by
+        // powers of two is exact). Its polygons' levels are already one finer: a level per polygon comes
+        // from the polygon's area, four times larger in a frame of four rows a pixel.
+        let gradients = if self.tall { gradients.in_tall_frame() } else { gradients };
         Shading {
             texture,
             sampler: p.sampler,
             filter: self.options.filter,
             mip,
-            lod,
+            lod: p.lod(),
             gradients,
             mode: self.options.texture_mode,
             alpha_cutoff: p.alpha_cutoff(),
             constant_color: p.constant_color(),
             visibility: self.visibility,
-            door: p.door().on_cell(self.cell),
+            door: p.door().in_tall_frame(self.tall),
         }
     }
 
@@ -237,16 +237,18 @@ impl<'a> FillContext<'a> {
         rows: &mut BandPixels<'_>,
     ) -> SpanCounts {
         let width = self.width as i32;
+        let tall = self.tall.then_some(ROW_SHIFTS);
         if let Some((source, alpha)) = prepared.fast().filter(|_| shading.mip != MipMode::Span) {
-            return dispatch(source, alpha, self.visibility, PolygonSpans { verts, band: band_rows, width, rows });
+            let spans = PolygonSpans { verts, band: band_rows, width, tall, rows };
+            return dispatch(source, alpha, self.visibility, spans);
         }
         let mut total = SpanCounts::default();
         let draw = |span: &Span| total += draw_prepared(span, shading, prepared, &mut rows.row(span.y));
         match prepared.fast() {
-            None => fill_spans(verts, band_rows, width, draw),
+            None => walk_rows::<ATTRS>(verts, band_rows, width, tall, draw),
             // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.
-            Some((Source::Flat(_), _)) => fill_spans_first::<1>(verts, band_rows, width, draw),
-            Some(_) => fill_spans_first::<4>(verts, band_rows, width, draw),
+            Some((Source::Flat(_), _)) => walk_rows::<1>(verts, band_rows, width, tall, draw),
+            Some(_) => walk_rows::<4>(verts, band_rows, width, tall, draw),
         }
         total
     }
@@ -399,21 +401,38 @@ struct PolygonSpans<'v, 'r, 'b> {
     /// The band's rows, `band.0..band.1`.
     band: (i32, i32),
     width: i32,
+    /// Each row's sample shifts, in a frame of four rows a pixel.
+    tall: Option<[i32; 4]>,
     rows: &'r mut BandPixels<'b>,
 }
 
 impl Fill for PolygonSpans<'_, '_, '_> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let PolygonSpans { verts, band, width, rows } = self;
+        let PolygonSpans { verts, band, width, tall, rows } = self;
         let mut total = SpanCounts::default();
         let draw = |span: &Span| total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
         // Each attribute is interpolated on its own, so fewer of them change none of the others' bits; a
         // flat colour needs only the depth.
         if SRC == FLAT {
-            fill_spans_first::<1>(verts, band, width, draw);
+            walk_rows::<1>(verts, band, width, tall, draw);
         } else {
-            fill_spans_first::<4>(verts, band, width, draw);
+            walk_rows::<4>(verts, band, width, tall, draw);
         }
         total
+    }
+}
+
+/// A polygon's spans on rows `band`, each row's samples shifted by `tall` when given.
+#[inline(always)]
+fn walk_rows<const N: usize>(
+    verts: &[ScreenVertex],
+    band: (i32, i32),
+    width: i32,
+    tall: Option<[i32; 4]>,
+    draw: impl FnMut(&Span),
+) {
+    match tall {
+        Some(shifts) => fill_spans_shifted::<N>(verts, band, width, shifts, draw),
+        None => fill_spans_first::<N>(verts, band, width, draw),
     }
 }

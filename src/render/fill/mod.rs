@@ -77,7 +77,7 @@ impl Fill {
         layout: FrameLayout,
         polygons: &Polygons<'_>,
         list: &DrawList<'_>,
-        (options, cell): (&RenderOptions, Option<(u8, u8)>),
+        (options, tall): (&RenderOptions, bool),
     ) -> SpanCounts {
         let ordered = options.method != Method::ZBuffer;
         // Out of `self` while the runs below borrow its bins.
@@ -98,7 +98,7 @@ impl Fill {
             width: layout.width,
             words: layout.width.div_ceil(64),
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
-            cell,
+            tall,
         };
         let bands = split_bands(frame, layout.width, layout.rows_per_band);
         let counts = if layout.threads == 1 {

@@ -13,6 +13,12 @@
 //! Attributes are evaluated at the exact sub-pixel row centre along each edge and then at each pixel centre
 //! across the span, directly from the start values rather than by accumulated stepping, so a row comes out
 //! bit-identical whichever band (thread) draws it.
+//!
+//! **Shifted rows** ([`fill_spans_shifted`]): in a frame drawn four rows a pixel for the rotated grid, row
+//! `y` samples each pixel at `(x + 0.5 + shifts[y % 4] / 16, y + 0.5)` instead of its centre (each shift a
+//! whole number of sixteenths below one pixel, so still on the vertices' grid), by the same rules: the
+//! first covered pixel of an edge is the ceiling of `(x_edge - 0.5 - shift) / 1`, found from the DDA's
+//! quotient and remainder exactly, and the span's attributes are at its first pixel's shifted sample.
 
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
@@ -95,6 +101,16 @@ impl Edge {
         self.q + i64::from(self.r != 0)
     }
 
+    /// The first pixel whose sample, `shift` raw units right of its centre (`|shift| < 16`), is at or
+    /// right of the edge: `ceil((x - 1/2 - shift) / 1)` on the same exact grid as [`Self::pixel`].
+    #[inline]
+    fn pixel_shifted(&self, shift: i64) -> i64 {
+        debug_assert!(shift.abs() < i64::from(Fx28_4::ONE));
+        // `shift * dy` in the denominator's units (`d = 16 dy`), so `t` lies in `(-d, 2d)`.
+        let t = self.r - shift * self.d / i64::from(Fx28_4::ONE);
+        self.q + i64::from(t > 0) + i64::from(t > self.d)
+    }
+
     #[inline]
     fn step(&mut self) {
         self.q += self.sq;
@@ -143,7 +159,33 @@ pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, emit: impl F
 
 /// [`fill_spans`] interpolating only the first `N` attributes (the others are 0 in the spans): a polygon of
 /// one colour needs only depth and texture coordinates, half the work per row for small polygons.
-pub fn fill_spans_first<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32, mut emit: impl FnMut(&Span)) {
+pub fn fill_spans_first<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32, emit: impl FnMut(&Span)) {
+    walk::<N, false>(v, rows, width, [0; 4], emit);
+}
+
+/// [`fill_spans_first`] with each row's samples moved right by `shifts[row % 4]` raw units (each below a
+/// pixel): the rows of a frame drawn four rows a pixel, whose samples then lie on a rotated grid
+/// ([`ROW_SHIFTS`](crate::render::core::samples::ROW_SHIFTS)). A pixel is covered when its shifted sample
+/// is, by the rules above, and the span's attributes are at the shifted sample of its first pixel.
+pub fn fill_spans_shifted<const N: usize>(
+    v: &[ScreenVertex],
+    rows: (i32, i32),
+    width: i32,
+    shifts: [i32; 4],
+    emit: impl FnMut(&Span),
+) {
+    walk::<N, true>(v, rows, width, shifts, emit);
+}
+
+/// The walk of [`fill_spans_first`], with each row's samples shifted by `shifts[row % 4]` when `SHIFTED`.
+#[inline(always)]
+fn walk<const N: usize, const SHIFTED: bool>(
+    v: &[ScreenVertex],
+    rows: (i32, i32),
+    width: i32,
+    shifts: [i32; 4],
+    mut emit: impl FnMut(&Span),
+) {
     let n = v.len();
     if n < 3 {
         return;
@@ -187,14 +229,20 @@ pub fn fill_spans_first<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), wi
                 None => return,
             }
         }
-        let xs = left.pixel().max(0);
-        let xe = right.pixel().min(i64::from(width));
+        let shift = if SHIFTED { shifts[(row & 3) as usize] } else { 0 };
+        let (xs, xe) = if SHIFTED {
+            (left.pixel_shifted(i64::from(shift)), right.pixel_shifted(i64::from(shift)))
+        } else {
+            (left.pixel(), right.pixel())
+        };
+        let (xs, xe) = (xs.max(0), xe.min(i64::from(width)));
         if xs < xe {
             let (xl, al) = left.sample::<N>(row);
             let (xr, ar) = right.sample::<N>(row);
             let dx = xr - xl;
             let inv = if dx > 1.0 / 64.0 { 1.0 / dx } else { 0.0 };
-            let off = xs as f32 + 0.5 - xl;
+            let at = if SHIFTED { 0.5 + shift as f32 / Fx28_4::ONE as f32 } else { 0.5 };
+            let off = xs as f32 + at - xl;
             let mut a0 = [0.0; ATTRS];
             let mut da = [0.0; ATTRS];
             for i in 0..N.min(ATTRS) {
@@ -234,6 +282,40 @@ mod tests {
         // Reversed winding covers the same pixels.
         let rev: Vec<_> = sq.iter().rev().copied().collect();
         assert_eq!(covered(&rev, 8, 8), [(1, 1), (2, 1), (1, 2), (2, 2)]);
+    }
+
+    #[test]
+    fn a_shifted_row_covers_what_the_polygon_moved_the_other_way_covers_at_centres() {
+        use crate::render::core::samples::ROW_SHIFTS;
+        use crate::render::core::test_rng::Lcg;
+        let mut rng = Lcg(3);
+        let (w, h) = (40, 40);
+        let mut compared = 0;
+        for _ in 0..2000 {
+            // A triangle with corners anywhere on the grid, partly outside the frame.
+            let mut coord = || (rng.next() % (16 * 48)) as i32 - 64;
+            let tri = [sv(coord(), coord()), sv(coord(), coord()), sv(coord(), coord())];
+            let mut shifted = vec![];
+            fill_spans_shifted::<ATTRS>(&tri, (0, h), w, ROW_SHIFTS, |s| {
+                shifted.extend((s.x0..s.x1).map(|x| (x, s.y)));
+            });
+            for (k, &shift) in ROW_SHIFTS.iter().enumerate() {
+                // Sampling `shift` right of the centres is sampling the centres of the polygon moved left.
+                let moved: Vec<_> = tri.iter().map(|p| sv(p.x.0 - shift, p.y.0)).collect();
+                let want: Vec<_> = covered(&moved, w, h).into_iter().filter(|&(_, y)| y % 4 == k as i32).collect();
+                let got: Vec<_> = shifted.iter().copied().filter(|&(_, y)| y % 4 == k as i32).collect();
+                assert_eq!(got, want, "{tri:?} rows {k} mod 4");
+                compared += got.len();
+            }
+        }
+        assert!(compared > 100_000, "{compared} pixels compared");
+        // A span's attributes are at its first pixel's shifted sample: x itself, as an attribute, says where.
+        let ramp = |x: i32, y: i32| ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [x as f32 / 16.0; ATTRS] };
+        let quad = [ramp(0, 0), ramp(320, 0), ramp(320, 64), ramp(0, 64)];
+        fill_spans_shifted::<1>(&quad, (0, 4), 20, ROW_SHIFTS, |s| {
+            let want = s.x0 as f32 + 0.5 + ROW_SHIFTS[s.y as usize] as f32 / 16.0;
+            assert!((s.a0[0] - want).abs() < 1e-5 && (s.da[0] - 1.0).abs() < 1e-5, "{s:?}");
+        });
     }
 
     #[test]

@@ -54,20 +54,25 @@ pub(crate) struct Geometry {
 impl Geometry {
     /// Cull, transform, clip, project, snap and back-face cull every instance of `list`: fills
     /// `self.set_up` (the polygons and, for the z-buffer, the order of their batches).
+    ///
+    /// When `tall`, the frame is a rotated-grid frame drawn four rows a pixel: the camera's aspect and the
+    /// models' projected sizes are those of a frame a quarter of `layout`'s height, and no small triangles
+    /// are set up.
     pub(crate) fn run(
         &mut self,
-        layout: FrameLayout,
+        (layout, tall): (FrameLayout, bool),
         camera: &Camera,
         list: &DrawList<'_>,
         options: &RenderOptions,
         stats: &mut Stats,
     ) {
-        let clip_from_view = shifted_clip_from_view(camera, (layout.width, layout.height), options);
+        let rows = if tall { layout.height / 4 } else { layout.height };
+        let clip_from_view = shifted_clip_from_view(camera, (layout.width, layout.height), rows, options);
         let clip_from_world = clip_from_view * camera.view;
         let world_from_view = camera.view.inverse();
         let t_visible = Instant::now();
         let frustum = Frustum::new(&clip_from_world, camera.has_far_plane());
-        let y_scale_px = clip_from_view.y_axis.y * layout.height as f32;
+        let y_scale_px = clip_from_view.y_axis.y * rows as f32;
         let pass = PassView { camera, y_scale_px, frustum: &frustum, list, options };
         let mut visible = std::mem::take(&mut self.visible);
         visible_objects(&pass, &mut self.lod, layout.threads, (&mut self.visible_chunks, &mut visible), stats);
@@ -81,6 +86,7 @@ impl Geometry {
             layout,
             list,
             options,
+            tall,
         };
         self.set_up.run(&view, &pass, &visible, stats);
         self.visible = visible;
@@ -107,7 +113,7 @@ impl Geometry {
         options: &RenderOptions,
     ) -> Vec<Option<(usize, bool)>> {
         let mut stats = Stats::default();
-        let clip_from_view = shifted_clip_from_view(camera, (width, height), options);
+        let clip_from_view = shifted_clip_from_view(camera, (width, height), height, options);
         let frustum = Frustum::new(&(clip_from_view * camera.view), camera.has_far_plane());
         let y_scale_px = clip_from_view.y_axis.y * height as f32;
         let lod = &mut self.lod;
@@ -120,11 +126,17 @@ impl Geometry {
     }
 }
 
-/// The camera's view-to-clip matrix for a frame of `width` x `height` pixels, followed by the image shift of
-/// `options.pixel_offset` (a translation in NDC, which moves every projected point by the same number of
-/// pixels; none when the offset is not finite).
-fn shifted_clip_from_view(camera: &Camera, (width, height): (usize, usize), options: &RenderOptions) -> Mat4 {
-    let clip_from_view = camera.clip_from_view(width, height);
+/// The camera's view-to-clip matrix for a frame of `width` x `height` pixels whose aspect is that of `width`
+/// x `rows` (`rows` is a quarter of `height` in a frame of four rows a pixel), followed by the image shift
+/// of `options.pixel_offset` in the frame's pixels (a translation in NDC, which moves every projected point
+/// by the same number of pixels; none when the offset is not finite).
+fn shifted_clip_from_view(
+    camera: &Camera,
+    (width, height): (usize, usize),
+    rows: usize,
+    options: &RenderOptions,
+) -> Mat4 {
+    let clip_from_view = camera.clip_from_view(width, rows);
     let [dx, dy] = options.pixel_offset;
     if (dx == 0.0 && dy == 0.0) || !dx.is_finite() || !dy.is_finite() || width == 0 || height == 0 {
         return clip_from_view;

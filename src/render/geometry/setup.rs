@@ -93,9 +93,12 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) door: Door,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
     pub(crate) fast_path: FastPathRule,
-    /// Whether the fill draws coverage samples: then no small triangles are set up (that fill draws every
-    /// polygon from its corners), and a polygon's rows are every row its samples may fall in.
+    /// Whether the fill draws coverage samples: then a polygon's rows are every row its samples may fall in.
     pub(crate) antialiased: bool,
+    /// Whether small triangles are set up for their fast fill: not when the fill draws coverage samples
+    /// (it draws every polygon from its corners), nor in a frame of four rows a pixel (whose rows' samples
+    /// are shifted, which only the scanline walk does).
+    pub(crate) small_triangles: bool,
     /// The frame's width in pixels.
     pub(crate) width: i32,
 }
@@ -282,7 +285,7 @@ impl ObjectSetup<'_> {
             index,
             texture,
             alpha_cutoff,
-            small: fast && !self.antialiased && material.depth_bias == 0,
+            small: fast && self.small_triangles && material.depth_bias == 0,
             mip_size,
         }
     }
@@ -397,7 +400,7 @@ impl ObjectSetup<'_> {
         );
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
-        let small = |corners: &[ScreenVertex], area: i64| match (fast && !self.antialiased, texture) {
+        let small = |corners: &[ScreenVertex], area: i64| match (fast && self.small_triangles, texture) {
             (false, _) => None,
             (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
             (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),

@@ -124,6 +124,7 @@ fn the_eight_lane_set_up_writes_exactly_what_the_one_polygon_loop_writes() {
             mip_textures: if mip { std::slice::from_ref(&texture) } else { &[] },
             fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: mip_mode },
             antialiased: false,
+            small_triangles: true,
             width: w as i32,
         };
         // Every start, so that groups of eight begin at every offset of the material runs.
