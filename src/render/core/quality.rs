@@ -21,9 +21,11 @@ pub enum Quality {
     Low,
     /// As `low`, with finer models kept twice as far (LOD bias +1) and level-of-detail changes cross-faded.
     Medium,
-    /// 2x2 supersampling (edges and texture detail both sampled four times a pixel), cross-fades.
+    /// 2x2 supersampling (edges and texture detail both sampled four times a pixel) with finer models kept
+    /// twice as far, cross-fades.
     High,
-    /// 2x2 supersampling with finer models kept twice as far, cross-fades.
+    /// As `high` with the four samples on a rotated grid (four rows and four columns of them, where 2x2 has
+    /// two of each): the most accurate and steadiest picture within 3.5x the bottom step's time.
     Ultra,
 }
 
@@ -50,8 +52,8 @@ impl Quality {
         match self {
             Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0),
             Quality::Medium => (nearest, polygon, Antialias::Off, true, 1.0),
-            Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 0.0),
-            Quality::Ultra => (nearest, polygon, Antialias::Supersample2x2, true, 1.0),
+            Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 1.0),
+            Quality::Ultra => (nearest, polygon, Antialias::RotatedGrid, true, 1.0),
         }
     }
 
@@ -122,6 +124,8 @@ mod tests {
         let kept = RenderOptions { threads: 3, lod_bias: 2.0, buckets: 64, ..RenderOptions::default() };
         let high = Quality::High.apply(kept);
         assert_eq!((high.threads, high.buckets), (3, 64));
-        assert_eq!((high.lod_bias, high.antialias, high.lod_fade), (0.0, Antialias::Supersample2x2, true));
+        assert_eq!((high.lod_bias, high.antialias, high.lod_fade), (1.0, Antialias::Supersample2x2, true));
+        let ultra = Quality::Ultra.apply(kept);
+        assert_eq!((ultra.lod_bias, ultra.antialias, ultra.lod_fade), (1.0, Antialias::RotatedGrid, true));
     }
 }
