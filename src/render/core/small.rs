@@ -13,6 +13,51 @@ pub const MAX_SIDE: i32 = 16;
 /// [`fill_flat_narrow`](crate::render::fill::small::fill_flat_narrow).
 pub const NARROW: usize = 4;
 
+/// The frame a small triangle is set up for: its width; how far (raw [`Fx28_4`] units) a row's samples may
+/// lie right or left of the pixel centres (0, or [`ROW_REACH`] in a frame of four rows a pixel, whose rows
+/// sample shifted columns), which widens the triangle's box by as much each way; and how many rows its box
+/// may have ([`MAX_SIDE`], or four times as many in a frame of four rows a pixel: the same height in the
+/// picture's pixels, each a row of the box's edge-function masks as in any frame).
+///
+/// Every edge-function value stays within `i32` for these boxes: at most 16 columns (and the reach) by 64
+/// rows of 16 raw units, so each of its two products is below `2^18`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct SmallFrame {
+    /// The frame's width in pixels.
+    pub(crate) width: i32,
+    /// How far a row's samples may lie from the centres, raw units.
+    pub(crate) reach: i32,
+    /// The most rows a box may have.
+    pub(crate) rows: i32,
+}
+
+impl SmallFrame {
+    /// A frame `width` pixels wide whose rows sample the pixel centres.
+    #[must_use]
+    pub(crate) fn plain(width: i32) -> Self {
+        Self { width, reach: 0, rows: MAX_SIDE }
+    }
+
+    /// A frame `width` pixels wide drawn four rows a pixel (the rotated grid).
+    #[must_use]
+    pub(crate) fn tall(width: i32) -> Self {
+        Self { width, reach: ROW_REACH, rows: 4 * MAX_SIDE }
+    }
+}
+
+/// The reach of a frame of four rows a pixel: the largest of
+/// [`ROW_SHIFTS`](super::samples::ROW_SHIFTS) in magnitude.
+pub(crate) const ROW_REACH: i32 = 6;
+
+const _: () = {
+    let s = super::samples::ROW_SHIFTS;
+    let mut k = 0;
+    while k < 4 {
+        assert!(s[k] <= ROW_REACH && -s[k] <= ROW_REACH);
+        k += 1;
+    }
+};
+
 /// One edge function, normalised so that a pixel centre is inside when its value is positive. In a
 /// bounding box of at most [`MAX_SIDE`] pixels every value is below `2^19` in magnitude, so `i32` holds it.
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]

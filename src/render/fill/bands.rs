@@ -327,6 +327,9 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
     /// Draws a group of flat small triangles (any visibility): runs of narrow ones by
     /// [`small::fill_flat_run`] (with AVX2 where the CPU has it), the others a run at a time.
     fn fill_flat<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        if self.ctx.tall {
+            return self.fill_flat_shifted::<VIS>(paint);
+        }
         let SmallGroup { first: (first, (tri, _)), rest, ctx, band, rows } = self;
         let mut total = SpanCounts::default();
         // Asked once per group: even the detection's cached answer is a cost the fill notices when asked per
@@ -342,7 +345,24 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
             total += SpanCounts { shaded: written, written, rejected };
             let Some((t, color)) = wide else { break };
             let paint = paint.with_flat(color);
-            t.for_each_run::<1>(&TexPlanes::NONE, band, |y, run: &Run| {
+            t.for_each_run::<1>(&TexPlanes::NONE, band, None, |y, run: &Run| {
+                total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y))
+            });
+            current = next.next_flat();
+        }
+        total
+    }
+
+    /// [`Self::fill_flat`] in a frame of four rows a pixel: every triangle a run at a time, each row's
+    /// samples shifted ([`ROW_SHIFTS`]; the narrow fill's four lanes sample the centres).
+    fn fill_flat_shifted<const VIS: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        let SmallGroup { first: (first, (tri, _)), rest, ctx, band, rows } = self;
+        let mut total = SpanCounts::default();
+        let mut next = AlikeFlat { rest, ctx, first };
+        let mut current = Some((tri, paint.flat()));
+        while let Some((t, color)) = current {
+            let paint = paint.with_flat(color);
+            t.for_each_run::<1>(&TexPlanes::NONE, band, Some(&ROW_SHIFTS), |y, run: &Run| {
                 total += walk::<VIS, FLAT>(run, &paint, &mut rows.row(y))
             });
             current = next.next_flat();
@@ -370,6 +390,15 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> Fill for SmallGroup<'_, 'c, '_, '_
         if SRC == FLAT {
             return self.fill_flat::<VIS>(paint);
         }
+        // The frame's kind chosen once for the group, so the plain frame's loop has no shifts to look at.
+        if self.ctx.tall { self.fill_runs::<VIS, SRC, true>(paint) } else { self.fill_runs::<VIS, SRC, false>(paint) }
+    }
+}
+
+impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
+    /// Draws the group's triangles a run at a time, each row's samples shifted ([`ROW_SHIFTS`]) when `TALL`.
+    fn fill_runs<const VIS: u8, const SRC: u8, const TALL: bool>(self, paint: &Paint<'_>) -> SpanCounts {
+        let shifts = if TALL { Some(&ROW_SHIFTS) } else { None };
         let mut total = SpanCounts::default();
         let SmallGroup { first: (first, (mut tri, mut planes)), rest, ctx, band, rows } = self;
         // Set-up gave a textureless small triangle only the depth plane, which is all a flat colour reads.
@@ -379,9 +408,9 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> Fill for SmallGroup<'_, 'c, '_, '_
             let draw = |y, run: &Run| total += walk::<VIS, SRC>(run, &paint, &mut rows.row(y));
             // A flat colour needs only the depth.
             if SRC == FLAT {
-                tri.for_each_run::<1>(planes, band, draw)
+                tri.for_each_run::<1>(planes, band, shifts, draw)
             } else {
-                tri.for_each_run::<4>(planes, band, draw)
+                tri.for_each_run::<4>(planes, band, shifts, draw)
             }
             let Some((q, (t, p))) = next_alike::<SRC>(rest, ctx, first) else { break };
             if SRC == FLAT {

@@ -8,6 +8,7 @@
 //! vertex rather than stepped from row to row, so a row's values do not depend on which band draws it.
 
 use super::row::{BandPixels, COVERAGE, DEPTH_TEST, Run};
+use crate::render::core::fixed::Fx28_4;
 use crate::render::core::small::{EdgeFn, NARROW, SmallTriangle, TexPlanes};
 
 /// The first `N` columns of the box (bit `k` for column `k`) whose centres are inside all three edges on the
@@ -29,8 +30,17 @@ fn row_mask<const N: i32>(edges: &[EdgeFn; 3]) -> u32 {
 impl SmallTriangle {
     /// Calls `f` with each row of `band` (`band.0..band.1`) and the run of pixels the triangle covers on it,
     /// top to bottom, with the first `N` attributes (the depth, then those of the texture planes `tex`).
+    /// With `shifts` (a frame of four rows a pixel), row `y` samples its pixels `shifts[y % 4]` raw units
+    /// right of their centres: the edge functions move by that many units along x, exactly (a change per
+    /// pixel is sixteen times a change per unit), and the run's attributes are at its first sample.
     #[inline(always)]
-    pub(crate) fn for_each_run<const N: usize>(&self, tex: &TexPlanes, band: (i32, i32), mut f: impl FnMut(i32, &Run)) {
+    pub(crate) fn for_each_run<const N: usize>(
+        &self,
+        tex: &TexPlanes,
+        band: (i32, i32),
+        shifts: Option<&[i32; 4]>,
+        mut f: impl FnMut(i32, &Run),
+    ) {
         let (y_start, y_end) = (self.rows[0].max(band.0), self.rows[1].min(band.1));
         if y_start >= y_end {
             return;
@@ -49,15 +59,24 @@ impl SmallTriangle {
         for y in y_start..y_end {
             // A triangle is convex: the covered centres of a row are one run of the box's columns.
             // A fixed number of columns (4, 8 or 16, masked to the box) unrolls without a branch per column.
+            let (row_edges, shift) = match shifts {
+                Some(s) => {
+                    let s = s[(y & 3) as usize];
+                    let moved = edges.map(|e| EdgeFn { at_row: e.at_row + e.step_x / Fx28_4::ONE * s, ..e });
+                    (moved, s as f32 / Fx28_4::ONE as f32)
+                }
+                None => (edges, 0.0),
+            };
             let m = match columns {
-                ..=4 => row_mask::<4>(&edges),
-                5..=8 => row_mask::<8>(&edges),
-                _ => row_mask::<16>(&edges),
+                ..=4 => row_mask::<4>(&row_edges),
+                5..=8 => row_mask::<8>(&row_edges),
+                _ => row_mask::<16>(&row_edges),
             } & column_mask;
             if m != 0 {
                 let (first, end) = (m.trailing_zeros(), u32::BITS - m.leading_zeros());
                 // Evaluated from the first vertex on every row (not stepped), so any band gives the same values.
-                let (k, dy) = (first as f32, y as f32 + 0.5 - self.y0);
+                let k = if shifts.is_some() { first as f32 + shift } else { first as f32 };
+                let dy = y as f32 + 0.5 - self.y0;
                 let mut a0 = a_start;
                 for ((a, dx), dy_) in a0.iter_mut().zip(&dadx).zip(&dady).take(N) {
                     *a += dy_ * dy + k * dx;
@@ -281,10 +300,13 @@ pub(crate) fn fill_row_pixels<const VIS: u8>(
 mod tests {
     use super::*;
     use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::samples::ROW_SHIFTS;
+    use crate::render::core::small::SmallFrame;
     use crate::render::core::test_rng::Lcg;
+    use crate::render::core::vertex::ATTRS;
     use crate::render::core::vertex::{ScreenVertex, signed_area2};
     use crate::render::fill::row::OVERWRITE;
-    use crate::render::fill::scanline::{Span, fill_spans};
+    use crate::render::fill::scanline::{Span, fill_spans, fill_spans_shifted};
 
     fn sv(x: i32, y: i32, a: f32) -> ScreenVertex {
         ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs: [a, 1.0, a * 2.0, -a, 0.5, 0.5, 0.5, 1.0] }
@@ -295,18 +317,74 @@ mod tests {
 
     /// The runs the small path gives, `None` if it declines.
     fn small_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Option<Runs> {
-        let (t, planes) = SmallTriangle::new::<4>(v, signed_area2(v), width)?;
+        small_runs_shifted(v, rows, width, None)
+    }
+
+    /// [`small_runs`] in a frame whose rows sample shifted columns, when `shifts` is given.
+    fn small_runs_shifted(v: &[ScreenVertex], rows: (i32, i32), width: i32, shifts: Option<&[i32; 4]>) -> Option<Runs> {
+        let frame = if shifts.is_some() { SmallFrame::tall(width) } else { SmallFrame::plain(width) };
+        let (t, planes) = SmallTriangle::new::<4>(v, signed_area2(v), frame)?;
         let mut out = vec![];
-        t.for_each_run::<4>(&planes, rows, |y, r| out.push(((y, r.x0, r.x1), r.a0)));
+        t.for_each_run::<4>(&planes, rows, shifts, |y, r| out.push(((y, r.x0, r.x1), r.a0)));
         Some(out)
     }
 
     fn walker_runs(v: &[ScreenVertex], rows: (i32, i32), width: i32) -> Runs {
+        walker_runs_shifted(v, rows, width, None)
+    }
+
+    fn walker_runs_shifted(v: &[ScreenVertex], rows: (i32, i32), width: i32, shifts: Option<&[i32; 4]>) -> Runs {
         let mut out = vec![];
-        fill_spans(v, rows, width, |s: &Span| {
-            out.push(((s.y, s.x0 as usize, s.x1 as usize), [s.a0[0], s.a0[1], s.a0[2], s.a0[3]]));
-        });
+        let push = |s: &Span| out.push(((s.y, s.x0 as usize, s.x1 as usize), [s.a0[0], s.a0[1], s.a0[2], s.a0[3]]));
+        match shifts {
+            Some(&s) => fill_spans_shifted::<ATTRS>(v, rows, width, s, push),
+            None => fill_spans(v, rows, width, push),
+        }
         out
+    }
+
+    /// The plane `a = c0 x + c1 y + c2` (pixels) through corners `t` (raw units) carrying 0, 1 and 2.
+    fn exact_plane(t: &[(i32, i32); 3]) -> [f64; 3] {
+        let p = t.map(|(x, y)| (f64::from(x) / 16.0, f64::from(y) / 16.0));
+        let (e1, e2) = ((p[1].0 - p[0].0, p[1].1 - p[0].1), (p[2].0 - p[0].0, p[2].1 - p[0].1));
+        let det = e1.0 * e2.1 - e2.0 * e1.1;
+        let (c0, c1) = ((1.0 * e2.1 - 2.0 * e1.1) / det, (2.0 * e1.0 - 1.0 * e2.0) / det);
+        [c0, c1, -(c0 * p[0].0 + c1 * p[0].1)]
+    }
+
+    #[test]
+    fn shifted_rows_cover_what_the_walker_covers_with_the_same_shifts() {
+        let mut rng = Lcg(9);
+        let (mut drawn, mut edge_columns, mut tall) = (0, 0, 0);
+        for case in 0..20_000 {
+            let step = [16, 8, 4, 1][case % 4];
+            // Up to 42 rows tall: a frame of four rows a pixel takes boxes of up to 64 rows.
+            let mut p = || (rng.range(-8, 40) * step / 4 + 100, rng.range(-8, 160) * step / 4 + 60);
+            let t = [p(), p(), p()];
+            let v: Vec<_> = t.iter().enumerate().map(|(i, &(x, y))| sv(x, y, i as f32)).collect();
+            let (width, rows) = (14, (4, 50));
+            let Some(small) = small_runs_shifted(&v, rows, width, Some(&ROW_SHIFTS)) else { continue };
+            let (top, bottom) = (t.iter().map(|p| p.1).min().unwrap(), t.iter().map(|p| p.1).max().unwrap());
+            tall += usize::from(bottom - top > 16 * 16);
+            let walker = walker_runs_shifted(&v, rows, width, Some(&ROW_SHIFTS));
+            let pixels = |r: &Runs| r.iter().map(|r| r.0).collect::<Vec<_>>();
+            assert_eq!(pixels(&small), pixels(&walker), "triangle {t:?}");
+            drawn += small.len();
+            // Runs reaching a column whose centre is outside the corners' range: the widened box at work.
+            let (lo, hi) = (t.iter().map(|p| p.0).min().unwrap(), t.iter().map(|p| p.0).max().unwrap());
+            edge_columns +=
+                small.iter().filter(|r| (r.0.1 as i32) * 16 + 8 < lo || (r.0.2 as i32 - 1) * 16 + 8 >= hi).count();
+            // The attributes are the plane's at the run's first shifted sample (the walker's own, on a
+            // span thinner than 1/64 of a pixel, are its left edge's, so the plane is the yardstick here).
+            let plane = exact_plane(&t);
+            for ((y, x0, _), a) in &small {
+                let x = *x0 as f64 + 0.5 + f64::from(ROW_SHIFTS[(*y & 3) as usize]) / 16.0;
+                let want = plane[0] * x + plane[1] * (f64::from(*y) + 0.5) + plane[2];
+                assert!((f64::from(a[0]) - want).abs() < 1e-3, "{t:?} row {y}: {} vs {want}", a[0]);
+            }
+        }
+        assert!(drawn > 10_000 && edge_columns > 100, "{drawn} runs compared, {edge_columns} past the centres");
+        assert!(tall > 1_000, "only {tall} triangles taller than 16 rows");
     }
 
     #[test]
@@ -328,7 +406,7 @@ mod tests {
             // The attributes agree with the walker's to rounding.
             for (a, b) in small.iter().zip(&walker) {
                 for i in 0..4 {
-                    assert!((a.1[i] - b.1[i]).abs() < 1e-3, "{t:?} attr {i}: {} vs {}", a.1[i], b.1[i]);
+                    assert!((a.1[i] - b.1[i]).abs() < 1e-3, "{t:?} {:?} attr {i}: {} vs {}", a.0, a.1[i], b.1[i]);
                 }
             }
         }
@@ -338,9 +416,9 @@ mod tests {
     #[test]
     fn large_or_non_triangular_polygons_are_left_to_the_walker() {
         let big = [sv(0, 0, 0.0), sv(16 * 17, 0, 0.0), sv(0, 16 * 3, 0.0)];
-        assert!(SmallTriangle::new::<4>(&big, signed_area2(&big), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&big, signed_area2(&big), SmallFrame::plain(400)).is_none());
         let quad = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(32, 32, 0.0), sv(0, 32, 0.0)];
-        assert!(SmallTriangle::new::<4>(&quad, signed_area2(&quad), 400).is_none());
+        assert!(SmallTriangle::new::<4>(&quad, signed_area2(&quad), SmallFrame::plain(400)).is_none());
         let flat = [sv(0, 0, 0.0), sv(32, 0, 0.0), sv(64, 0, 0.0)];
         assert_eq!(small_runs(&flat, (0, 100), 400), Some(vec![]));
     }
@@ -359,7 +437,8 @@ mod tests {
                 v
             };
             let v = [corner(), corner(), corner()];
-            let Some((t, _)) = SmallTriangle::new::<1>(&v, signed_area2(&v), width as i32) else { continue };
+            let frame = SmallFrame::plain(width as i32);
+            let Some((t, _)) = SmallTriangle::new::<1>(&v, signed_area2(&v), frame) else { continue };
             let Some(r) = t.narrow_rows(band) else { continue };
             let old: Vec<f32> = (0..n).map(|i| if i % 3 == 0 { 0.5 } else { rng.unit() }).collect();
             // 'Already drawn' bits, one word a row (13 pixels).
@@ -368,7 +447,7 @@ mod tests {
                 // The reference: each run a pixel at a time, depth `a0 + k * da` (as `span_lanes::walk`).
                 let (mut color, mut depth, mut cover) = (vec![0u32; n], old.clone(), drawn.clone());
                 let mut counts = (0, 0);
-                t.for_each_run::<1>(&TexPlanes::NONE, band, |y, run| {
+                t.for_each_run::<1>(&TexPlanes::NONE, band, None, |y, run| {
                     for x in run.x0..run.x1 {
                         let (row, bit) = ((y - band.0) as usize, 1u64 << x);
                         let i = row * width + x;

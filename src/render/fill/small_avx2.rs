@@ -115,6 +115,7 @@ pub(crate) fn fill_flat_narrow<const VIS: u8>(r: &NarrowRows, color: u32, px: &m
 mod tests {
     use super::*;
     use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::small::SmallFrame;
     use crate::render::core::test_rng::Lcg;
     use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
     use crate::render::fill::row::OVERWRITE;
@@ -172,7 +173,8 @@ mod tests {
             let a = corner(0, None);
             let (b, c) = (corner(1, Some(&a)), corner(2, Some(&a)));
             let v = [a, b, c];
-            let Some((t, _)) = SmallTriangle::new::<1>(&v, signed_area2(&v), width as i32) else { continue };
+            let frame = SmallFrame::plain(width as i32);
+            let Some((t, _)) = SmallTriangle::new::<1>(&v, signed_area2(&v), frame) else { continue };
             let band = if case % 3 == 0 { (0, height as i32) } else { (3, 7) };
             let Some(r) = t.narrow_rows(band) else { continue };
             let y0 = band.0 as usize;

@@ -58,7 +58,7 @@ pub(crate) struct FrameView<'a> {
     pub(crate) list: &'a DrawList<'a>,
     /// The frame's options.
     pub(crate) options: &'a RenderOptions,
-    /// Whether the frame is drawn four rows a pixel (a rotated-grid frame), which draws no small triangles.
+    /// Whether the frame is drawn four rows a pixel (a rotated-grid frame), whose rows sample shifted columns.
     pub(crate) tall: bool,
 }
 
@@ -122,7 +122,7 @@ impl<'a> FrameView<'a> {
             door: p.door,
             fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode, mip: options.mip },
             antialiased: options.antialias.coverage_samples().is_some(),
-            small_triangles: options.antialias.coverage_samples().is_none() && !self.tall,
+            tall: self.tall,
             width: self.layout.width as i32,
         }
     }

@@ -14,7 +14,7 @@ use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh, Poly
 use crate::render::core::mip::polygon_lod_of;
 use crate::render::core::options::DepthKey;
 use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint, rows_of};
-use crate::render::core::small::SmallTriangle;
+use crate::render::core::small::{SmallFrame, SmallTriangle};
 use crate::render::core::texture::Texture;
 use crate::render::core::vertex::{ATTRS, ScreenVertex, cross, signed_area2, slot, triangle_area2};
 use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
@@ -93,12 +93,12 @@ pub(crate) struct ObjectSetup<'a> {
     pub(crate) door: Door,
     /// Which polygons the fill draws by a fast path (small triangles among them are set up here).
     pub(crate) fast_path: FastPathRule,
-    /// Whether the fill draws coverage samples: then a polygon's rows are every row its samples may fall in.
+    /// Whether the fill draws coverage samples: then no small triangles are set up (that fill draws every
+    /// polygon from its corners), and a polygon's rows are every row its samples may fall in.
     pub(crate) antialiased: bool,
-    /// Whether small triangles are set up for their fast fill: not when the fill draws coverage samples
-    /// (it draws every polygon from its corners), nor in a frame of four rows a pixel (whose rows' samples
-    /// are shifted, which only the scanline walk does).
-    pub(crate) small_triangles: bool,
+    /// Whether the frame is drawn four rows a pixel (the rotated grid), whose rows sample shifted columns:
+    /// a small triangle's box is widened by their reach.
+    pub(crate) tall: bool,
     /// The frame's width in pixels.
     pub(crate) width: i32,
 }
@@ -146,6 +146,12 @@ struct Gathered {
 }
 
 impl ObjectSetup<'_> {
+    /// The frame small triangles are set up for: its width and its rows' reach.
+    #[inline(always)]
+    pub(crate) fn small_frame(&self) -> SmallFrame {
+        if self.tall { SmallFrame::tall(self.width) } else { SmallFrame::plain(self.width) }
+    }
+
     /// Sets up polygons `range` (positions in the stored order, or polygon indices) into `out`.
     pub(crate) fn run(&self, range: Range<usize>, out: &mut Batch, scratch: &mut SetupScratch) {
         let mut cached: Option<MaterialSetup> = None;
@@ -285,7 +291,7 @@ impl ObjectSetup<'_> {
             index,
             texture,
             alpha_cutoff,
-            small: fast && self.small_triangles && material.depth_bias == 0,
+            small: fast && !self.antialiased && material.depth_bias == 0,
             mip_size,
         }
     }
@@ -400,10 +406,10 @@ impl ObjectSetup<'_> {
         );
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
-        let small = |corners: &[ScreenVertex], area: i64| match (fast && self.small_triangles, texture) {
+        let small = |corners: &[ScreenVertex], area: i64| match (fast && !self.antialiased, texture) {
             (false, _) => None,
-            (true, None) => SmallTriangle::new::<1>(corners, area, self.width),
-            (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.width),
+            (true, None) => SmallTriangle::new::<1>(corners, area, self.small_frame()),
+            (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.small_frame()),
         };
         if let Some(t) = small(&out.screen[first..], area) {
             out.screen.truncate(first);

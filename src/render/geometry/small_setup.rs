@@ -25,7 +25,7 @@
 //! so a row's values do not depend on which band draws it. They differ from the walker's only by rounding.
 
 use crate::render::core::fixed::Fx28_4;
-use crate::render::core::small::{Corner, EdgeFn, MAX_SIDE, SmallTriangle, TexPlanes};
+use crate::render::core::small::{Corner, EdgeFn, MAX_SIDE, SmallFrame, SmallTriangle, TexPlanes};
 use crate::render::core::vertex::{ScreenVertex, signed_area2};
 impl EdgeFn {
     /// The edge between `p` and `q` (in the triangle's order), for a triangle of winding `area` (not 0),
@@ -57,11 +57,15 @@ impl EdgeFn {
 /// The first column and row whose centres a triangle with corners at `(x, y)` may cover and the first
 /// after them: `(col0, col1, row0, row1)`.
 #[inline(always)]
-fn bounds([(x0, y0), (x1, y1), (x2, y2)]: [(Fx28_4, Fx28_4); 3]) -> (i32, i32, i32, i32) {
+fn bounds([(x0, y0), (x1, y1), (x2, y2)]: [(Fx28_4, Fx28_4); 3], reach: i32) -> (i32, i32, i32, i32) {
     let first = |a: i32| Fx28_4(a).first_centre_at_or_after();
     let (x, y) = ([x0.0, x1.0, x2.0], [y0.0, y1.0, y2.0]);
     let (min, max) = (|v: [i32; 3]| v[0].min(v[1]).min(v[2]), |v: [i32; 3]| v[0].max(v[1]).max(v[2]));
-    (first(min(x)), first(max(x)), first(min(y)), first(max(y)))
+    // A sample `reach` right of a centre is inside only if that centre is within `reach` of the corners'
+    // range; one more unit on the right keeps a centre exactly there (a column that may be cut by the row's
+    // rule, decided by the edge functions).
+    let grow = if reach > 0 { reach + 1 } else { 0 };
+    (first(min(x) - grow), first(max(x) + grow), first(min(y)), first(max(y)))
 }
 
 impl SmallTriangle {
@@ -71,30 +75,34 @@ impl SmallTriangle {
     /// no rows. Only the first `N` attributes are set up (the others are 0): a flat colour needs only the
     /// depth, and its texture planes are [`TexPlanes::NONE`].
     #[inline]
-    pub(crate) fn new<const N: usize>(v: &[ScreenVertex], area: i64, width: i32) -> Option<(Self, TexPlanes)> {
+    pub(crate) fn new<const N: usize>(v: &[ScreenVertex], area: i64, frame: SmallFrame) -> Option<(Self, TexPlanes)> {
         let [p0, p1, p2] = v else { return None };
         debug_assert_eq!(area, signed_area2(v));
         let corner =
             |p: &ScreenVertex| Corner { x: p.x, y: p.y, attrs: [p.attrs[0], p.attrs[1], p.attrs[2], p.attrs[3]] };
-        Self::from_corners::<N>(&[corner(p0), corner(p1), corner(p2)], area, width)
+        Self::from_corners::<N>(&[corner(p0), corner(p1), corner(p2)], area, frame)
     }
 
-    /// Whether a triangle with corners at `(x, y)` has a bounding box this path takes (at most
-    /// [`MAX_SIDE`] pixel centres each way).
+    /// Whether a triangle with corners at `(x, y)` has a bounding box this path takes in `frame` (at most
+    /// [`MAX_SIDE`] pixel centres across, its columns widened by the frame's reach, and the frame's rows).
     #[inline]
-    pub(crate) fn fits(xy: [(Fx28_4, Fx28_4); 3]) -> bool {
-        let (col0, col1, row0, row1) = bounds(xy);
-        col1 - col0 <= MAX_SIDE && row1 - row0 <= MAX_SIDE
+    pub(crate) fn fits(xy: [(Fx28_4, Fx28_4); 3], frame: SmallFrame) -> bool {
+        let (col0, col1, row0, row1) = bounds(xy, frame.reach);
+        col1 - col0 <= MAX_SIDE && row1 - row0 <= frame.rows
     }
 
     /// [`Self::new`] from the three corners' positions and first four attributes (depth, `1/w`, `s/w`,
     /// `t/w`), for set-up that has them without building screen vertices; `area` is [`signed_area2`] of the
     /// corners.
     #[inline(always)]
-    pub(crate) fn from_corners<const N: usize>(v: &[Corner; 3], area: i64, width: i32) -> Option<(Self, TexPlanes)> {
+    pub(crate) fn from_corners<const N: usize>(
+        v: &[Corner; 3],
+        area: i64,
+        SmallFrame { width, reach, rows }: SmallFrame,
+    ) -> Option<(Self, TexPlanes)> {
         let [p0, p1, p2] = v;
-        let (col0, col1, row0, row1) = bounds([(p0.x, p0.y), (p1.x, p1.y), (p2.x, p2.y)]);
-        if col1 - col0 > MAX_SIDE || row1 - row0 > MAX_SIDE {
+        let (col0, col1, row0, row1) = bounds([(p0.x, p0.y), (p1.x, p1.y), (p2.x, p2.y)], reach);
+        if col1 - col0 > MAX_SIDE || row1 - row0 > rows {
             return None;
         }
         let (x_start, x_end) = (col0.max(0), col1.min(width));

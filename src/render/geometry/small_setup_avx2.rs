@@ -28,7 +28,7 @@ use std::arch::x86_64::{
 use super::vertex::SetupVertex;
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mesh::Vertex;
-use crate::render::core::small::{EdgeFn, MAX_SIDE, SmallTriangle, TexPlanes};
+use crate::render::core::small::{EdgeFn, MAX_SIDE, SmallFrame, SmallTriangle, TexPlanes};
 use crate::render::simd::Avx2;
 use crate::render::simd::x86::load4;
 
@@ -93,19 +93,19 @@ fn transpose8(w: [__m256; 8]) -> [__m256; 8] {
 }
 
 /// Sets up the flat triangles whose corners are `ids[0][l]`, `ids[1][l]`, `ids[2][l]` in `vertices`
-/// (transformed from `mesh`), of a material of colour `base_color`, for a frame `width` pixels wide: the
-/// depth plane and the packed colour. The indices are the mesh's, which building it checked.
+/// (transformed from `mesh`), of a material of colour `base_color`, for `frame` (its width, and its rows'
+/// reach, which widens the box): the depth plane and the packed colour. The indices are the mesh's, which building it checked.
 pub(crate) fn set_up(
     _: Avx2,
     (vertices, mesh): (&[SetupVertex], &[Vertex]),
     ids: &[[u32; LANES]; 3],
     base_color: [f32; 4],
-    width: i32,
+    frame: SmallFrame,
 ) -> Lanes {
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `set_up_avx2` needs.
     #[allow(unsafe_code)]
     unsafe {
-        set_up_avx2((vertices, mesh), ids, base_color, width)
+        set_up_avx2((vertices, mesh), ids, base_color, frame)
     }
 }
 
@@ -166,7 +166,7 @@ fn set_up_avx2(
     (vertices, mesh): (&[SetupVertex], &[Vertex]),
     ids: &[[u32; LANES]; 3],
     base_color: [f32; 4],
-    width: i32,
+    SmallFrame { width, reach, rows }: SmallFrame,
 ) -> Lanes {
     let [p0, p1, p2] = [corners(vertices, &ids[0]), corners(vertices, &ids[1]), corners(vertices, &ids[2])];
     let i = _mm256_set1_epi32;
@@ -176,15 +176,17 @@ fn set_up_avx2(
     let first = |v: __m256i| _mm256_srai_epi32::<4>(_mm256_add_epi32(v, i(Fx28_4::ONE - 1 - Fx28_4::HALF)));
     let min3 = |a, b, c| _mm256_min_epi32(_mm256_min_epi32(a, b), c);
     let max3 = |a, b, c| _mm256_max_epi32(_mm256_max_epi32(a, b), c);
-    let (col0, col1) = (first(min3(p0.x, p1.x, p2.x)), first(max3(p0.x, p1.x, p2.x)));
+    // Widened as `small_setup::bounds` widens it for a frame whose rows sample shifted columns.
+    let grow = i(if reach > 0 { reach + 1 } else { 0 });
+    let col0 = first(_mm256_sub_epi32(min3(p0.x, p1.x, p2.x), grow));
+    let col1 = first(_mm256_add_epi32(max3(p0.x, p1.x, p2.x), grow));
     let (row0, row1) = (first(min3(p0.y, p1.y, p2.y)), first(max3(p0.y, p1.y, p2.y)));
-    let side = i(MAX_SIDE + 1);
     let small = _mm256_and_si256(
-        _mm256_cmpgt_epi32(side, _mm256_sub_epi32(col1, col0)),
-        _mm256_cmpgt_epi32(side, _mm256_sub_epi32(row1, row0)),
+        _mm256_cmpgt_epi32(i(MAX_SIDE + 1), _mm256_sub_epi32(col1, col0)),
+        _mm256_cmpgt_epi32(i(rows + 1), _mm256_sub_epi32(row1, row0)),
     );
     let fit = _mm256_movemask_ps(_mm256_castsi256_ps(small)) as u32;
-    // The area from the first corner: within a box that fits every product is below 2^17, and equals the
+    // The area from the first corner: within a box that fits every product is below 2^19, and equals the
     // sum of the corners' cross products exactly (lanes that do not fit are not used).
     let (e1x, e1y) = (_mm256_sub_epi32(p1.x, p0.x), _mm256_sub_epi32(p1.y, p0.y));
     let (e2x, e2y) = (_mm256_sub_epi32(p2.x, p0.x), _mm256_sub_epi32(p2.y, p0.y));

@@ -29,15 +29,15 @@ impl ObjectSetup<'_> {
         let ids = [i0 as usize, i1 as usize, i2 as usize];
         let v = self.vertices;
         let s = [v[ids[0]].screen_or_zero(), v[ids[1]].screen_or_zero(), v[ids[2]].screen_or_zero()];
-        if !SmallTriangle::fits([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)]) {
+        if !SmallTriangle::fits([(s[0].0, s[0].1), (s[1].0, s[1].1), (s[2].0, s[2].1)], self.small_frame()) {
             return false;
         }
         let Some(color) = self.flat_color(&ids, material) else { return false };
         let corners = self.corners(&ids);
         let lod = Self::small_lod(m, || corners);
         let t = match m.texture {
-            None => SmallTriangle::from_corners::<1>(&corners, area, self.width),
-            Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.width),
+            None => SmallTriangle::from_corners::<1>(&corners, area, self.small_frame()),
+            Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.small_frame()),
         };
         let Some(t) = t else {
             debug_assert!(false, "a triangle that fits was not set up");

@@ -85,7 +85,7 @@ impl ObjectSetup<'_> {
         #[cfg(test)]
         tests::GROUPS.with(|g| g.set(g.get() + 1));
         let base = material.base_color.to_array();
-        let lanes = set_up(avx2, (self.vertices, self.mesh.vertices()), &ids, base, self.width);
+        let lanes = set_up(avx2, (self.vertices, self.mesh.vertices()), &ids, base, self.small_frame());
         let small = taken & lanes.fit;
         let mut done = 0;
         for l in 0..LANES {

@@ -94,12 +94,14 @@ fn the_eight_lane_set_up_writes_exactly_what_the_one_polygon_loop_writes() {
     let texture = Texture::new(64, 32, vec![0x0080_4020; 64 * 32]).unwrap();
     let mut order: Vec<u32> = (0..mesh.polygons().len() as u32).collect();
     order.reverse();
-    for (perspective, textures, mip, stored, ordered) in [
-        (true, 1, false, false, false),
-        (false, 1, false, false, true),
-        (true, 1, true, false, false),
-        (true, 0, false, true, true),
-        (true, 1, false, true, false),
+    for (perspective, textures, mip, stored, ordered, tall) in [
+        (true, 1, false, false, false, false),
+        (false, 1, false, false, true, false),
+        (true, 1, true, false, false, false),
+        (true, 0, false, true, true, false),
+        (true, 1, false, true, false, false),
+        // A frame of four rows a pixel: the boxes widened by the rows' reach, in lanes and one by one.
+        (true, 1, false, false, false, true),
     ] {
         let transform = VertexTransform {
             clip_from_model: camera.clip_from_view(w, h) * camera.view,
@@ -124,15 +126,16 @@ fn the_eight_lane_set_up_writes_exactly_what_the_one_polygon_loop_writes() {
             mip_textures: if mip { std::slice::from_ref(&texture) } else { &[] },
             fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: mip_mode },
             antialiased: false,
-            small_triangles: true,
+            tall,
             width: w as i32,
         };
         // Every start, so that groups of eight begin at every offset of the material runs.
         for start in [0, 1, 3, 7] {
             let n = mesh.polygons().len();
             let ((fast, groups), (slow, none)) = (run(&setup, start..n, true), run(&setup, start..n, false));
-            let case =
-                format!("perspective {perspective}, textures {textures}, mip {mip}, stored {stored}, start {start}");
+            let case = format!(
+                "perspective {perspective}, textures {textures}, mip {mip}, stored {stored}, tall {tall}, start {start}"
+            );
             assert_eq!(fast.small, slow.small, "{case}");
             assert_eq!(fast.small_textured, slow.small_textured, "{case}");
             assert_eq!(fast.polys, slow.polys, "{case}");

@@ -36,7 +36,7 @@ fn set_up_in_pixels(mesh: &crate::render::Mesh) -> Batch {
         mip_textures: &[],
         fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: MipMode::Off },
         antialiased: false,
-        small_triangles: true,
+        tall: false,
         width: 320,
     };
     let mut out = Batch::default();
@@ -150,7 +150,7 @@ fn polygons_set_up_from_projected_vertices_equal_the_clipper_path_bit_for_bit() 
             mip_textures: &[],
             fast_path: FastPathRule { filter: Filter::Nearest, mode: TextureMode::Perspective, mip: MipMode::Off },
             antialiased: false,
-            small_triangles: true,
+            tall: false,
             width: 320,
         };
         let (mut fast, mut slow) = (Batch::default(), Batch::default());
