@@ -23,7 +23,7 @@ pub struct SamplePattern {
 const OFFSETS_4: [(i32, i32); 4] = [(-2, -6), (6, -2), (-6, 2), (2, 6)];
 /// The 4-sample pattern as four rows of a frame drawn four rows a pixel (the rotated grid,
 /// [`Antialias::RotatedGrid`](crate::render::Antialias::RotatedGrid)): row `4y + k` of that frame samples
-/// pixel row `y` at `(2k - 3) * 2` sixteenths from its centre, that is [`OFFSETS_4`]'s `y`s in order, and
+/// pixel row `y` at `(2k - 3) * 2` sixteenths from its centre, that is the 4-sample pattern's `y`s in order, and
 /// each of its samples lies `ROW_SHIFTS[k]` sixteenths right of its pixel's centre, the `x` of the pattern's
 /// sample on that row. So the four rows of a pixel hold the pattern's four samples.
 pub const ROW_SHIFTS: [i32; 4] = [-2, 6, -6, 2];
