@@ -26,6 +26,10 @@ use super::supersample;
 /// guard band.
 const MAX_SIDE: usize = 1 << 20;
 
+/// How a frame is spread over a big frame before drawing over it (`frame`, its width, the big frame), and
+/// how the big frame comes back to it (the big frame, `frame`, its width, the pool).
+type BigPasses = (fn(&[u32], usize, &mut [u32]), fn(&[u32], &mut [u32], usize, Option<&rayon::ThreadPool>));
+
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing per polygon or
 /// per pixel (only the fill's short lists of bands and runs, a few dozen entries, are made each frame).
 #[derive(Debug, Default)]
@@ -110,14 +114,6 @@ impl Renderer {
         list: &DrawList<'_>,
         options: &RenderOptions,
     ) -> Result<Stats, RenderError> {
-        let (bw, bh) = (width * 2, height * 2);
-        let mut big = std::mem::take(&mut self.big);
-        // Not cleared: the drawing fills every pixel with the background, or the expansion writes them all.
-        big.resize(bw * bh, 0);
-        if options.background.is_none() {
-            // Drawing over what is there: each pixel becomes its four.
-            supersample::expand(frame, width, &mut big);
-        }
         let [dx, dy] = options.pixel_offset;
         let inner = RenderOptions {
             antialias: Antialias::Off,
@@ -125,13 +121,9 @@ impl Renderer {
             pixel_offset: [2.0 * dx, 2.0 * dy],
             ..*options
         };
-        let stats = self.render(&mut big, bw, bh, camera, list, &inner);
-        if stats.is_ok() {
-            // On the pool the drawing used, if it used one.
-            supersample::box_filter(&big, frame, width, self.pool.as_ref().map(|p| &p.pool));
-        }
-        self.big = big;
-        stats
+        // Drawn over what is there, each pixel becomes its four; each 2x2 block comes back as one.
+        let passes: BigPasses = (supersample::expand, supersample::box_filter);
+        self.big_frame(frame, (width, (width * 2, height * 2)), passes, (camera, list, &inner), false)
     }
 
     /// Draws the frame at four times its height, each row's samples shifted by its own fraction of a pixel
@@ -149,21 +141,37 @@ impl Renderer {
     ) -> Result<Stats, RenderError> {
         let th =
             height.checked_mul(4).filter(|&h| h <= MAX_SIDE).ok_or(RenderError::FrameTooLarge { width, height })?;
-        let mut tall = std::mem::take(&mut self.big);
-        // Not cleared: the drawing fills every pixel with the background, or the expansion writes them all.
-        tall.resize(width * th, 0);
-        if options.background.is_none() {
-            supersample::expand_rows(frame, width, &mut tall);
-        }
         let [dx, dy] = options.pixel_offset;
         let inner = RenderOptions { antialias: Antialias::Off, pixel_offset: [dx, 4.0 * dy], ..*options };
-        self.tall = true;
-        let stats = self.render(&mut tall, width, th, camera, list, &inner);
+        let passes: BigPasses = (supersample::expand_rows, supersample::mean_rows);
+        self.big_frame(frame, (width, (width, th)), passes, (camera, list, &inner), true)
+    }
+
+    /// Draws the scene into the renderer's big frame, `bw` x `bh` (twice the width and height for 2x2
+    /// supersampling, four times the height for the rotated grid, a tall frame when `tall`) with `inner`,
+    /// starting from `frame` spread over it by the first of `passes` when the options draw no background,
+    /// and brings it back to `frame` (`width` a row) by the second, on the pool the drawing used.
+    fn big_frame(
+        &mut self,
+        frame: &mut [u32],
+        (width, (bw, bh)): (usize, (usize, usize)),
+        (spread, resolve): BigPasses,
+        (camera, list, inner): (&Camera, &DrawList<'_>, &RenderOptions),
+        tall: bool,
+    ) -> Result<Stats, RenderError> {
+        let mut big = std::mem::take(&mut self.big);
+        // Not cleared: the drawing fills every pixel with the background, or the spreading writes them all.
+        big.resize(bw * bh, 0);
+        if inner.background.is_none() {
+            spread(frame, width, &mut big);
+        }
+        self.tall = tall;
+        let stats = self.render(&mut big, bw, bh, camera, list, inner);
         self.tall = false;
         if stats.is_ok() {
-            supersample::mean_rows(&tall, frame, width, self.pool.as_ref().map(|p| &p.pool));
+            resolve(&big, frame, width, self.pool.as_ref().map(|p| &p.pool));
         }
-        self.big = tall;
+        self.big = big;
         stats
     }
 
