@@ -214,7 +214,7 @@ pub fn pareto(rows: &[Row], point: impl Fn(&Row) -> Option<(f64, f64)>) -> Vec<b
 #[must_use]
 pub fn csv(courses: &[(&str, &[Row])], threads: usize) -> String {
     let mut s = String::from(
-        "course,group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min,preset\n",
+        "course,group,label,method,buckets,key,texture,filter,mip,aa,lod,lod_bias,width,height,threads,ms_median,zbuffer_ms_median,ratio_to_zbuffer,polygons_drawn,flip_mean,flip_p99,wrong_pct,psnr_db,vis_wrong_pct,vis_flip_mean,pareto,vis_pareto,seq_flip_mean,shimmer_rms,shimmer_pct,stability_pareto,lod_pops_per_min,preset,mip_bias\n",
     );
     for (course, rows) in courses {
         let main = rows.first().map_or((0, 0), |r| r.config.size);
@@ -233,7 +233,7 @@ fn csv_row(course: &str, r: &Row, threads: usize, main: (usize, usize)) -> Strin
         LodMode::Force(l) => l.name(),
     };
     format!(
-        "{course},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1},{}\n",
+        "{course},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.0},{:.5},{:.5},{:.3},{:.2},{:.3},{:.5},{},{},{:.5},{:.3},{:.3},{},{:.1},{},{}\n",
         r.config.group,
         r.config.label,
         o.method,
@@ -265,7 +265,8 @@ fn csv_row(course: &str, r: &Row, threads: usize, main: (usize, usize)) -> Strin
         r.shimmer_pct,
         r.stability_pareto,
         r.lod_pops_per_min,
-        configs::preset_of(&r.config, main).map_or("", |q| q.name())
+        configs::preset_of(&r.config, main).map_or("", |q| q.name()),
+        o.mip_bias
     )
 }
 

@@ -38,6 +38,11 @@ pub struct PictureArgs {
     /// screen doors) instead of swapping models at once. Default: off (the presets above low turn it on).
     #[arg(long)]
     pub lod_fade: bool,
+    /// Mip bias: added to each texture's level of detail before its mip level is chosen (negative: finer
+    /// levels, sharper; positive: coarser, blurrier); -4 to 4. Default: 0, or the --quality preset's
+    /// (-0.5 above low: the finer of the two nearest levels).
+    #[arg(long, allow_negative_numbers = true, value_parser = super::values::parse_mip_bias)]
+    pub mip_bias: Option<f32>,
 }
 
 impl PictureArgs {
@@ -53,18 +58,27 @@ impl PictureArgs {
             mip: self.mip.unwrap_or(options.mip),
             antialias: self.aa.unwrap_or(options.antialias),
             lod_fade: self.lod_fade || options.lod_fade,
+            mip_bias: self.mip_bias.unwrap_or(options.mip_bias),
             ..options
         }
     }
 
     /// Whether this run's picture is `auto` (`Some(true)`), fixed by a flag (`Some(false)`: a preset, or
-    /// any of `--filter`, `--mip`, `--aa` without `--quality auto`), or left to the settings (`None`).
+    /// any of `--filter`, `--mip`, `--aa`, `--lod-fade`, `--mip-bias` without `--quality auto`), or left to
+    /// the settings (`None`).
     #[must_use]
     pub fn auto(&self) -> Option<bool> {
         match self.quality {
             Some(QualityChoice::Auto) => Some(true),
             Some(QualityChoice::Fixed(_)) => Some(false),
-            None if self.filter.is_some() || self.mip.is_some() || self.aa.is_some() || self.lod_fade => Some(false),
+            None if self.filter.is_some()
+                || self.mip.is_some()
+                || self.aa.is_some()
+                || self.lod_fade
+                || self.mip_bias.is_some() =>
+            {
+                Some(false)
+            }
             None => None,
         }
     }

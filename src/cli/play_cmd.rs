@@ -153,6 +153,7 @@ fn race_options(options: RenderOptions, settings: &Settings, picture: &PictureAr
         mip: settings.mip,
         lod_fade: settings.lod_fade,
         lod_bias: settings.lod_bias,
+        mip_bias: settings.mip_bias,
         ..options
     })
 }

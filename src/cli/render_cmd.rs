@@ -260,6 +260,7 @@ fn stats_json(
             LodMode::Force(level) => level.name(),
         },
         "lod_bias": options.lod_bias,
+        "mip_bias": options.mip_bias,
         "lod_close": stats.lod_close,
         "lod_mid": stats.lod_mid,
         "lod_long": stats.lod_long,

@@ -67,6 +67,9 @@ pub enum ValueError {
     /// `--lod-bias` is not a finite number within the bound.
     #[error("expected a number from -16 to 16")]
     LodBias,
+    /// `--mip-bias` is not a finite number within the bound.
+    #[error("expected a number from -4 to 4")]
+    MipBias,
     /// An output file's extension names no format the flag writes.
     #[error("{} (accepted: {accepted})", match found {
         Some(e) => format!("unknown extension '.{e}'"),
@@ -169,6 +172,15 @@ pub fn parse_lod_bias(s: &str) -> Result<f32, ValueError> {
     if v.is_finite() && v.abs() <= MAX_LOD_BIAS { Ok(v) } else { Err(ValueError::LodBias) }
 }
 
+/// The largest mip bias `--mip-bias` takes either way (four levels: a texel 16 times larger or smaller).
+pub const MAX_MIP_BIAS: f32 = 4.0;
+
+/// Parses a mip bias: finite, from -4 to 4.
+pub fn parse_mip_bias(s: &str) -> Result<f32, ValueError> {
+    let v: f32 = s.trim().parse().map_err(|_| ValueError::MipBias)?;
+    if v.is_finite() && v.abs() <= MAX_MIP_BIAS { Ok(v) } else { Err(ValueError::MipBias) }
+}
+
 /// Parses a frame rate (`play --fps`): 20 to 1000 frames a second.
 pub fn parse_fps(s: &str) -> Result<f64, ValueError> {
     let v: f64 = s.trim().parse().map_err(|_| ValueError::Fps)?;
@@ -192,6 +204,10 @@ mod tests {
         assert_eq!(parse_lod_bias("-16"), Ok(-16.0));
         for bad in ["16.5", "NaN", "inf", "x"] {
             assert_eq!(parse_lod_bias(bad), Err(ValueError::LodBias), "{bad}");
+        }
+        assert_eq!(parse_mip_bias("-0.5"), Ok(-0.5));
+        for bad in ["4.5", "-5", "NaN", "-inf", ""] {
+            assert_eq!(parse_mip_bias(bad), Err(ValueError::MipBias), "{bad}");
         }
     }
 

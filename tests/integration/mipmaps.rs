@@ -82,6 +82,43 @@ fn each_choice_takes_the_level_of_its_scale_and_level_zero_when_magnified() {
 }
 
 /// A checkerboard (8x8 texel checks on a 64x64 texture, a tile every 4 m) on the ground from the camera to
+#[test]
+fn a_mip_bias_moves_every_choice_by_its_levels() {
+    let mesh = square(16, false);
+    for k in 1..3u32 {
+        // One pixel spans 2^k texels (level k); a bias of b takes level k + b: the same pixels as that
+        // level's texels drawn without mip-maps.
+        let size = 16u32 << k;
+        let chain = noise_texture(size, size, 7 + k);
+        for bias in [-1.0f32, 1.0] {
+            let j = (k as f32 + bias) as usize;
+            let level = chain.level(j);
+            let alone = Texture::new(level.width(), level.height(), level.texels().to_vec()).unwrap();
+            let want = draw(&mesh, &alone, Filter::Nearest, MipMode::Off, 1);
+            for mip in [MipMode::Polygon, MipMode::Span, MipMode::Pixel] {
+                let o =
+                    RenderOptions { mip, mip_bias: bias, threads: 1, background: Some(0), ..RenderOptions::default() };
+                let got = render(
+                    std::slice::from_ref(&mesh),
+                    std::slice::from_ref(&chain),
+                    &pixel_camera(64, 64),
+                    64,
+                    64,
+                    &o,
+                )
+                .0;
+                assert!(got == want, "2^{k} texels a pixel, bias {bias}, {mip}: not level {j}");
+            }
+        }
+        // No bias, or one that is not a number, keeps level k.
+        let plain = draw(&mesh, &chain, Filter::Nearest, MipMode::Polygon, 1);
+        let o = RenderOptions { mip_bias: f32::NAN, threads: 1, background: Some(0), ..RenderOptions::default() };
+        let nan =
+            render(std::slice::from_ref(&mesh), std::slice::from_ref(&chain), &pixel_camera(64, 64), 64, 64, &o).0;
+        assert!(nan == plain, "a NaN bias");
+    }
+}
+
 /// 400 m away, in strips 10 m deep (so each strip has a level of its own per polygon).
 fn checker_plane() -> (Mesh, Texture, Camera) {
     let texels = (0..64 * 64).map(|i| if ((i % 64) / 8 + (i / 64) / 8) % 2 == 0 { 0xffff_ffff } else { 0xff00_0000 });

@@ -180,6 +180,14 @@ impl TexGradients {
         Self { dx: self.dx.map(|d| d * 0.5), dy: self.dy.map(|d| d * 2.0) }
     }
 
+    /// The planes with every change multiplied by `2^bias`: footprints that much longer, their level of
+    /// detail `bias` coarser (the mip bias, for levels measured per span or pixel).
+    #[must_use]
+    pub(crate) fn biased(self, bias: f32) -> Self {
+        let k = libm::exp2f(bias);
+        Self { dx: self.dx.map(|d| d * k), dy: self.dy.map(|d| d * k) }
+    }
+
     /// The planes through a polygon's corners, from the fan triangle of largest area (the best
     /// conditioned); all zero for a polygon with no area.
     #[must_use]

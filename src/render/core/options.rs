@@ -207,6 +207,12 @@ pub struct RenderOptions {
     pub lod: LodMode,
     /// Multiplies projected sizes by `2^lod_bias` before choosing a level: positive keeps finer models longer.
     pub lod_bias: f32,
+    /// Added to every texture's level of detail before its mip level is chosen (as OpenGL's
+    /// `GL_TEXTURE_LOD_BIAS`): negative picks finer levels, positive coarser ones; a bias that is not
+    /// finite counts as none. The levels are box filters of the texture, so with several samples a pixel
+    /// a finer level than the one whose texels match the pixel follows the texture's integral over the
+    /// pixel more closely (the presets with supersampling use -0.5: the finer of the two nearest levels).
+    pub mip_bias: f32,
     /// Anti-aliasing: none, coverage samples per pixel, or 2x2 supersampling.
     pub antialias: Antialias,
     /// Cross-fades a level-of-detail change over a few frames (the old and new models each drawn through
@@ -233,6 +239,7 @@ impl Default for RenderOptions {
             background: Some(SKY_BLUE),
             lod: LodMode::Auto,
             lod_bias: 0.0,
+            mip_bias: 0.0,
             antialias: Antialias::default(),
             lod_fade: false,
             pixel_offset: [0.0, 0.0],

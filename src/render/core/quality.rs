@@ -1,6 +1,6 @@
 //! Quality presets: the picture settings (texture filter, mip-level choice, anti-aliasing, level-of-detail
-//! cross-fade and bias) named as steps of one ladder, so a player, a test and a script say `high` instead
-//! of five flags.
+//! cross-fade, level-of-detail and mip biases) named as steps of one ladder, so a player, a test and a
+//! script say `high` instead of six flags.
 //!
 //! Each step is a point of the bench's speed-against-accuracy front on every course (docs/performance.md,
 //! "Quality presets"): no other setting measured is both faster and closer to the reference. The steps
@@ -11,6 +11,12 @@ use std::str::FromStr;
 
 use super::options::{Antialias, MipMode, RenderOptions, UnknownName};
 use super::texture::Filter;
+
+/// The mip bias of the steps above the bottom one: each polygon's level is the finer of the two nearest
+/// its level of detail (rounded down instead of to the nearest). Against the converged reference it took
+/// 0.0004-0.0014 off the FLIP mean of `medium`, `high` and `ultra` on the city and the mountain
+/// (docs/performance.md, "Quality presets"); `low` keeps the renderer's default.
+const FINER: f32 = -0.5;
 
 /// A named step of the picture ladder, cheapest first.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -44,30 +50,31 @@ impl Quality {
         }
     }
 
-    /// The texture filter, mip-level choice, anti-aliasing, level-of-detail cross-fade and LOD bias of this
-    /// step.
+    /// The texture filter, mip-level choice, anti-aliasing, level-of-detail cross-fade, LOD bias and mip
+    /// bias of this step, in that order.
     #[must_use]
-    pub fn picture(self) -> (Filter, MipMode, Antialias, bool, f32) {
+    pub fn picture(self) -> (Filter, MipMode, Antialias, bool, f32, f32) {
         let (nearest, polygon) = (Filter::Nearest, MipMode::Polygon);
         match self {
-            Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0),
-            Quality::Medium => (nearest, polygon, Antialias::Off, true, 1.0),
-            Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 1.0),
-            Quality::Ultra => (nearest, polygon, Antialias::RotatedGrid, true, 1.0),
+            Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0, 0.0),
+            Quality::Medium => (nearest, polygon, Antialias::Off, true, 1.0, FINER),
+            Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 1.0, FINER),
+            Quality::Ultra => (nearest, polygon, Antialias::RotatedGrid, true, 1.0, FINER),
         }
     }
 
     /// `options` with this step's picture settings (the rest as `options` has them).
     #[must_use]
     pub fn apply(self, options: RenderOptions) -> RenderOptions {
-        let (filter, mip, antialias, lod_fade, lod_bias) = self.picture();
-        RenderOptions { filter, mip, antialias, lod_fade, lod_bias, ..options }
+        let (filter, mip, antialias, lod_fade, lod_bias, mip_bias) = self.picture();
+        RenderOptions { filter, mip, antialias, lod_fade, lod_bias, mip_bias, ..options }
     }
 
     /// The step whose picture settings `options` has, if one does.
     #[must_use]
     pub fn of(options: &RenderOptions) -> Option<Quality> {
-        let picture = (options.filter, options.mip, options.antialias, options.lod_fade, options.lod_bias);
+        let o = options;
+        let picture = (o.filter, o.mip, o.antialias, o.lod_fade, o.lod_bias, o.mip_bias);
         Quality::ALL.into_iter().find(|q| q.picture() == picture)
     }
 
@@ -127,5 +134,11 @@ mod tests {
         assert_eq!((high.lod_bias, high.antialias, high.lod_fade), (1.0, Antialias::Supersample2x2, true));
         let ultra = Quality::Ultra.apply(kept);
         assert_eq!((ultra.lod_bias, ultra.antialias, ultra.lod_fade), (1.0, Antialias::RotatedGrid, true));
+        // Above the bottom step, the finer of the two nearest mip levels; the bottom keeps the default's.
+        let biases = Quality::ALL.map(|q| q.apply(kept).mip_bias);
+        assert_eq!(biases, [0.0, -0.5, -0.5, -0.5]);
+        let mut custom = ultra;
+        custom.mip_bias = 0.0;
+        assert_eq!(Quality::of(&custom), None, "a picture with another mip bias is no preset");
     }
 }

@@ -141,12 +141,20 @@ impl<'a> FillContext<'a> {
         // powers of two is exact). Its polygons' levels are already one finer: a level per polygon comes
         // from the polygon's area, four times larger in a frame of four rows a pixel.
         let gradients = if self.tall { gradients.in_tall_frame() } else { gradients };
+        // The mip bias moves a polygon's level of detail, or scales the footprints a pixel's level is
+        // measured from by its power of two (a footprint twice as long is one level coarser).
+        let bias = Some(self.options.mip_bias).filter(|b| b.is_finite() && *b != 0.0);
+        let (lod, gradients) = match bias {
+            Some(b) if measured => (p.lod(), gradients.biased(b)),
+            Some(b) => ((p.lod() + b).max(0.0), gradients),
+            None => (p.lod(), gradients),
+        };
         Shading {
             texture,
             sampler: p.sampler,
             filter: self.options.filter,
             mip,
-            lod: p.lod(),
+            lod,
             gradients,
             mode: self.options.texture_mode,
             alpha_cutoff: p.alpha_cutoff(),

@@ -275,8 +275,12 @@ fn rendering_settings(ui: &mut egui::Ui, drawing: &mut Drawing) {
         }
     });
     ui.checkbox(&mut options.lod_fade, "LOD cross-fade");
-    ui.add(egui::Slider::new(&mut options.lod_bias, -3.0..=3.0).text("LOD bias"));
-    let picture = |o: &crate::render::RenderOptions| (o.antialias, o.filter, o.mip, o.lod_fade, o.lod_bias);
+    // Both biases on one row: the panel keeps its height (the key bindings below stay in view).
+    ui.horizontal(|ui| {
+        ui.add(egui::Slider::new(&mut options.lod_bias, -3.0..=3.0).text("LOD bias"));
+        ui.add(egui::Slider::new(&mut options.mip_bias, -2.0..=2.0).step_by(0.25).text("mip bias"));
+    });
+    let picture = |o: &crate::render::RenderOptions| (o.antialias, o.filter, o.mip, o.lod_fade, o.lod_bias, o.mip_bias);
     if picture(options) != picture(&before) {
         // A picture fixed by hand: `auto` no longer picks it.
         drawing.set_auto(false);

@@ -66,6 +66,8 @@ pub(super) struct Picture {
     pub(super) lod_fade: bool,
     /// Level-of-detail bias.
     pub(super) lod_bias: f32,
+    /// Mip bias.
+    pub(super) mip_bias: f32,
     /// Whether `auto` quality is on.
     pub(super) auto: bool,
 }
@@ -79,6 +81,7 @@ impl Picture {
             mip: self.mip,
             lod_fade: self.lod_fade,
             lod_bias: self.lod_bias,
+            mip_bias: self.mip_bias,
             auto_quality: self.auto,
             ..settings
         }
@@ -107,6 +110,7 @@ impl Drawing {
                 mip: options.mip,
                 lod_fade: options.lod_fade,
                 lod_bias: options.lod_bias,
+                mip_bias: options.mip_bias,
                 auto: false,
             },
             period_ms: crate::shell::pacing::Pacing::Uncapped.budget_period_ms(),
@@ -138,6 +142,7 @@ impl Drawing {
                 mip: self.options.mip,
                 lod_fade: self.options.lod_fade,
                 lod_bias: self.options.lod_bias,
+                mip_bias: self.options.mip_bias,
                 auto: false,
             },
         }

@@ -11,7 +11,7 @@ use serde_json::{Map, Value};
 use thiserror::Error;
 
 use super::file::SettingsFile;
-use super::values::{CURVE_RANGE, DEADZONE_RANGE, LOD_BIAS_RANGE, Settings, VOLUME_RANGE, shown_range};
+use super::values::{CURVE_RANGE, DEADZONE_RANGE, LOD_BIAS_RANGE, MIP_BIAS_RANGE, Settings, VOLUME_RANGE, shown_range};
 use crate::input::bindings::Bindings;
 use crate::render::UnknownName;
 use crate::shell::window::{MAX_SCALE, MIN_SCALE};
@@ -204,6 +204,7 @@ impl Settings {
         named(doc, "mip", &mut s.mip, &mut notes);
         field(doc, "lod_fade", &mut s.lod_fade, "true or false", &mut notes);
         number(doc, "lod_bias", &mut s.lod_bias, LOD_BIAS_RANGE, &mut notes);
+        number(doc, "mip_bias", &mut s.mip_bias, MIP_BIAS_RANGE, &mut notes);
         field(doc, "auto_quality", &mut s.auto_quality, "true or false", &mut notes);
         if !doc.contains_key("auto_quality") && ["antialias", "filter", "mip"].iter().any(|k| doc.contains_key(*k)) {
             // A file from before `auto` that names a picture keeps it: the player chose it.

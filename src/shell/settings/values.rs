@@ -23,6 +23,8 @@ pub const DEADZONE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=0.3;
 pub const CURVE_RANGE: std::ops::RangeInclusive<f32> = 1.0..=3.0;
 /// The LOD bias the settings file keeps (Settings' slider).
 pub const LOD_BIAS_RANGE: std::ops::RangeInclusive<f32> = -3.0..=3.0;
+/// The mip biases the settings file and the Settings panel take (`--mip-bias`'s range).
+pub const MIP_BIAS_RANGE: std::ops::RangeInclusive<f32> = -4.0..=4.0;
 
 /// The laps a race chosen in the menu may have.
 pub const LAPS_RANGE: std::ops::RangeInclusive<u32> = 1..=9;
@@ -66,6 +68,8 @@ pub struct Settings {
     pub lod_fade: bool,
     /// The race's level-of-detail bias, -3 to 3 (positive keeps finer models farther).
     pub lod_bias: f32,
+    /// The race's mip bias, -4 to 4 (negative: finer texture levels; `--mip-bias`).
+    pub mip_bias: f32,
     /// Whether the race's picture follows the frame time (`auto` quality); when false, the three choices
     /// above are the picture.
     pub auto_quality: bool,
@@ -99,6 +103,7 @@ impl Default for Settings {
             mip: RenderOptions::default().mip,
             lod_fade: false,
             lod_bias: 0.0,
+            mip_bias: 0.0,
             auto_quality: true,
             course: crate::shell::course::DEFAULT_COURSE.to_string(),
             car: 1,
@@ -146,6 +151,7 @@ impl Settings {
             ("volume", &mut self.volume, d.volume, VOLUME_RANGE),
             ("effects_volume", &mut self.effects_volume, d.effects_volume, VOLUME_RANGE),
             ("lod_bias", &mut self.lod_bias, d.lod_bias, LOD_BIAS_RANGE),
+            ("mip_bias", &mut self.mip_bias, d.mip_bias, MIP_BIAS_RANGE),
         ] {
             if !value.is_finite() || !range.contains(value) {
                 notes.push(format!("{name} {value} out of {}: {default} used", shown_range(&range)));
