@@ -6,8 +6,8 @@
 //! `cargo run --release --example presets -- [course,...] [threads] [width] [height] [aa/filter/mip,...]`
 //! (defaults: every course, 1 thread, 640x480, as `bench`; the last argument adds points beside the
 //! presets, each named by its `--aa`, `--filter` and `--mip` values, as `ssaa/aniso8/pixel`, or by a
-//! preset and a filter, as `ultra/aniso4`; either may end in `:BIAS`, a LOD bias, as `ultra/nearest:2`). A few
-//! minutes a course: most of it is the reference frames.
+//! preset and a filter, as `ultra/aniso4`; either may end in `:BIAS`, a LOD bias, as `ultra/nearest:2`, and
+//! then in `@BIAS`, a mip bias, as `ultra:2@-1`). A few minutes a course: most of it is the reference frames.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
