@@ -211,7 +211,7 @@ pub struct RenderOptions {
     /// `GL_TEXTURE_LOD_BIAS`): negative picks finer levels, positive coarser ones; a bias that is not
     /// finite counts as none. The levels are box filters of the texture, so with several samples a pixel
     /// a finer level than the one whose texels match the pixel follows the texture's integral over the
-    /// pixel more closely (the presets with supersampling use -0.5: the finer of the two nearest levels).
+    /// pixel more closely (the presets above `low` use -0.5: the finer of the two nearest levels).
     pub mip_bias: f32,
     /// Anti-aliasing: none, coverage samples per pixel, or 2x2 supersampling.
     pub antialias: Antialias,

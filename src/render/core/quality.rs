@@ -14,8 +14,8 @@ use super::texture::Filter;
 
 /// The mip bias of the steps above the bottom one: each polygon's level is the finer of the two nearest
 /// its level of detail (rounded down instead of to the nearest). Against the converged reference it took
-/// 0.0004-0.0014 off the FLIP mean of `medium`, `high` and `ultra` on the city and the mountain
-/// (docs/performance.md, "Quality presets"); `low` keeps the renderer's default.
+/// 0.0003-0.0014 off the FLIP mean of `ultra` and of the mountain's `medium` and `high`, and moved the
+/// city's by at most 0.0001 (docs/performance.md, "Quality presets"); `low` keeps the renderer's default.
 const FINER: f32 = -0.5;
 
 /// A named step of the picture ladder, cheapest first.
