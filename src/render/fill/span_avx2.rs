@@ -364,19 +364,49 @@ macro_rules! tint_x8 {
 /// than a chunk). The last chunk is moved back to end inside the row where it would pass the row's end, and
 /// lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable loop's
 /// visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for `alphaMode` MASK.
+///
+/// The texture and colours come by reference and the counts go back packed in registers
+/// ([`PackedCounts`]): a copy of the texture's description made for every span, and counts written to
+/// memory a field at a time and read back as one vector, each cost a failed store-to-load forward a span
+/// (together 2-4% of a mountain frame's time, whose spans are short).
 pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     _: Avx2,
     span: (usize, usize),
     s: &Setup,
-    tex: Option<Tex<'_>>,
-    colors: (u32, [u32; 3], Option<(f32, f32)>),
+    tex: Option<&Tex<'_>>,
+    colors: &(u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
-    counts: &mut SpanCounts,
-) -> usize {
+) -> (usize, PackedCounts) {
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `chunks_avx2` needs.
     #[allow(unsafe_code)]
     unsafe {
-        chunks_avx2::<VIS, SRC>(span, s, tex, colors, row, counts)
+        chunks_avx2::<VIS, SRC>(span, s, tex, colors, row)
+    }
+}
+
+/// A span's pixel counts in one word, 21 bits each (a span is at most a row, and the renderer refuses
+/// frames of more than 2^20 pixels a side): shaded, written, rejected from the low bits up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct PackedCounts(u64);
+
+impl PackedCounts {
+    const BITS: u32 = 21;
+    const MASK: u64 = (1 << Self::BITS) - 1;
+
+    /// Adds `shaded`, `written` and `rejected` pixels (each total stays below 2^21).
+    #[inline(always)]
+    fn add(&mut self, shaded: u64, written: u64, rejected: u64) {
+        self.0 += shaded | written << Self::BITS | rejected << (2 * Self::BITS);
+    }
+
+    /// The counts unpacked.
+    #[inline(always)]
+    pub(crate) fn unpack(self) -> SpanCounts {
+        SpanCounts {
+            shaded: self.0 & Self::MASK,
+            written: self.0 >> Self::BITS & Self::MASK,
+            rejected: self.0 >> (2 * Self::BITS) & Self::MASK,
+        }
     }
 }
 
@@ -386,11 +416,11 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
 fn chunks_avx2<const VIS: u8, const SRC: u8>(
     (x0, x1): (usize, usize),
     s: &Setup,
-    tex: Option<Tex<'_>>,
-    (flat, tint, alpha): (u32, [u32; 3], Option<(f32, f32)>),
+    tex: Option<&Tex<'_>>,
+    &(flat, tint, alpha): &(u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
-    counts: &mut SpanCounts,
-) -> usize {
+) -> (usize, PackedCounts) {
+    let mut counts = PackedCounts::default();
     let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let width = row.color.len();
@@ -399,6 +429,8 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.
     let end = x1.min(width);
+    // Spans are clipped to the row by the fill, so the counts fit their 21 bits.
+    debug_assert!(end.saturating_sub(x0) < 1 << PackedCounts::BITS, "a span of {} pixels", end - x0);
     while x < end {
         // `bucket-near`: skip the rest of a coverage word at once when all of it is drawn (on deep scenes
         // most of a late polygon's pixels are).
@@ -406,7 +438,7 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
             let (word, bit) = (x >> 6, x & 63);
             if row.coverage.get(word).is_some_and(|&w| w >> bit == u64::MAX >> bit) {
                 let next = ((word + 1) << 6).min(x1);
-                counts.rejected += (next - x) as u64;
+                counts.add(0, 0, (next - x) as u64);
                 x = next;
                 continue;
             }
@@ -444,10 +476,10 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
         let pass = _mm256_and_si256(visible, valid);
         let lanes = |m: __m256i| u64::from((_mm256_movemask_ps(bytemuck::cast(m)) as u32).count_ones());
         let n = lanes(pass);
-        counts.rejected += lanes(valid) - n;
-        counts.shaded += n;
+        let rejected = lanes(valid) - n;
         x = c + LANES;
         if n == 0 {
+            counts.add(0, 0, rejected);
             continue;
         }
         let texels = match (SRC, tex) {
@@ -457,8 +489,8 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
                     let (_, u, v) = coordinates_x8!(s, k);
                     texels_x8!(u, v, t.texture, t.sampler, in_range)
                 }
-                (Some(g), Filter::Nearest) => per_pixel_texels_x8!(s, k, t, g, pass, in_range),
-                _ => filtered_texels_x8!(s, k, t, pass),
+                (Some(g), Filter::Nearest) => per_pixel_texels_x8!(s, k, *t, g, pass, in_range),
+                _ => filtered_texels_x8!(s, k, *t, pass),
             },
         };
         // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
@@ -470,7 +502,7 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
             }
             _ => pass,
         };
-        counts.written += lanes(write);
+        counts.add(n, lanes(write), rejected);
         let color = match SRC {
             FLAT => texels,
             TINTED => tint_x8!(texels, tint),
@@ -489,7 +521,7 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
             _ => {}
         }
     }
-    x.min(x1)
+    (x.min(x1), counts)
 }
 
 /// Eight pixels from anywhere in a band shaded by the macros above.

@@ -200,21 +200,30 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let (w, h) = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
     let setup = Setup { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h };
     let (x0, x1) = (run.x0, run.x1);
-    // The chunk loop's counts live in memory (it takes them by reference); the per-pixel loop counts in
-    // locals, which stay in registers (counting through memory costs a store-forwarding stall per span).
+    // Both loops count in registers: the chunk loop returns its counts packed in a word, the per-pixel loop
+    // keeps them in locals (counting through memory costs a store-forwarding stall per span).
     let mut counts = SpanCounts::default();
     let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
-    // A span shorter than a chunk is cheaper one pixel at a time than through the chunk loop's set-up (for a
-    // nearest texel from one level), and small polygons give mostly such spans (1-3 pixels).
-    // A costly texel (filtered, or a level measured per pixel) is worth a chunk of lanes however short the
-    // span, where the row holds a chunk.
+    // A span of half a chunk or more goes through the chunk loop (one division for its lanes, no branch per
+    // pixel on the depth test); shorter ones, which small polygons give in numbers (1-3 pixels), are cheaper
+    // one pixel at a time than through the chunk loop's set-up (for a nearest texel from one level). A costly
+    // texel (filtered, or a level measured per pixel) is worth a chunk of lanes however short the span,
+    // where the row holds a chunk.
     let costly = tex.is_some_and(|t| t.costly()) && row.color.len() >= LANES;
-    if (x1.saturating_sub(x0) >= LANES || costly && x1 > x0)
+    if (x1.saturating_sub(x0) >= LANES / 2 || costly && x1 > x0)
         && let Some(avx2) = simd::avx2()
     {
-        x = crate::render::fill::span_avx2::chunks::<VIS, SRC>(avx2, (x0, x1), &setup, tex, colors, row, &mut counts);
+        let (next, packed) = crate::render::fill::span_avx2::chunks::<VIS, SRC>(
+            avx2,
+            (x0, x1),
+            &setup,
+            paint.tex.as_ref(),
+            &paint.colors,
+            row,
+        );
+        (x, counts) = (next, packed.unpack());
     }
     let (flat, tint, alpha) = colors;
     for x in x..x1 {
