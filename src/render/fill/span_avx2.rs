@@ -19,7 +19,7 @@ use std::arch::x86_64::{
     _mm256_srli_epi16, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
 };
 
-use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, Row, Setup, SpanCounts, TINTED, cover_bits, coverage_byte};
+use super::row::{COVERAGE, DEPTH_TEST, FLAT, LANES, PackedCounts, Row, Setup, TINTED, cover_bits, coverage_byte};
 use super::texel::Tex;
 use crate::render::core::mip::{LOG2_QUARTIC, TexGradients};
 use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
@@ -361,14 +361,9 @@ macro_rules! tint_x8 {
 }
 
 /// Draws span pixels `x0..x1` eight at a time and returns where it stopped (`x1` unless the row is shorter
-/// than a chunk). The last chunk is moved back to end inside the row where it would pass the row's end, and
-/// lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable loop's
-/// visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for `alphaMode` MASK.
-///
-/// The texture and colours come by reference and the counts go back packed in registers
-/// ([`PackedCounts`]): a copy of the texture's description made for every span, and counts written to
-/// memory a field at a time and read back as one vector, each cost a failed store-to-load forward a span
-/// (together 2-4% of a mountain frame's time, whose spans are short).
+/// than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
+/// row's end, and lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable
+/// loop's visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for MASK.
 pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     _: Avx2,
     span: (usize, usize),
@@ -381,32 +376,6 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     #[allow(unsafe_code)]
     unsafe {
         chunks_avx2::<VIS, SRC>(span, s, tex, colors, row)
-    }
-}
-
-/// A span's pixel counts in one word, 21 bits each (a span is at most a row, and the renderer refuses
-/// frames of more than 2^20 pixels a side): shaded, written, rejected from the low bits up.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct PackedCounts(u64);
-
-impl PackedCounts {
-    const BITS: u32 = 21;
-    const MASK: u64 = (1 << Self::BITS) - 1;
-
-    /// Adds `shaded`, `written` and `rejected` pixels (each total stays below 2^21).
-    #[inline(always)]
-    fn add(&mut self, shaded: u64, written: u64, rejected: u64) {
-        self.0 += shaded | written << Self::BITS | rejected << (2 * Self::BITS);
-    }
-
-    /// The counts unpacked.
-    #[inline(always)]
-    pub(crate) fn unpack(self) -> SpanCounts {
-        SpanCounts {
-            shaded: self.0 & Self::MASK,
-            written: self.0 >> Self::BITS & Self::MASK,
-            rejected: self.0 >> (2 * Self::BITS) & Self::MASK,
-        }
     }
 }
 

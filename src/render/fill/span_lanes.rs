@@ -206,11 +206,10 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
     let mut x = x0;
     #[cfg(target_arch = "x86_64")]
-    // A span of half a chunk or more goes through the chunk loop (one division for its lanes, no branch per
-    // pixel on the depth test); shorter ones, which small polygons give in numbers (1-3 pixels), are cheaper
-    // one pixel at a time than through the chunk loop's set-up (for a nearest texel from one level). A costly
-    // texel (filtered, or a level measured per pixel) is worth a chunk of lanes however short the span,
-    // where the row holds a chunk.
+    // Spans of half a chunk or more take the chunk loop (one division for all lanes, no branch per pixel);
+    // shorter ones (1-3 pixels, as small polygons give) are cheaper one pixel at a time for a nearest texel
+    // from one level. A costly texel (filtered, or a level measured per pixel) is worth a chunk of lanes
+    // however short the span, where the row holds a chunk.
     let costly = tex.is_some_and(|t| t.costly()) && row.color.len() >= LANES;
     if (x1.saturating_sub(x0) >= LANES / 2 || costly && x1 > x0)
         && let Some(avx2) = simd::avx2()
