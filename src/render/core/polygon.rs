@@ -8,7 +8,7 @@ use super::options::{MipMode, TextureMode};
 use crate::render::core::fixed::Fx28_4;
 use crate::render::core::mip::LOD_STEPS;
 use crate::render::core::texture::{Filter, Sampler};
-use crate::render::core::vertex::ScreenVertex;
+use crate::render::core::vertex::{ScreenVertex, Winding};
 
 /// A polygon (or a piece of one) ready for the fill stage.
 ///
@@ -36,8 +36,8 @@ pub(crate) struct DrawPolygon {
     /// The colour of every corner, when [`HAS_COLOR`] is set.
     color: [f32; 4],
     pub(crate) sampler: Sampler,
-    /// [`HAS_TEXTURE`], [`HAS_CUTOFF`], [`HAS_COLOR`], [`SMALL`], and the screen door's 3 bits from
-    /// [`DOOR_SHIFT`] up.
+    /// [`HAS_TEXTURE`], [`HAS_CUTOFF`], [`HAS_COLOR`], [`CLOCKWISE`], [`SMALL`], and the screen door's 3 bits
+    /// from [`DOOR_SHIFT`] up.
     flags: u8,
     /// Its texture's level of detail `λ` in steps of 1/[`LOD_STEPS`] when mip levels are chosen per polygon
     /// (0 otherwise): the record's last free byte, so a polygon still takes 48.
@@ -52,6 +52,8 @@ const HAS_TEXTURE: u8 = 1;
 const HAS_CUTOFF: u8 = 2;
 /// All its corners have one colour.
 const HAS_COLOR: u8 = 4;
+/// Its corners run clockwise on screen ([`Winding::Clockwise`]; set for polygons with corners only).
+const CLOCKWISE: u8 = 8;
 /// Where the screen door's 3 bits ([`Door::bits`]) sit in the flags.
 const DOOR_SHIFT: u32 = 5;
 /// It is a small triangle set up for the fast path: `first` indexes its batch's small triangles (textured or
@@ -111,6 +113,21 @@ impl DrawPolygon {
             flags,
             lod: paint.lod,
         }
+    }
+
+    /// The same polygon with its corners' winding `w` (set-up's, from the area it culled by), which the fill
+    /// walks its edges by.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn wound(mut self, w: Winding) -> Self {
+        self.flags = (self.flags & !CLOCKWISE) | if w == Winding::Clockwise { CLOCKWISE } else { 0 };
+        self
+    }
+
+    /// Which way its corners run on screen, as set-up found it ([`Self::wound`]).
+    #[inline(always)]
+    pub(crate) fn winding(&self) -> Winding {
+        if self.flags & CLOCKWISE != 0 { Winding::Clockwise } else { Winding::CounterClockwise }
     }
 
     /// Its texture index.

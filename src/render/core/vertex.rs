@@ -40,6 +40,38 @@ pub fn signed_area2(v: &[ScreenVertex]) -> i64 {
     v.iter().zip(next).map(|(p, q)| cross((p.x, p.y), (q.x, q.y))).sum()
 }
 
+/// Which way a polygon's corners run on screen (y down): the sign of its [`signed_area2`].
+///
+/// Set-up knows it (it culls back faces by it) and stores it with the polygon, so the fill does not sum the
+/// area again in every band the polygon crosses: on the mountain's frames that sum was 2% of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Winding {
+    /// Clockwise on screen (positive area): the forward chain from the top vertex runs down the right side.
+    Clockwise,
+    /// Counter-clockwise on screen (negative area).
+    CounterClockwise,
+}
+
+impl Winding {
+    /// The winding of a polygon of signed area `area` ([`signed_area2`]); `None` when it has no area.
+    #[inline(always)]
+    #[must_use]
+    pub fn of_area(area: i64) -> Option<Self> {
+        match area.signum() {
+            1 => Some(Self::Clockwise),
+            -1 => Some(Self::CounterClockwise),
+            _ => None,
+        }
+    }
+
+    /// The winding of polygon `v`; `None` when it has no area.
+    #[inline]
+    #[must_use]
+    pub fn of(v: &[ScreenVertex]) -> Option<Self> {
+        Self::of_area(signed_area2(v))
+    }
+}
+
 /// [`signed_area2`] of a triangle given by its corners' positions, for set-up that has them without
 /// building screen vertices.
 #[inline(always)]

@@ -6,7 +6,7 @@
 use super::antialias::{self, Target};
 use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
-use super::scanline::{Span, fill_spans_first, fill_spans_shifted};
+use super::scanline::{Span, fill_spans_wound};
 use super::small::{self, NextFlat};
 use super::span::{Prepared, Shading, draw_prepared};
 use super::span_lanes::{Fill, Paint, Source, dispatch, span_run, walk};
@@ -18,7 +18,7 @@ use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
 use crate::render::core::samples::{ROW_SHIFTS, SamplePattern};
 use crate::render::core::small::{SmallTriangle, TexPlanes};
-use crate::render::core::vertex::{ATTRS, ScreenVertex};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding};
 use crate::render::simd::{self, Avx2};
 
 /// A thread's depth and coverage rows for the band it is drawing.
@@ -230,7 +230,7 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            add(self.fill_corners(verts, (&shading, &prepared), band_rows, &mut rows));
+            add(self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, &mut rows));
         }
         total
     }
@@ -239,7 +239,7 @@ impl<'a> FillContext<'a> {
     /// own level by one loop chosen for all its spans, any other a span at a time.
     fn fill_corners(
         &self,
-        verts: &[ScreenVertex],
+        (verts, winding): (&[ScreenVertex], Winding),
         (shading, prepared): (&Shading<'_>, &Prepared<'_>),
         band_rows: (i32, i32),
         rows: &mut BandPixels<'_>,
@@ -247,16 +247,16 @@ impl<'a> FillContext<'a> {
         let width = self.width as i32;
         let tall = self.tall.then_some(ROW_SHIFTS);
         if let Some((source, alpha)) = prepared.fast().filter(|_| shading.mip != MipMode::Span) {
-            let spans = PolygonSpans { verts, band: band_rows, width, tall, rows };
+            let spans = PolygonSpans { verts, winding, band: band_rows, width, tall, rows };
             return dispatch(source, alpha, self.visibility, spans);
         }
         let mut total = SpanCounts::default();
         let draw = |span: &Span| total += draw_prepared(span, shading, prepared, &mut rows.row(span.y));
         match prepared.fast() {
-            None => walk_rows::<ATTRS>(verts, band_rows, width, tall, draw),
+            None => walk_rows::<ATTRS>((verts, winding), band_rows, width, tall, draw),
             // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.
-            Some((Source::Flat(_), _)) => walk_rows::<1>(verts, band_rows, width, tall, draw),
-            Some(_) => walk_rows::<4>(verts, band_rows, width, tall, draw),
+            Some((Source::Flat(_), _)) => walk_rows::<1>((verts, winding), band_rows, width, tall, draw),
+            Some(_) => walk_rows::<4>((verts, winding), band_rows, width, tall, draw),
         }
         total
     }
@@ -435,6 +435,8 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
 /// the copies of the source it takes, cost more than drawing them).
 struct PolygonSpans<'v, 'r, 'b> {
     verts: &'v [ScreenVertex],
+    /// Which way its corners run, as set-up found.
+    winding: Winding,
     /// The band's rows, `band.0..band.1`.
     band: (i32, i32),
     width: i32,
@@ -445,31 +447,29 @@ struct PolygonSpans<'v, 'r, 'b> {
 
 impl Fill for PolygonSpans<'_, '_, '_> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let PolygonSpans { verts, band, width, tall, rows } = self;
+        let PolygonSpans { verts, winding, band, width, tall, rows } = self;
         let mut total = SpanCounts::default();
         let draw = |span: &Span| total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
         // Each attribute is interpolated on its own, so fewer of them change none of the others' bits; a
         // flat colour needs only the depth.
         if SRC == FLAT {
-            walk_rows::<1>(verts, band, width, tall, draw);
+            walk_rows::<1>((verts, winding), band, width, tall, draw);
         } else {
-            walk_rows::<4>(verts, band, width, tall, draw);
+            walk_rows::<4>((verts, winding), band, width, tall, draw);
         }
         total
     }
 }
 
-/// A polygon's spans on rows `band`, each row's samples shifted by `tall` when given.
+/// A polygon's spans on rows `band`, given its corners and their winding, each row's samples shifted by
+/// `tall` when given.
 #[inline(always)]
 fn walk_rows<const N: usize>(
-    verts: &[ScreenVertex],
+    (verts, winding): (&[ScreenVertex], Winding),
     band: (i32, i32),
     width: i32,
     tall: Option<[i32; 4]>,
     draw: impl FnMut(&Span),
 ) {
-    match tall {
-        Some(shifts) => fill_spans_shifted::<N>(verts, band, width, shifts, draw),
-        None => fill_spans_first::<N>(verts, band, width, draw),
-    }
+    fill_spans_wound::<N>(verts, winding, band, width, tall, draw);
 }

@@ -21,7 +21,7 @@
 //! quotient and remainder exactly, and the span's attributes are at its first pixel's shifted sample.
 
 use crate::render::core::fixed::Fx28_4;
-use crate::render::core::vertex::{ATTRS, ScreenVertex, signed_area2};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding};
 
 /// A horizontal run of covered pixels `x0..x1` on row `y`, with attributes at the centre of `x0` and their
 /// change per pixel.
@@ -160,7 +160,9 @@ pub fn fill_spans(v: &[ScreenVertex], rows: (i32, i32), width: i32, emit: impl F
 /// [`fill_spans`] interpolating only the first `N` attributes (the others are 0 in the spans): a polygon of
 /// one colour needs only depth and texture coordinates, half the work per row for small polygons.
 pub fn fill_spans_first<const N: usize>(v: &[ScreenVertex], rows: (i32, i32), width: i32, emit: impl FnMut(&Span)) {
-    walk::<N, false>(v, rows, width, [0; 4], emit);
+    if let Some(winding) = Winding::of(v) {
+        walk::<N, false>(v, winding, rows, width, [0; 4], emit);
+    }
 }
 
 /// [`fill_spans_first`] with each row's samples moved right by `shifts[row % 4]` raw units (each below a
@@ -174,13 +176,36 @@ pub fn fill_spans_shifted<const N: usize>(
     shifts: [i32; 4],
     emit: impl FnMut(&Span),
 ) {
-    walk::<N, true>(v, rows, width, shifts, emit);
+    if let Some(winding) = Winding::of(v) {
+        walk::<N, true>(v, winding, rows, width, shifts, emit);
+    }
 }
 
-/// The walk of [`fill_spans_first`], with each row's samples shifted by `shifts[row % 4]` when `SHIFTED`.
+/// [`fill_spans_first`], or [`fill_spans_shifted`] by `shifts` when given, of a polygon whose corners run
+/// `winding` ([`Winding::of`] them, which set-up stores with each polygon): the fill draws a polygon in
+/// every band it crosses, and would otherwise sum its area in each.
+#[inline(always)]
+pub(crate) fn fill_spans_wound<const N: usize>(
+    v: &[ScreenVertex],
+    winding: Winding,
+    rows: (i32, i32),
+    width: i32,
+    shifts: Option<[i32; 4]>,
+    emit: impl FnMut(&Span),
+) {
+    debug_assert_eq!(Winding::of(v), Some(winding), "a polygon's stored winding is not its corners'");
+    match shifts {
+        Some(shifts) => walk::<N, true>(v, winding, rows, width, shifts, emit),
+        None => walk::<N, false>(v, winding, rows, width, [0; 4], emit),
+    }
+}
+
+/// The walk of [`fill_spans_first`] over a polygon wound `winding` (of non-zero area), with each row's
+/// samples shifted by `shifts[row % 4]` when `SHIFTED`.
 #[inline(always)]
 fn walk<const N: usize, const SHIFTED: bool>(
     v: &[ScreenVertex],
+    winding: Winding,
     rows: (i32, i32),
     width: i32,
     shifts: [i32; 4],
@@ -188,10 +213,6 @@ fn walk<const N: usize, const SHIFTED: bool>(
 ) {
     let n = v.len();
     if n < 3 {
-        return;
-    }
-    let area = signed_area2(v);
-    if area == 0 {
         return;
     }
     let mut top = 0;
@@ -208,8 +229,11 @@ fn walk<const N: usize, const SHIFTED: bool>(
     if row_start >= row_end {
         return;
     }
-    // With y down, a positive area means the forward chain from the top runs down the right side.
-    let (ldir, rdir) = if area > 0 { (n - 1, 1) } else { (1, n - 1) };
+    // With y down, a clockwise polygon's forward chain from the top runs down the right side.
+    let (ldir, rdir) = match winding {
+        Winding::Clockwise => (n - 1, 1),
+        Winding::CounterClockwise => (1, n - 1),
+    };
     let (Some(mut left), Some(mut right)) =
         (edge_for_row::<N>(v, top, ldir, row_start), edge_for_row::<N>(v, top, rdir, row_start))
     else {

@@ -16,7 +16,7 @@ use crate::render::core::options::DepthKey;
 use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint, rows_of};
 use crate::render::core::small::{SmallFrame, SmallTriangle};
 use crate::render::core::texture::Texture;
-use crate::render::core::vertex::{ATTRS, ScreenVertex, cross, signed_area2, slot, triangle_area2};
+use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding, cross, signed_area2, slot, triangle_area2};
 use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
 use crate::render::geometry::monotone::{is_y_monotone, triangulate};
 use crate::render::simd;
@@ -392,8 +392,8 @@ impl ObjectSetup<'_> {
         let tag = out.tag;
         // Each polygon (or piece) drawn, with its key when the frame is ordered by keys.
         let ordered = self.ordered;
-        let push = |out: &mut Batch, first: u32, count: u32, rows: (i32, i32), small: bool| {
-            out.polys.push(DrawPolygon::new(first, count, tag, rows, small, &paint));
+        let push = |out: &mut Batch, first: u32, count: u32, rows: (i32, i32), small: bool, winding: Winding| {
+            out.polys.push(DrawPolygon::new(first, count, tag, rows, small, &paint).wound(winding));
             if ordered {
                 out.keys.push(key);
             }
@@ -411,14 +411,17 @@ impl ObjectSetup<'_> {
             (true, None) => SmallTriangle::new::<1>(corners, area, self.small_frame()),
             (true, Some(_)) => SmallTriangle::new::<4>(corners, area, self.small_frame()),
         };
+        // Culling took the polygons of no area away.
+        debug_assert_ne!(area, 0);
+        let winding = Winding::of_area(area).unwrap_or(Winding::CounterClockwise);
         if let Some(t) = small(&out.screen[first..], area) {
             out.screen.truncate(first);
             let rows = t.0.rows();
             let f = out.push_small(t, texture.is_some());
-            push(out, f, n as u32, rows, true);
+            push(out, f, n as u32, rows, true, winding);
         } else if is_y_monotone(&out.screen[first..]) {
             let rows = rows_of(&out.screen[first..], self.antialiased);
-            push(out, first as u32, n as u32, rows, false);
+            push(out, first as u32, n as u32, rows, false, winding);
         } else {
             out.counts.split += 1;
             scratch.tris.clear();
@@ -428,15 +431,18 @@ impl ObjectSetup<'_> {
             out.screen.truncate(first);
             for k in 0..scratch.tris.len() {
                 let corners = scratch.tris[k].map(|i| scratch.piece[i]);
-                if let Some(st) = small(&corners, signed_area2(&corners)) {
+                let piece_area = signed_area2(&corners);
+                // A piece of no area covers nothing (and has no winding to walk it by).
+                let Some(winding) = Winding::of_area(piece_area) else { continue };
+                if let Some(st) = small(&corners, piece_area) {
                     let rows = st.0.rows();
                     let f = out.push_small(st, texture.is_some());
-                    push(out, f, 3, rows, true);
+                    push(out, f, 3, rows, true, winding);
                     continue;
                 }
                 let f = out.screen.len() as u32;
                 out.screen.extend_from_slice(&corners);
-                push(out, f, 3, rows_of(&corners, self.antialiased), false);
+                push(out, f, 3, rows_of(&corners, self.antialiased), false, winding);
             }
         }
     }
