@@ -10,7 +10,7 @@ use super::vertex::{SetupVertex, VertexTransform, project};
 use crate::render::core::batch::{Batch, Counts};
 use crate::render::core::door::Door;
 use crate::render::core::fixed::Fx28_4;
-use crate::render::core::mesh::{AlphaMode, DEPTH_BIAS_STEP, Material, Mesh, Polygon};
+use crate::render::core::mesh::{AlphaMode, Material, Mesh, Polygon};
 use crate::render::core::mip::polygon_lod_of;
 use crate::render::core::options::DepthKey;
 use crate::render::core::polygon::{DrawPolygon, FastPathRule, PolygonPaint, rows_of};
@@ -20,6 +20,7 @@ use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding, cross, signed_ar
 use crate::render::geometry::clip::{ClipResult, ClipVertex, VIEW_DEPTH, clip_polygon};
 use crate::render::geometry::monotone::{is_y_monotone, triangulate};
 use crate::render::simd;
+use bias::slope_scaled_bias;
 
 /// The screen vertex of a projected point with texture coordinate `uv` and colour `c` (before the divide).
 #[inline]
@@ -424,25 +425,40 @@ impl ObjectSetup<'_> {
             push(out, first as u32, n as u32, rows, false, winding);
         } else {
             out.counts.split += 1;
-            scratch.tris.clear();
-            scratch.piece.clear();
-            scratch.piece.extend_from_slice(&out.screen[first..]);
-            triangulate(&scratch.piece, area.signum(), &mut scratch.tris);
-            out.screen.truncate(first);
-            for k in 0..scratch.tris.len() {
-                let corners = scratch.tris[k].map(|i| scratch.piece[i]);
-                let piece_area = signed_area2(&corners);
-                // A piece of no area covers nothing (and has no winding to walk it by).
-                let Some(winding) = Winding::of_area(piece_area) else { continue };
-                if let Some(st) = small(&corners, piece_area) {
+            self.split(first, area, (out, scratch), |out, corners, area, winding| {
+                if let Some(st) = small(corners, area) {
                     let rows = st.0.rows();
                     let f = out.push_small(st, texture.is_some());
                     push(out, f, 3, rows, true, winding);
-                    continue;
+                } else {
+                    let f = out.screen.len() as u32;
+                    out.screen.extend_from_slice(corners);
+                    push(out, f, 3, rows_of(corners, self.antialiased), false, winding);
                 }
-                let f = out.screen.len() as u32;
-                out.screen.extend_from_slice(&corners);
-                push(out, f, 3, rows_of(&corners, self.antialiased), false, winding);
+            });
+        }
+    }
+
+    /// Cuts the polygon `out.screen[first..]` of signed area `area` (not y-monotone) into triangles, takes
+    /// its corners out of `out.screen`, and hands each triangle of some area to `place` with its area and
+    /// winding (a piece of no area covers nothing, and has no winding to walk it by).
+    fn split(
+        &self,
+        first: usize,
+        area: i64,
+        (out, scratch): (&mut Batch, &mut SetupScratch),
+        mut place: impl FnMut(&mut Batch, &[ScreenVertex; 3], i64, Winding),
+    ) {
+        scratch.tris.clear();
+        scratch.piece.clear();
+        scratch.piece.extend_from_slice(&out.screen[first..]);
+        triangulate(&scratch.piece, area.signum(), &mut scratch.tris);
+        out.screen.truncate(first);
+        for t in &scratch.tris {
+            let corners = t.map(|i| scratch.piece[i]);
+            let area = signed_area2(&corners);
+            if let Some(winding) = Winding::of_area(area) {
+                place(out, &corners, area, winding);
             }
         }
     }
@@ -464,39 +480,7 @@ pub(super) fn culled(area: i64, material: &Material, counts: &mut Counts) -> boo
     }
 }
 
-/// Moves a decal's depth towards the viewer for the depth test by `steps` times (one pixel of the
-/// polygon's steepest depth slope plus [`DEPTH_BIAS_STEP`] of its nearest depth), as GPUs' polygon offset
-/// does: the slope term covers the depth error of snapping vertices to 1/16 pixel, which at a grazing angle
-/// exceeds any constant offset; the constant covers surfaces seen face on. A constant added to `1/w` keeps
-/// it affine in screen space, so interpolation stays exact.
-pub(crate) fn slope_scaled_bias(verts: &mut [ScreenVertex], steps: u8) {
-    let d = |v: &ScreenVertex| (v.x.to_f32(), v.y.to_f32(), v.attrs[slot::DEPTH]);
-    let mut slope = 0.0f32;
-    let mut nearest = 0.0f32;
-    if let Some(a) = verts.first().map(d) {
-        for i in 1..verts.len().saturating_sub(1) {
-            let (b, c) = (d(&verts[i]), d(&verts[i + 1]));
-            let (e1, e2) = ((b.0 - a.0, b.1 - a.1, b.2 - a.2), (c.0 - a.0, c.1 - a.1, c.2 - a.2));
-            let det = e1.0 * e2.1 - e2.0 * e1.1;
-            if det.abs() > 1e-6 {
-                let gx = (e1.2 * e2.1 - e2.2 * e1.1) / det;
-                let gy = (e2.2 * e1.0 - e1.2 * e2.0) / det;
-                slope = gx.abs().max(gy.abs());
-                break;
-            }
-        }
-    }
-    for v in verts.iter() {
-        nearest = nearest.max(v.attrs[slot::DEPTH].abs());
-    }
-    let offset = f32::from(steps) * (slope + nearest * DEPTH_BIAS_STEP);
-    if offset.is_finite() {
-        for v in verts.iter_mut() {
-            v.attrs[slot::DEPTH] += offset;
-        }
-    }
-}
-
+mod bias;
 mod direct;
 #[cfg(target_arch = "x86_64")]
 pub mod lanes;
