@@ -4,12 +4,13 @@
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::antialias::{self, Target};
-use super::row::{BandPixels, FLAT, Run, SpanCounts, Visibility};
+use super::polygon_spans::{PolygonSpans, walk_rows};
+use super::row::{BandPixels, FLAT, RowRun, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
-use super::scanline::{Span, fill_spans_wound};
+use super::scanline::Span;
 use super::small::{self, NextFlat};
 use super::span::{Prepared, Shading, draw_prepared};
-use super::span_lanes::{Fill, Paint, Source, dispatch, span_run, walk};
+use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
 use crate::render::core::band::Band;
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
@@ -21,9 +22,10 @@ use crate::render::core::small::{SmallTriangle, TexPlanes};
 use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding};
 use crate::render::simd::{self, Avx2};
 
-/// A thread's depth and coverage rows for the band it is drawing.
+/// A thread's depth and coverage rows for the band it is drawing, and a polygon's short spans there.
 #[derive(Default)]
 struct Scratch {
+    runs: Vec<RowRun>,
     depth: Vec<f32>,
     coverage: Vec<u64>,
     samples: SampleStore,
@@ -166,7 +168,7 @@ impl<'a> FillContext<'a> {
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color } = band;
-        let Scratch { depth, coverage, samples } = scratch;
+        let Scratch { runs, depth, coverage, samples } = scratch;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
             color.fill(bg);
@@ -230,7 +232,7 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            add(self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, &mut rows));
+            add(self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, (&mut rows, &mut *runs)));
         }
         total
     }
@@ -242,12 +244,12 @@ impl<'a> FillContext<'a> {
         (verts, winding): (&[ScreenVertex], Winding),
         (shading, prepared): (&Shading<'_>, &Prepared<'_>),
         band_rows: (i32, i32),
-        rows: &mut BandPixels<'_>,
+        (rows, runs): (&mut BandPixels<'_>, &mut Vec<RowRun>),
     ) -> SpanCounts {
         let width = self.width as i32;
         let tall = self.tall.then_some(ROW_SHIFTS);
         if let Some((source, alpha)) = prepared.fast().filter(|_| shading.mip != MipMode::Span) {
-            let spans = PolygonSpans { verts, winding, band: band_rows, width, tall, rows };
+            let spans = PolygonSpans { verts, winding, band: band_rows, width, tall, rows, runs };
             return dispatch(source, alpha, self.visibility, spans);
         }
         let mut total = SpanCounts::default();
@@ -428,48 +430,4 @@ impl<'c, I: Iterator<Item = &'c DrawPolygon>> SmallGroup<'_, 'c, '_, '_, I> {
         }
         total
     }
-}
-
-/// A polygon's spans in a band drawn by one fast-path loop, chosen once for the polygon rather than for each
-/// span (on a course of many small polygons most spans are a few pixels long, and choosing the loop, with
-/// the copies of the source it takes, cost more than drawing them).
-struct PolygonSpans<'v, 'r, 'b> {
-    verts: &'v [ScreenVertex],
-    /// Which way its corners run, as set-up found.
-    winding: Winding,
-    /// The band's rows, `band.0..band.1`.
-    band: (i32, i32),
-    width: i32,
-    /// Each row's sample shifts, in a frame of four rows a pixel.
-    tall: Option<[i32; 4]>,
-    rows: &'r mut BandPixels<'b>,
-}
-
-impl Fill for PolygonSpans<'_, '_, '_> {
-    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let PolygonSpans { verts, winding, band, width, tall, rows } = self;
-        let mut total = SpanCounts::default();
-        let draw = |span: &Span| total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
-        // Each attribute is interpolated on its own, so fewer of them change none of the others' bits; a
-        // flat colour needs only the depth.
-        if SRC == FLAT {
-            walk_rows::<1>((verts, winding), band, width, tall, draw);
-        } else {
-            walk_rows::<4>((verts, winding), band, width, tall, draw);
-        }
-        total
-    }
-}
-
-/// A polygon's spans on rows `band`, given its corners and their winding, each row's samples shifted by
-/// `tall` when given.
-#[inline(always)]
-fn walk_rows<const N: usize>(
-    (verts, winding): (&[ScreenVertex], Winding),
-    band: (i32, i32),
-    width: i32,
-    tall: Option<[i32; 4]>,
-    draw: impl FnMut(&Span),
-) {
-    fill_spans_wound::<N>(verts, winding, band, width, tall, draw);
 }

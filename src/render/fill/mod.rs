@@ -15,6 +15,7 @@ pub(crate) mod antialias;
 pub(crate) mod bands;
 pub(crate) mod coverage;
 pub(crate) mod plane;
+mod polygon_spans;
 pub(crate) mod row;
 pub(crate) mod sample_lanes;
 pub(crate) mod samples;

@@ -154,6 +154,17 @@ pub(crate) struct Run {
     pub(crate) da: [f32; 4],
 }
 
+/// One row's span for the chunk loop across rows (`span_avx2::rows`): pixels `x0..x1` of frame row `y`,
+/// its set-up, and whether its texel coordinates stay in range ([`Setup::texels_in_range`]).
+#[derive(Clone, Copy)]
+pub(crate) struct RowRun {
+    pub(crate) y: usize,
+    pub(crate) x0: usize,
+    pub(crate) x1: usize,
+    pub(crate) in_range: bool,
+    pub(crate) setup: Setup,
+}
+
 /// [`Visibility`] as a constant for the pixel loops' `VIS` parameter: [`Visibility::Overwrite`].
 pub(crate) const OVERWRITE: u8 = 0;
 /// [`Visibility::DepthTest`].
@@ -187,6 +198,13 @@ pub(crate) struct Setup {
 }
 
 impl Setup {
+    /// The set-up of a run whose depth, `1/w`, `s/w` and `t/w` are `a0` at its first pixel and change by
+    /// `da` a pixel, for a texture of `size` texels (`(0, 0)` for none).
+    #[inline(always)]
+    pub(crate) fn new(a0: [f32; 4], da: [f32; 4], (w, h): (f32, f32)) -> Self {
+        Self { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h }
+    }
+
     /// The depth at pixel offset `k` from the span's start.
     #[inline(always)]
     pub(crate) fn depth(&self, k: f32) -> f32 {

@@ -360,6 +360,11 @@ macro_rules! tint_x8 {
     }};
 }
 
+/// One chunk of eight pixels, the body of both chunk loops.
+#[macro_use]
+mod chunk;
+use chunk::{ChunkPixels, ChunkSpan};
+
 /// Draws span pixels `x0..x1` eight at a time and returns where it stopped (`x1` unless the row is shorter
 /// than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
 /// row's end, and lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable
@@ -379,8 +384,7 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     }
 }
 
-// long: one AVX2 loop body; split into functions its vectors would pass through memory (a `#[target_feature]` function cannot be `inline(always)`).
-/// [`chunks`]'s body, compiled for AVX2.
+/// [`chunks`]'s body, compiled for AVX2: the span's set-up stays in registers from chunk to chunk.
 #[target_feature(enable = "avx2")]
 fn chunks_avx2<const VIS: u8, const SRC: u8>(
     (x0, x1): (usize, usize),
@@ -390,8 +394,6 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     row: &mut Row<'_>,
 ) -> (usize, PackedCounts) {
     let mut counts = PackedCounts::default();
-    let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let width = row.color.len();
     let in_range = SRC != FLAT && s.texels_in_range(x1.saturating_sub(x0 + 1));
     let mut x = x0;
@@ -400,95 +402,11 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let end = x1.min(width);
     // Spans are clipped to the row by the fill, so the counts fit their 21 bits.
     debug_assert!(end.saturating_sub(x0) < 1 << PackedCounts::BITS, "a span of {} pixels", end - x0);
-    while x < end {
-        // `bucket-near`: skip the rest of a coverage word at once when all of it is drawn (on deep scenes
-        // most of a late polygon's pixels are).
-        if VIS == COVERAGE {
-            let (word, bit) = (x >> 6, x & 63);
-            if row.coverage.get(word).is_some_and(|&w| w >> bit == u64::MAX >> bit) {
-                let next = ((word + 1) << 6).min(x1);
-                counts.add(0, 0, (next - x) as u64);
-                x = next;
-                continue;
-            }
-        }
-        let c = if x + LANES <= width {
-            x
-        } else if width >= LANES {
-            width - LANES
-        } else {
-            break;
-        };
-        let lane = _mm256_add_epi32(_mm256_set1_epi32(c as i32), iota);
-        // Lanes in `x..x1`: `lane > x - 1` and `x1 > lane` (pixel indices are below 2^20).
-        let valid = _mm256_and_si256(
-            _mm256_cmpgt_epi32(lane, _mm256_set1_epi32(x as i32 - 1)),
-            _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 as i32), lane),
-        );
-        let Some(old_color) = row.color.get(c..).and_then(load8::<u32, __m256i>) else { break };
-        let k = _mm256_cvtepi32_ps(_mm256_sub_epi32(lane, _mm256_set1_epi32(x0 as i32)));
-        let depth = _mm256_add_ps(_mm256_set1_ps(s.d0), _mm256_mul_ps(k, _mm256_set1_ps(s.dd)));
-        let mut old_depth = depth;
-        let visible = match VIS {
-            DEPTH_TEST => {
-                let Some(old) = row.depth.get(c..).and_then(load8::<f32, __m256>) else { break };
-                old_depth = old;
-                // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
-                _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GT_OQ>(depth, old))
-            }
-            COVERAGE => {
-                let bits = _mm256_set1_epi32(i32::from(coverage_byte(row.coverage, c)));
-                _mm256_cmpeq_epi32(_mm256_and_si256(bits, lane_bits), _mm256_setzero_si256())
-            }
-            _ => valid,
-        };
-        let pass = _mm256_and_si256(visible, valid);
-        let lanes = |m: __m256i| u64::from((_mm256_movemask_ps(bytemuck::cast(m)) as u32).count_ones());
-        let n = lanes(pass);
-        let rejected = lanes(valid) - n;
-        x = c + LANES;
-        if n == 0 {
-            counts.add(0, 0, rejected);
-            continue;
-        }
-        let texels = match (SRC, tex) {
-            (FLAT, _) | (_, None) => _mm256_set1_epi32(flat as i32),
-            (_, Some(t)) => match (&t.per_pixel, t.filter) {
-                (None, Filter::Nearest) => {
-                    let (_, u, v) = coordinates_x8!(s, k);
-                    texels_x8!(u, v, t.texture, t.sampler, in_range)
-                }
-                (Some(g), Filter::Nearest) => per_pixel_texels_x8!(s, k, *t, g, pass, in_range),
-                _ => filtered_texels_x8!(s, k, *t, pass),
-            },
-        };
-        // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
-        let write = match alpha {
-            Some((a, cutoff)) if SRC != FLAT => {
-                let ta = _mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(texels));
-                let ta = _mm256_mul_ps(_mm256_mul_ps(ta, _mm256_set1_ps(1.0 / 255.0)), _mm256_set1_ps(a));
-                _mm256_and_si256(pass, _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(ta, _mm256_set1_ps(cutoff))))
-            }
-            _ => pass,
-        };
-        counts.add(n, lanes(write), rejected);
-        let color = match SRC {
-            FLAT => texels,
-            TINTED => tint_x8!(texels, tint),
-            _ => _mm256_and_si256(texels, _mm256_set1_epi32(0x00ff_ffff)),
-        };
-        if let Some(out) = row.color.get_mut(c..) {
-            store8(out, _mm256_blendv_epi8(old_color, color, write));
-        }
-        match VIS {
-            DEPTH_TEST => {
-                if let Some(d) = row.depth.get_mut(c..) {
-                    store8(d, _mm256_blendv_ps(old_depth, depth, bytemuck::cast(write)));
-                }
-            }
-            COVERAGE => cover_bits(row.coverage, c, _mm256_movemask_ps(bytemuck::cast(write)) as u8),
-            _ => {}
-        }
+    // A row narrower than a chunk is left to the per-pixel loop.
+    while x < end && width >= LANES {
+        let span = ChunkSpan { x0, x1, s, in_range };
+        let pixels = ChunkPixels { color: &mut *row.color, depth: &mut *row.depth, base: 0, width };
+        chunk_x8!(VIS, SRC, &mut x, span, (tex, flat, tint, alpha), pixels, &mut *row.coverage, &mut counts);
     }
     (x.min(x1), counts)
 }
@@ -498,3 +416,5 @@ pub(crate) mod points;
 
 /// The anisotropic filter's texels on eight lanes.
 mod anisotropic;
+/// A polygon's spans of a band in one loop.
+pub(crate) mod rows;

@@ -94,6 +94,9 @@ pub(crate) fn span_run<const VIS: u8, const SRC: u8>(span: &Span, paint: &Paint<
     walk::<VIS, SRC>(&run, paint, row)
 }
 
+/// A paint's `(flat colour, tint, alpha mask)`, as the chunk loops take them.
+pub(crate) type PaintColors = (u32, [u32; 3], Option<(f32, f32)>);
+
 /// A fast-path source resolved for the pixel loops: the texture (if any) and
 /// `(flat colour, tint, alpha mask)`.
 #[derive(Clone, Copy)]
@@ -113,6 +116,12 @@ impl Paint<'_> {
     #[inline(always)]
     pub(crate) fn flat(&self) -> u32 {
         self.colors.0
+    }
+
+    /// The texture and `(flat colour, tint, alpha mask)`.
+    #[inline(always)]
+    pub(crate) fn parts(&self) -> (Option<&Tex<'_>>, &PaintColors) {
+        (self.tex.as_ref(), &self.colors)
     }
 }
 
@@ -198,7 +207,7 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let Paint { tex, colors } = *paint;
     let (a0, da) = (&run.a0, &run.da);
     let (w, h) = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
-    let setup = Setup { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h };
+    let setup = Setup::new(*a0, *da, (w, h));
     let (x0, x1) = (run.x0, run.x1);
     // Both loops count in registers: the chunk loop returns its counts packed in a word, the per-pixel loop
     // keeps them in locals (counting through memory costs a store-forwarding stall per span).

@@ -1,0 +1,240 @@
+//! A polygon's spans in a band on a fast path: one loop chosen for the whole polygon, its short spans
+//! drawn by one chunk loop across rows.
+//!
+//! On a course of many small polygons most spans are a few pixels long; choosing the loop for each span,
+//! with the copies of the source it takes, cost more than drawing them, and so did a chunk loop a span,
+//! whose exit the CPU mispredicts about once a span. So spans of one polygon in a band are sorted by length
+//! as the walk emits them: spans under half a chunk go to the per-pixel loop at once (for a nearest texel
+//! of one level it is the cheaper), spans up to [`SHORT`] pixels are collected and drawn by one chunk loop
+//! that runs on from one row's last chunk to the next row's first, and longer spans take the chunk loop a
+//! span, whose set-up stays in registers. Rows are disjoint, so drawing them out of order changes no pixel.
+
+use super::row::{BandPixels, FLAT, SpanCounts};
+#[cfg(target_arch = "x86_64")]
+use super::row::{LANES, OVERWRITE, RowRun, Setup};
+use super::scanline::{Span, fill_spans_wound};
+use super::span_lanes::{Fill, Paint, span_run};
+#[cfg(target_arch = "x86_64")]
+use crate::render::core::vertex::slot;
+use crate::render::core::vertex::{ScreenVertex, Winding};
+#[cfg(target_arch = "x86_64")]
+use crate::render::simd;
+
+/// The longest span (in pixels) drawn by the chunk loop across rows; longer ones take the loop a span
+/// (routing every span across rows made the city's frames 14% slower, its set-up read from memory every
+/// chunk).
+#[cfg(target_arch = "x86_64")]
+const SHORT: i32 = 2 * LANES as i32;
+
+/// A polygon's spans in a band, drawn with the loop [`dispatch`](super::span_lanes::dispatch) chose for its
+/// source and visibility.
+pub(super) struct PolygonSpans<'v, 'r, 'b> {
+    pub(super) verts: &'v [ScreenVertex],
+    /// Which way its corners run, as set-up found.
+    pub(super) winding: Winding,
+    /// The band's rows, `band.0..band.1`.
+    pub(super) band: (i32, i32),
+    pub(super) width: i32,
+    /// Each row's sample shifts, in a frame of four rows a pixel.
+    pub(super) tall: Option<[i32; 4]>,
+    pub(super) rows: &'r mut BandPixels<'b>,
+    /// Where the short spans are collected (the thread's, reused polygon after polygon).
+    pub(super) runs: &'r mut Vec<RowRun>,
+}
+
+impl Fill for PolygonSpans<'_, '_, '_> {
+    fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
+        let PolygonSpans { verts, winding, band, width, tall, rows, runs } = self;
+        let mut total = SpanCounts::default();
+        let corners = (verts, winding);
+        // One colour over everything is a plain fill a span (`span_run`); the rest sort their spans.
+        #[cfg(target_arch = "x86_64")]
+        if !(SRC == FLAT && VIS == OVERWRITE)
+            && width >= LANES as i32
+            && let Some(avx2) = simd::avx2()
+        {
+            let (tex, colors) = paint.parts();
+            let size = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
+            let costly = tex.is_some_and(|t| t.costly());
+            runs.clear();
+            walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
+                let n = span.x1 - span.x0;
+                if n > SHORT || n < (LANES / 2) as i32 && !costly {
+                    total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
+                    return;
+                }
+                // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`.
+                let (a0, da) = (&span.a0, &span.da);
+                let setup = Setup::new(
+                    [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
+                    [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
+                    size,
+                );
+                let (x0, x1) = (span.x0.max(0) as usize, span.x1.max(0) as usize);
+                let in_range = SRC != FLAT && setup.texels_in_range(x1.saturating_sub(x0 + 1));
+                runs.push(RowRun { y: span.y as usize, x0, x1, in_range, setup });
+            });
+            let across = super::span_avx2::rows::rows::<VIS, SRC>(avx2, runs, tex, colors, rows);
+            return total + across.unpack();
+        }
+        walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
+            total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y))
+        });
+        total
+    }
+}
+
+/// [`walk_rows`] with the attributes source `SRC` needs: each attribute is interpolated on its own, so
+/// fewer of them change none of the others' bits, and a flat colour needs only the depth.
+#[inline(always)]
+fn walk_source<const SRC: u8>(
+    corners: (&[ScreenVertex], Winding),
+    band: (i32, i32),
+    width: i32,
+    tall: Option<[i32; 4]>,
+    draw: impl FnMut(&Span),
+) {
+    if SRC == FLAT {
+        walk_rows::<1>(corners, band, width, tall, draw);
+    } else {
+        walk_rows::<4>(corners, band, width, tall, draw);
+    }
+}
+
+/// A polygon's spans on rows `band`, given its corners and their winding, each row's samples shifted by
+/// `tall` when given.
+#[inline(always)]
+pub(super) fn walk_rows<const N: usize>(
+    (verts, winding): (&[ScreenVertex], Winding),
+    band: (i32, i32),
+    width: i32,
+    tall: Option<[i32; 4]>,
+    draw: impl FnMut(&Span),
+) {
+    fill_spans_wound::<N>(verts, winding, band, width, tall, draw);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::core::fixed::Fx28_4;
+    use crate::render::core::mip::TexGradients;
+    use crate::render::core::test_rng::Lcg;
+    use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
+    use crate::render::core::vertex::{ATTRS, slot};
+    use crate::render::fill::row::Visibility;
+    use crate::render::fill::span_lanes::{Source, dispatch};
+    use crate::render::fill::texel::Tex;
+    use crate::render::simd::{force_portable, has_avx2};
+
+    /// A band's buffers after drawing polygon `verts` through [`PolygonSpans`] (with AVX2, or the portable
+    /// loops only), and the counts.
+    fn draw(
+        corners: (&[ScreenVertex], Winding),
+        (source, alpha, vis): (Source<'_>, Option<(f32, f32)>, Visibility),
+        start: (&[u32], &[f32], &[u64]),
+        (band, width): ((i32, i32), usize),
+        portable: bool,
+    ) -> (Vec<u32>, Vec<u32>, Vec<u64>, SpanCounts) {
+        let (mut color, mut depth, mut coverage) = (start.0.to_vec(), start.1.to_vec(), start.2.to_vec());
+        let words = width.div_ceil(64);
+        let mut rows = BandPixels {
+            y0: band.0 as usize,
+            width,
+            color: &mut color,
+            depth: &mut depth,
+            coverage: &mut coverage,
+            words,
+        };
+        let mut runs = Vec::new();
+        let spans = PolygonSpans {
+            verts: corners.0,
+            winding: corners.1,
+            band,
+            width: width as i32,
+            tall: None,
+            rows: &mut rows,
+            runs: &mut runs,
+        };
+        force_portable(portable);
+        let counts = dispatch(source, alpha, vis, spans);
+        force_portable(false);
+        (color, depth.iter().map(|d| d.to_bits()).collect(), coverage, counts)
+    }
+
+    #[test]
+    fn polygons_drawn_across_rows_match_the_per_pixel_loop_bit_for_bit() {
+        if !has_avx2() {
+            eprintln!("no AVX2 on this CPU: only the per-pixel loop runs, nothing to compare");
+            return;
+        }
+        let mut rng = Lcg(11);
+        let unit = |rng: &mut Lcg| rng.next() as f32 / u32::MAX as f32;
+        let (mut short_spans, mut cases) = (0, 0);
+        for case in 0..1500 {
+            let width = [8usize, 24, 64, 100][rng.below(4) as usize];
+            let band = (rng.below(40) as i32, 0);
+            let band = (band.0, band.0 + 1 + rng.below(32) as i32);
+            let height = (band.1 - band.0) as usize;
+            // A triangle or quad from 1 to about 40 pixels across, partly outside the band or the row at
+            // times, with depth, `1/w`, `s/w` and `t/w` varying across it.
+            let size = [2.0, 6.0, 14.0, 40.0][rng.below(4) as usize];
+            let (cx, cy) = (unit(&mut rng) * width as f32, band.0 as f32 + unit(&mut rng) * height as f32);
+            let n = 3 + rng.below(2) as usize;
+            // A corner in each quadrant around the centre, in turn: a star-shaped outline.
+            let quadrants = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            let mut verts: Vec<ScreenVertex> = quadrants[..n]
+                .iter()
+                .map(|&(sx, sy)| {
+                    let (rx, ry) = (size * (0.3 + unit(&mut rng)), size * (0.3 + unit(&mut rng)));
+                    let mut attrs = [0.0; ATTRS];
+                    attrs[slot::DEPTH] = unit(&mut rng);
+                    attrs[slot::Q] = 0.1 + unit(&mut rng);
+                    attrs[slot::S] = unit(&mut rng) * 3.0 - 1.0;
+                    attrs[slot::T] = unit(&mut rng) * 3.0 - 1.0;
+                    let at = |v: f32| Fx28_4((v * 16.0) as i32);
+                    ScreenVertex { x: at(cx + sx * rx), y: at(cy + sy * ry), attrs }
+                })
+                .collect();
+            if rng.below(2) == 0 {
+                verts.reverse();
+            }
+            let Some(winding) = Winding::of(&verts) else { continue };
+            let (tw, th) = ([1u32, 4, 16, 64, 5][rng.below(5) as usize], [1u32, 8, 32, 3][rng.below(4) as usize]);
+            let Ok(tex) = Texture::new(tw, th, (0..tw * th).map(|_| rng.next()).collect()) else { panic!("texture") };
+            let wraps = [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat];
+            let sampler = Sampler { wrap_s: wraps[rng.below(3) as usize], wrap_t: wraps[rng.below(3) as usize] };
+            let nearest = Tex::polygon(&tex, sampler, Filter::Nearest, 0.0);
+            let g = TexGradients { dx: [0.01, 0.05, -0.03], dy: [0.002, 0.02, 0.04] };
+            let per_pixel = Tex::per_pixel(&tex, sampler, Filter::Nearest, g);
+            let filtered = Tex::polygon(&tex, sampler, Filter::Bilinear, 0.5);
+            let tint = [rng.below(65537), rng.below(65537), rng.below(65537)];
+            let alpha = (rng.below(2) == 0).then(|| (unit(&mut rng), unit(&mut rng) * 0.5));
+            let pixels = width * height;
+            let color: Vec<u32> = (0..pixels).map(|_| rng.next()).collect();
+            let depth: Vec<f32> = (0..pixels).map(|_| unit(&mut rng)).collect();
+            let coverage: Vec<u64> = (0..width.div_ceil(64) * height).map(|_| u64::from(rng.next()) << 32).collect();
+            let sources = [
+                Source::Flat(rng.next()),
+                Source::Texel(nearest),
+                Source::Tinted(nearest, tint),
+                Source::Tinted(per_pixel, tint),
+                Source::Texel(filtered),
+            ];
+            fill_spans_wound::<4>(&verts, winding, band, width as i32, None, |s| {
+                short_spans += usize::from((4..=SHORT).contains(&(s.x1 - s.x0)));
+            });
+            for source in sources {
+                for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
+                    let start = (&color[..], &depth[..], &coverage[..]);
+                    let paint = (source, alpha, vis);
+                    let fast = draw((&verts, winding), paint, start, (band, width), false);
+                    let slow = draw((&verts, winding), paint, start, (band, width), true);
+                    assert_eq!(fast, slow, "case {case}, {vis:?}, {verts:?} in rows {band:?} of {width}");
+                    cases += 1;
+                }
+            }
+        }
+        assert!(short_spans > 5000 && cases > 10_000, "{short_spans} short spans, {cases} cases");
+    }
+}
