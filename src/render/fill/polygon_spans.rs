@@ -4,10 +4,11 @@
 //! On a course of many small polygons most spans are a few pixels long; choosing the loop for each span,
 //! with the copies of the source it takes, cost more than drawing them, and so did a chunk loop a span,
 //! whose exit the CPU mispredicts about once a span. So spans of one polygon in a band are sorted by length
-//! as the walk emits them: spans under half a chunk go to the per-pixel loop at once (for a nearest texel
-//! of one level it is the cheaper), spans up to [`SHORT`] pixels are collected and drawn by one chunk loop
-//! that runs on from one row's last chunk to the next row's first, and longer spans take the chunk loop a
-//! span, whose set-up stays in registers. Rows are disjoint, so drawing them out of order changes no pixel.
+//! as the walk emits them: spans up to [`SHORT`] pixels are collected and drawn by one chunk loop that runs
+//! on from one row's last chunk to the next row's first (spans of 1-3 pixels too: there they cost no more
+//! than the per-pixel loop the loop a span leaves them to, and those of 2-3 pixels less), and longer spans
+//! take the chunk loop a span at once, whose set-up stays in registers. Rows are disjoint, so drawing them
+//! out of order changes no pixel.
 
 use super::row::{BandPixels, FLAT, SpanCounts};
 #[cfg(target_arch = "x86_64")]
@@ -55,11 +56,10 @@ impl Fill for PolygonSpans<'_, '_, '_> {
         {
             let (tex, colors) = paint.parts();
             let size = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
-            let costly = tex.is_some_and(|t| t.costly());
             runs.clear();
             walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
                 let n = span.x1 - span.x0;
-                if n > SHORT || n < (LANES / 2) as i32 && !costly {
+                if n > SHORT {
                     total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
                     return;
                 }
@@ -222,7 +222,7 @@ mod tests {
                 Source::Texel(filtered),
             ];
             fill_spans_wound::<4>(&verts, winding, band, width as i32, None, |s| {
-                short_spans += usize::from((4..=SHORT).contains(&(s.x1 - s.x0)));
+                short_spans += usize::from(s.x1 - s.x0 <= SHORT);
             });
             for source in sources {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
