@@ -46,6 +46,8 @@ pub(super) struct PolygonSpans<'v, 'r, 'b> {
 impl Fill for PolygonSpans<'_, '_, '_> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
         let PolygonSpans { verts, winding, band, width, tall, rows, runs } = self;
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = runs;
         let mut total = SpanCounts::default();
         let corners = (verts, winding);
         // One colour over everything is a plain fill a span (`span_run`); the rest sort their spans.
@@ -119,6 +121,7 @@ mod tests {
     use super::*;
     use crate::render::core::fixed::Fx28_4;
     use crate::render::core::mip::TexGradients;
+    use crate::render::core::samples::ROW_SHIFTS;
     use crate::render::core::test_rng::Lcg;
     use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
     use crate::render::core::vertex::{ATTRS, slot};
@@ -133,7 +136,7 @@ mod tests {
         corners: (&[ScreenVertex], Winding),
         (source, alpha, vis): (Source<'_>, Option<(f32, f32)>, Visibility),
         start: (&[u32], &[f32], &[u64]),
-        (band, width): ((i32, i32), usize),
+        (band, width, tall): ((i32, i32), usize, Option<[i32; 4]>),
         portable: bool,
     ) -> (Vec<u32>, Vec<u32>, Vec<u64>, SpanCounts) {
         let (mut color, mut depth, mut coverage) = (start.0.to_vec(), start.1.to_vec(), start.2.to_vec());
@@ -152,7 +155,7 @@ mod tests {
             winding: corners.1,
             band,
             width: width as i32,
-            tall: None,
+            tall,
             rows: &mut rows,
             runs: &mut runs,
         };
@@ -199,6 +202,13 @@ mod tests {
             if rng.below(2) == 0 {
                 verts.reverse();
             }
+            // Hostile attributes at times (NaN, infinite, huge) at one corner.
+            if case % 5 == 4 {
+                let bad = [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9][rng.below(5) as usize];
+                verts[rng.below(n as u32) as usize].attrs[rng.below(4) as usize] = bad;
+            }
+            // The rotated grid's rows, each sampled at its shift, half the time.
+            let tall = (rng.below(2) == 0).then_some(ROW_SHIFTS);
             let Some(winding) = Winding::of(&verts) else { continue };
             let (tw, th) = ([1u32, 4, 16, 64, 5][rng.below(5) as usize], [1u32, 8, 32, 3][rng.below(4) as usize]);
             let Ok(tex) = Texture::new(tw, th, (0..tw * th).map(|_| rng.next()).collect()) else { panic!("texture") };
@@ -213,7 +223,14 @@ mod tests {
             let pixels = width * height;
             let color: Vec<u32> = (0..pixels).map(|_| rng.next()).collect();
             let depth: Vec<f32> = (0..pixels).map(|_| unit(&mut rng)).collect();
-            let coverage: Vec<u64> = (0..width.div_ceil(64) * height).map(|_| u64::from(rng.next()) << 32).collect();
+            // Random words, and often whole words drawn (which the chunk loops skip at once).
+            let coverage: Vec<u64> = (0..width.div_ceil(64) * height)
+                .map(|_| match rng.below(3) {
+                    0 => u64::MAX,
+                    1 => u64::MAX << rng.below(64),
+                    _ => u64::from(rng.next()) << 32 | u64::from(rng.next()),
+                })
+                .collect();
             let sources = [
                 Source::Flat(rng.next()),
                 Source::Texel(nearest),
@@ -221,15 +238,15 @@ mod tests {
                 Source::Tinted(per_pixel, tint),
                 Source::Texel(filtered),
             ];
-            fill_spans_wound::<4>(&verts, winding, band, width as i32, None, |s| {
+            fill_spans_wound::<4>(&verts, winding, band, width as i32, tall, |s| {
                 short_spans += usize::from(s.x1 - s.x0 <= SHORT);
             });
             for source in sources {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
                     let start = (&color[..], &depth[..], &coverage[..]);
                     let paint = (source, alpha, vis);
-                    let fast = draw((&verts, winding), paint, start, (band, width), false);
-                    let slow = draw((&verts, winding), paint, start, (band, width), true);
+                    let fast = draw((&verts, winding), paint, start, (band, width, tall), false);
+                    let slow = draw((&verts, winding), paint, start, (band, width, tall), true);
                     assert_eq!(fast, slow, "case {case}, {vis:?}, {verts:?} in rows {band:?} of {width}");
                     cases += 1;
                 }

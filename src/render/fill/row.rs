@@ -157,6 +157,7 @@ pub(crate) struct Run {
 /// One row's span for the chunk loop across rows (`span_avx2::rows`): pixels `x0..x1` of frame row `y`,
 /// its set-up, and whether its texel coordinates stay in range ([`Setup::texels_in_range`]).
 #[derive(Clone, Copy)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) struct RowRun {
     pub(crate) y: usize,
     pub(crate) x0: usize,

@@ -403,10 +403,10 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     // Spans are clipped to the row by the fill, so the counts fit their 21 bits.
     debug_assert!(end.saturating_sub(x0) < 1 << PackedCounts::BITS, "a span of {} pixels", end - x0);
     // A row narrower than a chunk is left to the per-pixel loop.
-    while x < end && width >= LANES {
+    'span: while x < end && width >= LANES {
         let span = ChunkSpan { x0, x1, s, in_range };
         let pixels = ChunkPixels { color: &mut *row.color, depth: &mut *row.depth, base: 0, width };
-        chunk_x8!(VIS, SRC, &mut x, span, (tex, flat, tint, alpha), pixels, &mut *row.coverage, &mut counts);
+        chunk_x8!('span, VIS, SRC, &mut x, span, (tex, flat, tint, alpha), pixels, &mut *row.coverage, &mut counts);
     }
     (x.min(x1), counts)
 }

@@ -120,6 +120,7 @@ impl Paint<'_> {
 
     /// The texture and `(flat colour, tint, alpha mask)`.
     #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     pub(crate) fn parts(&self) -> (Option<&Tex<'_>>, &PaintColors) {
         (self.tex.as_ref(), &self.colors)
     }

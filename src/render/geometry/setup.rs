@@ -394,7 +394,10 @@ impl ObjectSetup<'_> {
         // Each polygon (or piece) drawn, with its key when the frame is ordered by keys.
         let ordered = self.ordered;
         let push = |out: &mut Batch, first: u32, count: u32, rows: (i32, i32), small: bool, winding: Winding| {
-            out.polys.push(DrawPolygon::new(first, count, tag, rows, small, &paint).wound(winding));
+            // Only polygons with corners are walked by their winding (small triangles, as the other set-up
+            // paths make them, leave the bit clear).
+            let p = DrawPolygon::new(first, count, tag, rows, small, &paint);
+            out.polys.push(if small { p } else { p.wound(winding) });
             if ordered {
                 out.keys.push(key);
             }

@@ -29,11 +29,13 @@ pub(crate) struct ChunkPixels<'a> {
 // long: one AVX2 chunk; split into functions its vectors would pass through memory.
 /// Draws the chunk of span `$span` at `*$x` (a row at least a chunk wide: the chunk is moved back to end
 /// inside the row where it would pass the row's end, lanes outside the span or already drawn masked off),
-/// adds its counts to `$counts` and moves `*$x` past it. `$vis` and `$src` are the portable loop's
+/// adds its counts to `$counts` and moves `*$x` past it; where the row's buffers are too short for the
+/// chunk (no caller's are) it leaves `*$x` and breaks out of the loop labelled `$stop`, so that the caller's
+/// per-pixel loop draws the rest. `$vis` and `$src` are the portable loop's
 /// visibility and source codes, `$paint` the texture and `(flat colour, tint, alpha mask)`, `$coverage`
 /// the row's coverage words.
 macro_rules! chunk_x8 {
-    ($vis:expr, $src:expr, $x:expr, $span:expr, $paint:expr, $pixels:expr, $coverage:expr, $counts:expr) => {{
+    ($stop:lifetime, $vis:expr, $src:expr, $x:expr, $span:expr, $paint:expr, $pixels:expr, $coverage:expr, $counts:expr) => {{
         let (x, ChunkSpan { x0, x1, s, in_range }, counts): (&mut usize, ChunkSpan<'_>, &mut PackedCounts) =
             ($x, $span, $counts);
         let (tex, flat, tint, alpha): (Option<&Tex<'_>>, u32, [u32; 3], Option<(f32, f32)>) = $paint;
@@ -59,14 +61,13 @@ macro_rules! chunk_x8 {
                 _mm256_cmpgt_epi32(lane, _mm256_set1_epi32(*x as i32 - 1)),
                 _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 as i32), lane),
             );
-            *x = c + LANES;
-            let Some(old_color) = colors.get(base + c..).and_then(load8::<u32, __m256i>) else { break 'chunk };
+            let Some(old_color) = colors.get(base + c..).and_then(load8::<u32, __m256i>) else { break $stop };
             let k = _mm256_cvtepi32_ps(_mm256_sub_epi32(lane, _mm256_set1_epi32(x0 as i32)));
             let depth = _mm256_add_ps(_mm256_set1_ps(s.d0), _mm256_mul_ps(k, _mm256_set1_ps(s.dd)));
             let mut old_depth = depth;
             let visible = match $vis {
                 DEPTH_TEST => {
-                    let Some(old) = depths.get(base + c..).and_then(load8::<f32, __m256>) else { break 'chunk };
+                    let Some(old) = depths.get(base + c..).and_then(load8::<f32, __m256>) else { break $stop };
                     old_depth = old;
                     // Strictly nearer wins, so on equal depth the polygon drawn first stays (like GL_LESS).
                     _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GT_OQ>(depth, old))
@@ -78,6 +79,7 @@ macro_rules! chunk_x8 {
                 }
                 _ => valid,
             };
+            *x = c + LANES;
             let pass = _mm256_and_si256(visible, valid);
             let lanes = |m: __m256i| u64::from((_mm256_movemask_ps(bytemuck::cast(m)) as u32).count_ones());
             let n = lanes(pass);

@@ -57,14 +57,14 @@ fn rows_avx2<const VIS: u8, const SRC: u8>(
     let (Some(mut run), true) = (runs.first(), width >= LANES) else { return counts };
     let mut next_run = 0;
     let mut x = run.x0;
-    loop {
+    'runs: loop {
         debug_assert!(run.x0 < run.x1 && run.x1 <= width, "a run {}..{} in a row of {width}", run.x0, run.x1);
         debug_assert!(run.y >= px.y0 && (run.y - px.y0 + 1) * width <= px.color.len(), "row {} not in the band", run.y);
         let r = run.y.wrapping_sub(px.y0);
         let span = ChunkSpan { x0: run.x0, x1: run.x1, s: &run.setup, in_range: SRC != FLAT && run.in_range };
         let pixels = ChunkPixels { color: &mut *px.color, depth: &mut *px.depth, base: r * width, width };
         let coverage = if VIS == COVERAGE { px.coverage.get_mut(r * words..(r + 1) * words) } else { None };
-        chunk_x8!(VIS, SRC, &mut x, span, (tex, flat, tint, alpha), pixels, coverage.unwrap_or(&mut []), &mut counts);
+        chunk_x8!('runs, VIS, SRC, &mut x, span, (tex, flat, tint, alpha), pixels, coverage.unwrap_or(&mut []), &mut counts);
         // The next chunk: further along this row, or the next run's first (which run is read is all that
         // depends on it). A run past the row's end (never one from the walk) ends at it, or the last chunk
         // would be moved back to end inside the row again and again.
