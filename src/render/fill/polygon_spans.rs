@@ -165,6 +165,35 @@ mod tests {
         (color, depth.iter().map(|d| d.to_bits()).collect(), coverage, counts)
     }
 
+    /// A polygon of `n` (3 or 4) corners around `(cx, cy)`, about `size` pixels across: a corner in each
+    /// quadrant in turn (a star-shaped outline), in either winding, with depth, `1/w`, `s/w` and `t/w`
+    /// varying across it; with `hostile`, one attribute at one corner NaN, infinite or huge.
+    fn random_polygon(rng: &mut Lcg, (cx, cy, size): (f32, f32, f32), n: usize, hostile: bool) -> Vec<ScreenVertex> {
+        let unit = |rng: &mut Lcg| rng.next() as f32 / u32::MAX as f32;
+        let quadrants = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        let mut verts: Vec<ScreenVertex> = quadrants[..n]
+            .iter()
+            .map(|&(sx, sy)| {
+                let (rx, ry) = (size * (0.3 + unit(rng)), size * (0.3 + unit(rng)));
+                let mut attrs = [0.0; ATTRS];
+                attrs[slot::DEPTH] = unit(rng);
+                attrs[slot::Q] = 0.1 + unit(rng);
+                attrs[slot::S] = unit(rng) * 3.0 - 1.0;
+                attrs[slot::T] = unit(rng) * 3.0 - 1.0;
+                let at = |v: f32| Fx28_4((v * 16.0) as i32);
+                ScreenVertex { x: at(cx + sx * rx), y: at(cy + sy * ry), attrs }
+            })
+            .collect();
+        if rng.below(2) == 0 {
+            verts.reverse();
+        }
+        if hostile {
+            let bad = [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9][rng.below(5) as usize];
+            verts[rng.below(n as u32) as usize].attrs[rng.below(4) as usize] = bad;
+        }
+        verts
+    }
+
     #[test]
     fn polygons_drawn_across_rows_match_the_per_pixel_loop_bit_for_bit() {
         if !has_avx2() {
@@ -184,32 +213,10 @@ mod tests {
             let size = [2.0, 6.0, 14.0, 40.0][rng.below(4) as usize];
             let (cx, cy) = (unit(&mut rng) * width as f32, band.0 as f32 + unit(&mut rng) * height as f32);
             let n = 3 + rng.below(2) as usize;
-            // A corner in each quadrant around the centre, in turn: a star-shaped outline.
-            let quadrants = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
-            let mut verts: Vec<ScreenVertex> = quadrants[..n]
-                .iter()
-                .map(|&(sx, sy)| {
-                    let (rx, ry) = (size * (0.3 + unit(&mut rng)), size * (0.3 + unit(&mut rng)));
-                    let mut attrs = [0.0; ATTRS];
-                    attrs[slot::DEPTH] = unit(&mut rng);
-                    attrs[slot::Q] = 0.1 + unit(&mut rng);
-                    attrs[slot::S] = unit(&mut rng) * 3.0 - 1.0;
-                    attrs[slot::T] = unit(&mut rng) * 3.0 - 1.0;
-                    let at = |v: f32| Fx28_4((v * 16.0) as i32);
-                    ScreenVertex { x: at(cx + sx * rx), y: at(cy + sy * ry), attrs }
-                })
-                .collect();
-            if rng.below(2) == 0 {
-                verts.reverse();
-            }
-            // Hostile attributes at times (NaN, infinite, huge) at one corner.
-            if case % 5 == 4 {
-                let bad = [f32::NAN, f32::INFINITY, -f32::INFINITY, 3e9, -3e9][rng.below(5) as usize];
-                verts[rng.below(n as u32) as usize].attrs[rng.below(4) as usize] = bad;
-            }
+            let verts = random_polygon(&mut rng, (cx, cy, size), n, case % 5 == 4);
+            let Some(winding) = Winding::of(&verts) else { continue };
             // The rotated grid's rows, each sampled at its shift, half the time.
             let tall = (rng.below(2) == 0).then_some(ROW_SHIFTS);
-            let Some(winding) = Winding::of(&verts) else { continue };
             let (tw, th) = ([1u32, 4, 16, 64, 5][rng.below(5) as usize], [1u32, 8, 32, 3][rng.below(4) as usize]);
             let Ok(tex) = Texture::new(tw, th, (0..tw * th).map(|_| rng.next()).collect()) else { panic!("texture") };
             let wraps = [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat];
