@@ -41,3 +41,18 @@ pub(crate) fn store8<T: bytemuck::Pod, V: bytemuck::Pod>(s: &mut [T], v: V) {
 pub(crate) fn load8<T: bytemuck::Pod, V: bytemuck::Pod>(s: &[T]) -> Option<V> {
     load_lanes::<8, T, V>(s)
 }
+
+/// The AVX2 intrinsics the span loops' macros expand to, in one list: a macro's body names them in the scope
+/// it is expanded in, so each file that expands them (`span_avx2` and its `rows` and `points`) imports this
+/// whole (three copies of a 40-name list kept in step before).
+pub(crate) mod span {
+    pub(crate) use std::arch::x86_64::{
+        __m256, __m256i, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_epi16, _mm256_add_epi32,
+        _mm256_add_ps, _mm256_and_ps, _mm256_and_si256, _mm256_andnot_si256, _mm256_blendv_epi8, _mm256_blendv_ps,
+        _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32,
+        _mm256_cvtepi32_ps, _mm256_cvttps_epi32, _mm256_div_ps, _mm256_max_epi32, _mm256_max_ps, _mm256_min_epi32,
+        _mm256_movemask_ps, _mm256_mul_ps, _mm256_mullo_epi16, _mm256_mullo_epi32, _mm256_or_si256, _mm256_set1_epi32,
+        _mm256_set1_ps, _mm256_setr_epi32, _mm256_setr_ps, _mm256_setzero_ps, _mm256_setzero_si256, _mm256_slli_epi32,
+        _mm256_srai_epi32, _mm256_srli_epi16, _mm256_srli_epi32, _mm256_sub_epi32, _mm256_sub_ps,
+    };
+}
