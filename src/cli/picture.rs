@@ -19,8 +19,9 @@ pub struct PictureArgs {
     /// (play's race: the settings file's, else auto).
     #[arg(long, value_name = "PRESET")]
     pub quality: Option<QualityChoice>,
-    /// Texture filtering: nearest, bilinear, trilinear (bilinear in the two mip levels around the level of
-    /// detail, blended; bilinear with --mip off), or aniso2, aniso4, aniso8, aniso16 (up to N box probes along
+    /// Texture filtering: nearest, bilinear, min-bilinear (nearest on a polygon whose texture is magnified,
+    /// bilinear on one whose texture is minified; levels per polygon), trilinear (bilinear in the two mip
+    /// levels around the level of detail, blended; bilinear with --mip off), or aniso2, aniso4, aniso8, aniso16 (up to N box probes along
     /// the footprint's long axis, levels chosen at every pixel whatever --mip says). Default: nearest (play's race: the settings
     /// file's, else nearest).
     #[arg(long)]

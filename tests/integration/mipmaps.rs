@@ -83,6 +83,36 @@ fn each_choice_takes_the_level_of_its_scale_and_level_zero_when_magnified() {
 
 /// A checkerboard (8x8 texel checks on a 64x64 texture, a tile every 4 m) on the ground from the camera to
 #[test]
+fn min_bilinear_is_nearest_on_a_magnified_polygon_and_bilinear_on_a_minified_one() {
+    // As a quad and as two triangles small enough for the small-triangle path (which a minified triangle
+    // leaves for the bilinear fill).
+    for (side, triangles) in [(32, false), (16, true)] {
+        let mesh = square(side, triangles);
+        // A quarter of a texel a pixel, then one and a half and three (not a whole level, where bilinear
+        // samples fall on texel centres and equal the nearest ones).
+        let side_texels = side as u32;
+        for (size, minified) in [(side_texels / 4, false), (side_texels * 3 / 2, true), (side_texels * 3, true)] {
+            let t = noise_texture(size, size, size);
+            let what = format!("{side}-pixel square of {size}x{size} texels");
+            let (filter, other) =
+                if minified { (Filter::Bilinear, Filter::Nearest) } else { (Filter::Nearest, Filter::Bilinear) };
+            let want = draw(&mesh, &t, filter, MipMode::Polygon, 1);
+            assert!(want != draw(&mesh, &t, other, MipMode::Polygon, 1), "{what}: the filters differ");
+            for threads in [1, 2, 3] {
+                assert!(
+                    draw(&mesh, &t, Filter::MinBilinear, MipMode::Polygon, threads) == want,
+                    "{what}, {threads} threads"
+                );
+            }
+            // Its level is the polygon's whatever the mip choice says.
+            for mip in [MipMode::Off, MipMode::Span, MipMode::Pixel] {
+                assert!(draw(&mesh, &t, Filter::MinBilinear, mip, 1) == want, "{what}, {mip}");
+            }
+        }
+    }
+}
+
+#[test]
 fn a_mip_bias_moves_every_choice_by_its_levels() {
     let mesh = square(16, false);
     for k in 1..3u32 {

@@ -13,6 +13,7 @@ pub mod camera;
 pub mod door;
 pub mod draw_list;
 pub mod error;
+pub mod filter;
 pub mod fixed;
 pub mod mesh;
 pub mod mip;

@@ -81,7 +81,11 @@ impl FromStr for Filter {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Filter::ALL.into_iter().find(|f| f.name() == s).ok_or_else(|| {
-            UnknownName::new("filter", s, "nearest, bilinear, trilinear, aniso2, aniso4, aniso8 or aniso16")
+            UnknownName::new(
+                "filter",
+                s,
+                "nearest, bilinear, min-bilinear, trilinear, aniso2, aniso4, aniso8 or aniso16",
+            )
         })
     }
 }
@@ -122,11 +126,13 @@ impl MipMode {
 
 impl MipMode {
     /// The choice a frame makes with `filter`: an anisotropic filter chooses its level at every pixel (the
-    /// level where its probes' boxes fit a texel is part of the filter), so with it every choice is `pixel`.
+    /// level where its probes' boxes fit a texel is part of the filter), so with it every choice is `pixel`;
+    /// `min-bilinear` decides by the polygon's level of detail, so with it every choice is `polygon`.
     #[must_use]
     pub fn with_filter(self, filter: Filter) -> MipMode {
         match filter {
             Filter::Anisotropic(_) => MipMode::Pixel,
+            Filter::MinBilinear => MipMode::Polygon,
             _ => self,
         }
     }

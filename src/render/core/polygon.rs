@@ -225,12 +225,22 @@ impl FastPathRule {
     /// Whether set-up makes such a polygon's small triangles for the fast fill: when it takes a fast path
     /// with nearest texels (or none) from one level for it. A level chosen per span or pixel needs the
     /// polygon's gradients, which a small triangle's record does not carry, and the small fill samples
-    /// nearest only, so such triangles stay polygons.
+    /// nearest only, so such triangles stay polygons. With [`Filter::MinBilinear`] a textured triangle
+    /// also asks [`small_textured_at`](Self::small_textured_at) with its level of detail.
     #[inline]
     pub(crate) fn small_triangles(&self, textured: bool, constant: bool, cutoff: bool, screen_door: bool) -> bool {
         let one_level = matches!(self.mip, MipMode::Off | MipMode::Polygon);
-        let one_nearest_level = one_level && self.filter == Filter::Nearest;
+        let one_nearest_level = one_level && matches!(self.filter, Filter::Nearest | Filter::MinBilinear);
         self.applies(textured, constant, cutoff, screen_door) && (!textured || one_nearest_level)
+    }
+
+    /// Whether a textured triangle whose material's small triangles take the fast fill
+    /// ([`small_triangles`](Self::small_triangles)) is drawn with nearest texels at its level of detail
+    /// `lod` (in steps of 1/[`LOD_STEPS`](super::mip::LOD_STEPS)), and so is a small triangle too: always,
+    /// except a minified one with [`Filter::MinBilinear`], which stays a polygon and is drawn bilinear.
+    #[inline(always)]
+    pub(crate) fn small_textured_at(&self, lod: u8) -> bool {
+        self.filter.for_polygon(f32::from(lod)) == Filter::Nearest
     }
 }
 

@@ -29,67 +29,7 @@ pub enum Wrap {
     MirroredRepeat,
 }
 
-/// Texture filtering used for every texture in a frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Filter {
-    /// The texel that contains the sample point (the default: exact, cheap, the retro look).
-    #[default]
-    Nearest,
-    /// Weighted mean of the four nearest texel centres.
-    Bilinear,
-    /// Bilinear in the two mip levels around the level of detail, blended by its fraction (bilinear in
-    /// level 0 when mip-maps are off).
-    Trilinear,
-    /// Up to this many trilinear probes along the long axis of the pixel's footprint, at the level its
-    /// short axis asks for ([`anisotropic`](super::anisotropic); one of
-    /// [`ANISOTROPY`](super::anisotropic::ANISOTROPY)). It measures the footprint and chooses the level
-    /// at every pixel, whatever the mip choice says.
-    Anisotropic(u8),
-}
-
-impl Filter {
-    /// Every filter, in the order the command line lists them.
-    pub const ALL: [Filter; 7] = [
-        Filter::Nearest,
-        Filter::Bilinear,
-        Filter::Trilinear,
-        Filter::Anisotropic(2),
-        Filter::Anisotropic(4),
-        Filter::Anisotropic(8),
-        Filter::Anisotropic(16),
-    ];
-
-    /// The command-line name (`anisoN` for up to `N` probes; a count outside
-    /// [`ANISOTROPY`](super::anisotropic::ANISOTROPY) is named `aniso`).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Filter::Nearest => "nearest",
-            Filter::Bilinear => "bilinear",
-            Filter::Trilinear => "trilinear",
-            Filter::Anisotropic(2) => "aniso2",
-            Filter::Anisotropic(4) => "aniso4",
-            Filter::Anisotropic(8) => "aniso8",
-            Filter::Anisotropic(16) => "aniso16",
-            Filter::Anisotropic(_) => "aniso",
-        }
-    }
-
-    /// The most probes a pixel takes: 1, or `N` for `anisoN`.
-    #[must_use]
-    pub fn max_probes(self) -> u8 {
-        match self {
-            Filter::Anisotropic(n) => n.clamp(1, 16),
-            _ => 1,
-        }
-    }
-}
-
-impl std::fmt::Display for Filter {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use super::filter::Filter;
 
 /// The wrap modes of one texture reference.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -269,7 +209,8 @@ impl Texture {
     }
 
     /// A sample at `(u, v)` by `filter` at level of detail `lod` (`λ`, see [`mip`]) as RGBA in `0..=1`:
-    /// nearest or bilinear in the level nearest `λ`, trilinear between the two around it. At `λ <= 0`
+    /// nearest or bilinear in the level nearest `λ` (`min-bilinear` as `λ` decides), trilinear between the
+    /// two around it. At `λ <= 0`
     /// (magnification, or mip-maps off) every filter samples level 0 exactly as without mip-maps.
     #[inline]
     #[must_use]
@@ -278,6 +219,8 @@ impl Texture {
         match filter {
             Filter::Nearest => self.level(mip::nearest_level(lod, last)).sample_nearest(u, v, sampler),
             Filter::Bilinear => unpack(self.level(mip::nearest_level(lod, last)).bilinear(u, v, sampler)),
+            // A polygon's shading resolves it by the polygon's level; given a level here, by that one.
+            Filter::MinBilinear => self.sample(filter.for_polygon(lod), lod, u, v, sampler),
             Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, last);
                 let fine = self.level(k).bilinear(u, v, sampler);

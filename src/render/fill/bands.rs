@@ -154,7 +154,9 @@ impl<'a> FillContext<'a> {
         Shading {
             texture,
             sampler: p.sampler,
-            filter: self.options.filter,
+            // `min-bilinear` by the polygon's own level (a bias moves which level it samples, not whether its
+            // texture is minified).
+            filter: self.options.filter.for_polygon(p.lod()),
             mip,
             lod,
             gradients,

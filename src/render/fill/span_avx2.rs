@@ -199,9 +199,12 @@ macro_rules! blend_2x2_x8 {
         let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
         // Each index is in range (wrapped into the level); the lookups are still checked.
         let fetch = |row: __m256i, column: __m256i| {
-            let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row, column));
-            let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
-            bytemuck::cast::<[u32; LANES], __m256i>(out)
+            let idx = _mm256_add_epi32(row, column);
+            crate::render::simd::x86::gather8(texels, idx).unwrap_or_else(|| {
+                let idx: [u32; LANES] = bytemuck::cast(idx);
+                let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
+                bytemuck::cast::<[u32; LANES], __m256i>(out)
+            })
         };
         let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
         let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);

@@ -98,6 +98,8 @@ impl<'a> Tex<'a> {
                 level.texel(floor_i32(u * level.width() as f32), floor_i32(v * level.height() as f32), self.sampler)
             }
             Filter::Bilinear => t.level(nearest_level(lod, t.last_level())).bilinear(u, v, self.sampler),
+            // A polygon's shading resolves it by the polygon's level; given a pixel's level, by that one.
+            Filter::MinBilinear => Self { filter: self.filter.for_polygon(lod), ..*self }.at_lod(u, v, lod),
             Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, t.last_level());
                 let fine = t.level(k).bilinear(u, v, self.sampler);

@@ -108,6 +108,7 @@ impl<'a> FrameView<'a> {
     /// The set-up of a prepared object whose vertices are `vertices`.
     fn object_setup<'s>(&'s self, p: &'s Prepared<'a>, vertices: &'s [SetupVertex]) -> ObjectSetup<'s> {
         let (list, options) = (self.list, self.options);
+        let mip = options.mip.with_filter(options.filter);
         ObjectSetup {
             mesh: p.mesh,
             stored: p.stored.map(|(order, _)| order),
@@ -118,9 +119,10 @@ impl<'a> FrameView<'a> {
             perspective_attrs: options.texture_mode != TextureMode::Affine,
             object_key: p.stored.map(|(_, key)| key),
             textures: list.textures.len(),
-            mip_textures: if options.mip == MipMode::Polygon { list.textures } else { &[] },
+            // The choice the filter makes (a polygon's level for `min-bilinear`, as the fill takes it).
+            mip_textures: if mip == MipMode::Polygon { list.textures } else { &[] },
             door: p.door,
-            fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode, mip: options.mip },
+            fast_path: FastPathRule { filter: options.filter, mode: options.texture_mode, mip },
             antialiased: options.antialias.coverage_samples().is_some(),
             tall: self.tall,
             width: self.layout.width as i32,

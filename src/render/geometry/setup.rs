@@ -402,12 +402,9 @@ impl ObjectSetup<'_> {
                 out.keys.push(key);
             }
         };
-        let fast = self.fast_path.small_triangles(
-            texture.is_some(),
-            g.constant_color.is_some(),
-            alpha_cutoff.is_some(),
-            !self.door.is_none(),
-        );
+        let (textured, constant) = (texture.is_some(), g.constant_color.is_some());
+        let fast = self.fast_path.small_triangles(textured, constant, alpha_cutoff.is_some(), !self.door.is_none())
+            && (!textured || self.fast_path.small_textured_at(paint.lod));
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
         let small = |corners: &[ScreenVertex], area: i64| match (fast && !self.antialiased, texture) {

@@ -42,6 +42,32 @@ pub(crate) fn load8<T: bytemuck::Pod, V: bytemuck::Pod>(s: &[T]) -> Option<V> {
     load_lanes::<8, T, V>(s)
 }
 
+/// The eight words of `s` at the indices `idx`, by one AVX2 gather, when every index is below `s.len()`;
+/// `None` when one is not (or `s` is too long for 32-bit indices).
+///
+/// The bilinear texels take four of these a chunk of eight pixels, where 32 lanes moved out of vectors,
+/// loaded and moved back cost more.
+#[inline]
+#[target_feature(enable = "avx2")]
+pub(crate) fn gather8(s: &[u32], idx: std::arch::x86_64::__m256i) -> Option<std::arch::x86_64::__m256i> {
+    use std::arch::x86_64::{
+        _mm256_castsi256_ps, _mm256_cmpgt_epi32, _mm256_i32gather_epi32, _mm256_movemask_ps, _mm256_set1_epi32,
+    };
+    let len = i32::try_from(s.len()).ok()?;
+    // Every lane in `0..len`: `len > idx` and `idx > -1`, signed.
+    let below = _mm256_cmpgt_epi32(_mm256_set1_epi32(len), idx);
+    let above = _mm256_cmpgt_epi32(idx, _mm256_set1_epi32(-1));
+    let inside = _mm256_movemask_ps(_mm256_castsi256_ps(below)) & _mm256_movemask_ps(_mm256_castsi256_ps(above));
+    if inside != 0xff {
+        return None;
+    }
+    // SAFETY: every lane's index is in `0..s.len()` (checked above), so each 4-byte read is inside `s`; the
+    // caller's `target_feature` (this function's) guarantees AVX2.
+    #[allow(unsafe_code)]
+    let v = unsafe { _mm256_i32gather_epi32::<4>(s.as_ptr().cast::<i32>(), idx) };
+    Some(v)
+}
+
 /// The AVX2 intrinsics the span loops' macros expand to, in one list: a macro's body names them in the scope
 /// it is expanded in, so each file that expands them (`span_avx2` and its `rows` and `points`) imports this
 /// whole (three copies of a 40-name list kept in step before).

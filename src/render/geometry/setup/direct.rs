@@ -35,6 +35,9 @@ impl ObjectSetup<'_> {
         let Some(color) = self.flat_color(&ids, material) else { return false };
         let corners = self.corners(&ids);
         let lod = Self::small_lod(m, || corners);
+        if m.texture.is_some() && !self.fast_path.small_textured_at(lod) {
+            return false;
+        }
         let t = match m.texture {
             None => SmallTriangle::from_corners::<1>(&corners, area, self.small_frame()),
             Some(_) => SmallTriangle::from_corners::<4>(&corners, area, self.small_frame()),
