@@ -16,6 +16,12 @@ pub enum Filter {
     /// ones are reconstructed between the level's texel centres, where the nearest one would snap to a
     /// texel that the pixel's footprint only partly covers. Its level is chosen per polygon.
     MinBilinear,
+    /// `min-bilinear` whose magnified texels are box-filtered over the pixel's footprint instead of
+    /// taken nearest: across each texel edge the two texels are weighed by how much of the footprint each
+    /// covers (the footprint's extent in texels measured at every pixel), so a texel stays a sharp square
+    /// inside and its edge is the integral the reference converges to, where nearest steps at the sample.
+    /// Minified polygons are drawn as `min-bilinear` draws them.
+    Area,
     /// Bilinear in the two mip levels around the level of detail, blended by its fraction (bilinear in
     /// level 0 when mip-maps are off).
     Trilinear,
@@ -28,10 +34,11 @@ pub enum Filter {
 
 impl Filter {
     /// Every filter, in the order the command line lists them.
-    pub const ALL: [Filter; 8] = [
+    pub const ALL: [Filter; 9] = [
         Filter::Nearest,
         Filter::Bilinear,
         Filter::MinBilinear,
+        Filter::Area,
         Filter::Trilinear,
         Filter::Anisotropic(2),
         Filter::Anisotropic(4),
@@ -47,6 +54,7 @@ impl Filter {
             Filter::Nearest => "nearest",
             Filter::Bilinear => "bilinear",
             Filter::MinBilinear => "min-bilinear",
+            Filter::Area => "area",
             Filter::Trilinear => "trilinear",
             Filter::Anisotropic(2) => "aniso2",
             Filter::Anisotropic(4) => "aniso4",
@@ -62,7 +70,7 @@ impl Filter {
     #[must_use]
     pub fn for_polygon(self, lod: f32) -> Filter {
         match self {
-            Filter::MinBilinear if lod > 0.0 => Filter::Bilinear,
+            Filter::MinBilinear | Filter::Area if lod > 0.0 => Filter::Bilinear,
             Filter::MinBilinear => Filter::Nearest,
             f => f,
         }
@@ -87,6 +95,57 @@ impl std::fmt::Display for Filter {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::core::texture::{AREA_MIN_EXTENT, Sampler, Texture, area_weight};
+
+    #[test]
+    fn an_area_weight_is_bilinear_at_one_texel_and_the_box_s_share_below() {
+        for a in 0..256 {
+            // A footprint of a texel or more: the bilinear weight itself.
+            assert_eq!(area_weight(a, 1.0), a);
+            assert_eq!(area_weight(a, 7.0), a);
+            assert_eq!(area_weight(a, f32::INFINITY), a);
+            // Shorter: the share of a box `e` texels long centred at the sample that lies past the edge
+            // at 128, rounded.
+            for e in [0.5f32, 0.25, 0.1, AREA_MIN_EXTENT] {
+                let past = ((f64::from(a) / 256.0 - 0.5) / f64::from(e) + 0.5).clamp(0.0, 1.0) * 256.0;
+                assert!((f64::from(area_weight(a, e)) - past).abs() <= 0.5 + 1e-3, "{a} at {e}");
+            }
+            // No footprint to speak of (NaN, zero): the sharpest box, the nearest texel away from the edge.
+            for e in [f32::NAN, 0.0, -1.0] {
+                assert_eq!(area_weight(a, e), area_weight(a, AREA_MIN_EXTENT));
+            }
+        }
+        assert_eq!(
+            (area_weight(0, 0.5), area_weight(64, 0.5), area_weight(192, 0.5), area_weight(255, 0.5)),
+            (0, 0, 256, 256)
+        );
+        assert_eq!(area_weight(128, 0.01), 128);
+    }
+
+    #[test]
+    fn an_area_texel_is_the_box_integral_of_the_nearest_texels() {
+        // Four texels across, black and white in turn; one row (a row repeats: no blend down).
+        let Ok(t) = Texture::new(4, 1, vec![0xff00_0000, 0xffff_ffff, 0xff00_0000, 0xffff_ffff]) else {
+            panic!("texture")
+        };
+        let sampler = Sampler::default();
+        for e in [0.2f32, 0.5, 0.9] {
+            for i in 0..400 {
+                let x = 0.5 + f64::from(i) * (3.0 / 400.0); // texel coordinates, between the first and last centre
+                // The white share of `[x - e/2, x + e/2]`: white on `[1, 2)` and `[3, 4)`.
+                let lo = x - f64::from(e) / 2.0;
+                let hi = lo + f64::from(e);
+                let white: f64 =
+                    [(1.0, 2.0), (3.0, 4.0)].iter().map(|&(a, b): &(f64, f64)| (hi.min(b) - lo.max(a)).max(0.0)).sum();
+                let want = white / f64::from(e) * 255.0;
+                let got = f64::from(t.area((x / 4.0) as f32, 0.5, [e, e], sampler) & 0xff);
+                // The sample's position is floored to 1/256 of a texel, an error the box's `1/e` scales;
+                // then the weight's and the blend's rounding.
+                let within = 255.0 / (256.0 * f64::from(e)) + 1.5;
+                assert!((got - want).abs() <= within, "x {x} extent {e}: {got} against {want}");
+            }
+        }
+    }
 
     #[test]
     fn names_round_trip_and_min_bilinear_resolves_by_the_polygon_s_level() {
@@ -100,7 +159,11 @@ mod tests {
             assert_eq!(Filter::MinBilinear.for_polygon(lod), want, "{lod}");
         }
         assert_eq!(Filter::MinBilinear.for_polygon(f32::NAN), Filter::Nearest);
-        for f in Filter::ALL.into_iter().filter(|&f| f != Filter::MinBilinear) {
+        // `area` likewise minified, and itself (measured at each pixel) otherwise.
+        assert_eq!(Filter::Area.for_polygon(1.0 / 16.0), Filter::Bilinear);
+        assert_eq!(Filter::Area.for_polygon(0.0), Filter::Area);
+        assert_eq!(Filter::Area.for_polygon(f32::NAN), Filter::Area);
+        for f in Filter::ALL.into_iter().filter(|&f| !matches!(f, Filter::MinBilinear | Filter::Area)) {
             assert_eq!(f.for_polygon(3.0), f);
             assert_eq!(f.for_polygon(0.0), f);
         }

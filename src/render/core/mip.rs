@@ -219,6 +219,19 @@ impl TexGradients {
         g
     }
 
+    /// The extent in texels (of a texture of `size` texels) across and down of the pixel's footprint at a
+    /// point where `1/w`, `s/w`, `t/w` are `qst`: `|du/dx| + |du/dy|` and `|dv/dx| + |dv/dy|`, the
+    /// footprint parallelogram's shadow on each texture axis (the `area` filter's box).
+    #[inline]
+    #[must_use]
+    pub fn extent_at(&self, [q, s, t]: [f32; 3], (tw, th): (u32, u32)) -> [f32; 2] {
+        let w = 1.0 / q;
+        let (u, v) = (s * w, t * w);
+        let (du_dx, du_dy) = ((self.dx[1] - u * self.dx[0]) * w, (self.dy[1] - u * self.dy[0]) * w);
+        let (dv_dx, dv_dy) = ((self.dx[2] - v * self.dx[0]) * w, (self.dy[2] - v * self.dy[0]) * w);
+        [(du_dx.abs() + du_dy.abs()) * tw as f32, (dv_dx.abs() + dv_dy.abs()) * th as f32]
+    }
+
     /// `λ` at a point where `1/w`, `s/w`, `t/w` are `qst`, for a texture of `size` texels (level 0).
     #[inline]
     #[must_use]

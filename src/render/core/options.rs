@@ -84,7 +84,7 @@ impl FromStr for Filter {
             UnknownName::new(
                 "filter",
                 s,
-                "nearest, bilinear, min-bilinear, trilinear, aniso2, aniso4, aniso8 or aniso16",
+                "nearest, bilinear, min-bilinear, area, trilinear, aniso2, aniso4, aniso8 or aniso16",
             )
         })
     }
@@ -132,7 +132,7 @@ impl MipMode {
     pub fn with_filter(self, filter: Filter) -> MipMode {
         match filter {
             Filter::Anisotropic(_) => MipMode::Pixel,
-            Filter::MinBilinear => MipMode::Polygon,
+            Filter::MinBilinear | Filter::Area => MipMode::Polygon,
             _ => self,
         }
     }

@@ -221,6 +221,8 @@ impl Texture {
             Filter::Bilinear => unpack(self.level(mip::nearest_level(lod, last)).bilinear(u, v, sampler)),
             // A polygon's shading resolves it by the polygon's level; given a level here, by that one.
             Filter::MinBilinear => self.sample(filter.for_polygon(lod), lod, u, v, sampler),
+            // Without a footprint (measured per pixel by the spans), as `min-bilinear`.
+            Filter::Area => self.sample(Filter::MinBilinear, lod, u, v, sampler),
             Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, last);
                 let fine = self.level(k).bilinear(u, v, sampler);
@@ -231,6 +233,20 @@ impl Texture {
                 unpack(blend(fine, self.level(k + 1).bilinear(u, v, sampler), weight))
             }
         }
+    }
+
+    /// The `area` texel at `(u, v)` for a footprint `extent` texels across and down ([`area_weight`]), packed:
+    /// the bilinear rule's four texels with their weights sharpened to the footprint's share of each.
+    #[inline(always)]
+    #[must_use]
+    pub fn area(&self, u: f32, v: f32, extent: [f32; 2], sampler: Sampler) -> u32 {
+        let (px, py) = (fx24_8(u, self.width), fx24_8(v, self.height));
+        let (x, y) = (px >> 8, py >> 8);
+        let (ax, ay) = (area_weight((px & 255) as u32, extent[0]), area_weight((py & 255) as u32, extent[1]));
+        let (x1, y1) = (x.wrapping_add(1), y.wrapping_add(1));
+        let top = blend(self.texel(x, y, sampler), self.texel(x1, y, sampler), ax);
+        let bottom = blend(self.texel(x, y1, sampler), self.texel(x1, y1, sampler), ax);
+        blend(top, bottom, ay)
     }
 
     /// The bilinear texel at `(u, v)`, packed, by the integer rule of the module doc; each of the four
@@ -276,6 +292,24 @@ pub fn blend(x: u32, y: u32, a: u32) -> u32 {
 pub fn fx24_8(u: f32, size: u32) -> i32 {
     floor_i32(u * (size as f32 * 256.0) - 128.0)
 }
+
+/// The `area` filter's weight (in 1/256, `0..=256`) of the second of two texels whose centres a sample lies
+/// `a`/256 of the way between, for a box footprint `extent` texels long: the share of the box beyond the
+/// texel edge halfway between the centres, `(a − 128) / extent + 128`, rounded and clamped. `extent` is
+/// clamped to `1/64..=1` (NaN to 1/64): at 1 the weight is `a`, the bilinear one; shorter boxes sharpen it
+/// towards the nearest texel's 0 or 256.
+#[inline(always)]
+#[must_use]
+pub fn area_weight(a: u32, extent: f32) -> u32 {
+    // `max` then `min`, as the vector loops do: `f32::max` gives 1/64 for NaN, where `clamp` would keep NaN.
+    #[allow(clippy::manual_clamp)]
+    let e = extent.max(AREA_MIN_EXTENT).min(1.0);
+    // Finite (e >= 1/64, |a - 128| <= 128), so the clamp (the loops' `max` then `min`) and `as` are exact.
+    ((a as f32 - 128.0) / e + 128.5).clamp(0.0, 256.0) as u32
+}
+
+/// The shortest footprint the `area` filter weighs by, in texels (a magnification of 64).
+pub const AREA_MIN_EXTENT: f32 = 1.0 / 64.0;
 
 fn sanitize_frac(f: f32) -> f32 {
     if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }

@@ -248,8 +248,10 @@ mod tests {
         assert_eq!(crate::render::simd::avx2().is_some(), crate::render::simd::has_avx2());
         let mut kept = 0;
         for case in 0..3000 {
-            let filter = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(4)][case % 4];
+            let filters = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(4), Filter::Area];
+            let filter = filters[case % 5];
             let tex = match case % 4 {
+                _ if filter == Filter::Area => Tex::per_pixel(&chain, Sampler::default(), filter, g),
                 0 | 1 => Tex::per_pixel(&chain, Sampler::default(), filter, g),
                 _ => Tex::polygon(&chain, Sampler::default(), filter, (case % 7) as f32 * 0.4),
             };

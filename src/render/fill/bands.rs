@@ -14,6 +14,7 @@ use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
 use crate::render::core::band::Band;
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
+use crate::render::core::filter::Filter;
 use crate::render::core::mip::TexGradients;
 use crate::render::core::options::{MipMode, RenderOptions};
 use crate::render::core::polygon::DrawPolygon;
@@ -132,10 +133,11 @@ impl<'a> FillContext<'a> {
         let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
         let mip = self.options.mip.with_filter(self.options.filter);
         let measured = matches!(mip, MipMode::Span | MipMode::Pixel);
+        let filter = self.options.filter.for_polygon(p.lod());
         // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
         // band that draws it).
         let gradients = match self.screens.of(p) {
-            Some(v) if measured && texture.is_some() => TexGradients::of(v),
+            Some(v) if (measured || filter == Filter::Area) && texture.is_some() => TexGradients::of(v),
             _ => TexGradients::default(),
         };
         // A rotated-grid frame samples like a frame of twice the width and height: its texel footprints
@@ -156,7 +158,7 @@ impl<'a> FillContext<'a> {
             sampler: p.sampler,
             // `min-bilinear` by the polygon's own level (a bias moves which level it samples, not whether its
             // texture is minified).
-            filter: self.options.filter.for_polygon(p.lod()),
+            filter,
             mip,
             lod,
             gradients,

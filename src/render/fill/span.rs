@@ -87,6 +87,7 @@ impl Shading<'_> {
                 let w = 1.0 / qst[0];
                 Footprint::Probes(anisotropic::probes(&self.gradients, w, (qst[1] * w, qst[2] * w), t, max))
             }
+            (Filter::Area, _, Some(t)) => Footprint::Area(self.gradients.extent_at(qst, (t.width(), t.height()))),
             _ => Footprint::Lod(self.lod_at(qst)),
         }
     }
@@ -99,6 +100,8 @@ pub(crate) enum Footprint {
     Lod(f32),
     /// The anisotropic filter's probes.
     Probes(Probes),
+    /// The `area` filter's footprint extent in level-0 texels, across and down.
+    Area([f32; 2]),
 }
 
 /// The colour of a pixel with surface values `s` (texture coordinate and colour, perspective already
@@ -110,6 +113,7 @@ pub(crate) fn shade_surface(sh: &Shading<'_>, s: &Surface, footprint: &Footprint
     let texel = match (sh.texture, footprint) {
         (None, _) => [1.0; 4],
         (Some(t), Footprint::Probes(p)) => unpack(p.sample(t, (s[0], s[1]), sh.sampler)),
+        (Some(t), Footprint::Area(e)) => unpack(t.area(s[0], s[1], *e, sh.sampler)),
         (Some(t), &Footprint::Lod(lod)) => t.sample(sh.filter, lod, s[0], s[1], sh.sampler),
     };
     // A polygon of one colour uses it as is (interpolating it would only add rounding).
@@ -157,6 +161,7 @@ impl<'a> Shading<'a> {
         // With levels per span, the chain and gradients too: `draw_prepared` picks each span's level (and
         // the anti-aliased fill, whose pixels are not spans, measures at each pixel).
         let tex = |t: &'a Texture| match self.mip {
+            _ if self.filter == Filter::Area => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
             MipMode::Pixel | MipMode::Span => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
             _ => Tex::polygon(t, self.sampler, self.filter, self.lod_at([1.0, 0.0, 0.0])),
         };
@@ -207,7 +212,7 @@ fn draw_general(span: &Span, sh: &Shading<'_>, row: &mut Row<'_>) -> SpanCounts 
     let mut seg_step: Surface = [0.0; 6];
     // λ for the whole span, unless the footprint is measured at every pixel.
     let span_footprint = sh.footprint_at(qst_at(a0, da, (n / 2) as f32));
-    let per_pixel = sh.mip == MipMode::Pixel && sh.texture.is_some();
+    let per_pixel = (sh.mip == MipMode::Pixel || sh.filter == Filter::Area) && sh.texture.is_some();
     for k in 0..n {
         let x = (span.x0 + k) as usize;
         if sh.door.hides(span.x0 + k, span.y) {
@@ -327,12 +332,21 @@ mod tests {
         for case in 0..1200 {
             let gradients =
                 TexGradients { dx: [unit(0.01), unit(0.5), unit(0.5)], dy: [unit(0.01), unit(0.5), unit(0.5)] };
+            let filter =
+                [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8), Filter::Area][case % 5];
+            // Levels per span for every other case (an anisotropic filter's are always per pixel; `area`
+            // measures its footprint at every pixel of the polygon's level).
+            let mip = match filter {
+                Filter::Area => MipMode::Polygon,
+                Filter::Anisotropic(_) => MipMode::Pixel,
+                _ if case % 3 == 0 => MipMode::Pixel,
+                _ => MipMode::Span,
+            };
             let sh = Shading {
                 texture: Some(&texture),
                 sampler: Sampler::default(),
-                filter: [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8)][case % 4],
-                // Levels per span for every other case (an anisotropic filter's are always per pixel).
-                mip: if case % 3 == 0 || case % 4 == 3 { MipMode::Pixel } else { MipMode::Span },
+                filter,
+                mip,
                 lod: 0.0,
                 gradients,
                 mode: TextureMode::Perspective,

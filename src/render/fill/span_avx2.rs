@@ -212,10 +212,48 @@ macro_rules! blend_2x2_x8 {
     }};
 }
 
-/// `bilinear` on eight lanes: the bilinear texels of one level at texture coordinates `u`, `v`.
+/// `area_weight` on eight lanes: bilinear weights `a` (0..=255) sharpened to a box footprint `extent`
+/// texels long, by the same operations (`maxps` gives its second operand, 1/64, for NaN, as `f32::max`).
+macro_rules! area_weight_x8 {
+    ($a:expr, $extent:expr) => {{
+        let (a, e): (__m256i, __m256) = ($a, $extent);
+        let e = _mm256_min_ps(
+            _mm256_max_ps(e, _mm256_set1_ps(crate::render::core::texture::AREA_MIN_EXTENT)),
+            _mm256_set1_ps(1.0),
+        );
+        let f = _mm256_div_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(a), _mm256_set1_ps(128.0)), e);
+        let f = _mm256_min_ps(
+            _mm256_max_ps(_mm256_add_ps(f, _mm256_set1_ps(128.5)), _mm256_setzero_ps()),
+            _mm256_set1_ps(256.0),
+        );
+        _mm256_cvttps_epi32(f)
+    }};
+}
+
+/// `TexGradients::extent_at` on eight lanes: the footprint's extent in texels across and down at pixels
+/// whose `w`, `u`, `v` are given (as [`coordinates_x8`] gives them), for level 0 of `size` texels.
+macro_rules! extent_x8 {
+    ($q:expr, $u:expr, $v:expr, $g:expr, $size:expr) => {{
+        let (q, u, v, g, (tw, th)): (__m256, __m256, __m256, &TexGradients, (u32, u32)) = ($q, $u, $v, $g, $size);
+        let abs = |x: __m256| _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fff_ffff)));
+        let d = |c: __m256, d: &[f32; 3], i: usize| {
+            abs(_mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(d[i]), _mm256_mul_ps(c, _mm256_set1_ps(d[0]))), q))
+        };
+        let across = _mm256_mul_ps(_mm256_add_ps(d(u, &g.dx, 1), d(u, &g.dy, 1)), _mm256_set1_ps(tw as f32));
+        let down = _mm256_mul_ps(_mm256_add_ps(d(v, &g.dx, 2), d(v, &g.dy, 2)), _mm256_set1_ps(th as f32));
+        (across, down)
+    }};
+}
+
+/// `bilinear` on eight lanes: the bilinear texels of one level at texture coordinates `u`, `v`; or, given
+/// the footprint's extents across and down, its `area` texels.
 macro_rules! bilinear_x8 {
-    ($u:expr, $v:expr, $tex:expr, $sampler:expr) => {{
-        let (u, v, tex, sampler): (__m256, __m256, &Texture, Sampler) = ($u, $v, $tex, $sampler);
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr) => {
+        bilinear_x8!($u, $v, $tex, $sampler, None)
+    };
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $extent:expr) => {{
+        let (u, v, tex, sampler, extent): (__m256, __m256, &Texture, Sampler, Option<(__m256, __m256)>) =
+            ($u, $v, $tex, $sampler, $extent);
         let (w, h) = (tex.width(), tex.height());
         let position = |u: __m256, size: u32| {
             floor_i32x8!(_mm256_sub_ps(_mm256_mul_ps(u, _mm256_set1_ps(size as f32 * 256.0)), _mm256_set1_ps(128.0)))
@@ -224,6 +262,10 @@ macro_rules! bilinear_x8 {
         let (x, y) = (_mm256_srai_epi32::<8>(px), _mm256_srai_epi32::<8>(py));
         let byte = _mm256_set1_epi32(255);
         let (ax, ay) = (_mm256_and_si256(px, byte), _mm256_and_si256(py, byte));
+        let (ax, ay) = match extent {
+            Some((across, down)) => (area_weight_x8!(ax, across), area_weight_x8!(ay, down)),
+            None => (ax, ay),
+        };
         let one = _mm256_set1_epi32(1);
         let (x1, y1) = (_mm256_add_epi32(x, one), _mm256_add_epi32(y, one));
         let columns = wrap_x8!(x, w, sampler.wrap_s).zip(wrap_x8!(x1, w, sampler.wrap_s));
@@ -232,7 +274,13 @@ macro_rules! bilinear_x8 {
             Some((columns, rows)) => blend_2x2_x8!(tex, columns, rows, (ax, ay)),
             None => {
                 let (us, vs): ([f32; LANES], [f32; LANES]) = (bytemuck::cast(u), bytemuck::cast(v));
-                let out: [u32; LANES] = std::array::from_fn(|l| tex.bilinear(us[l], vs[l], sampler));
+                let out: [u32; LANES] = match extent {
+                    Some((across, down)) => {
+                        let (a, d): ([f32; LANES], [f32; LANES]) = (bytemuck::cast(across), bytemuck::cast(down));
+                        std::array::from_fn(|l| tex.area(us[l], vs[l], [a[l], d[l]], sampler))
+                    }
+                    None => std::array::from_fn(|l| tex.bilinear(us[l], vs[l], sampler)),
+                };
                 bytemuck::cast::<[u32; LANES], __m256i>(out)
             }
         }
@@ -286,6 +334,10 @@ macro_rules! filtered_texels_at_x8 {
                     Some((c, w)) => blend_x8!(fine, bilinear_x8!(u, v, c, tex.sampler), _mm256_set1_epi32(w as i32)),
                     None => fine,
                 }
+            }
+            Some(g) if tex.filter == Filter::Area => {
+                let extent = extent_x8!(q, u, v, g, (t.width(), t.height()));
+                bilinear_x8!(u, v, t, tex.sampler, Some(extent))
             }
             Some(g) if matches!(tex.filter, Filter::Anisotropic(_)) => {
                 crate::render::fill::span_avx2::anisotropic::probed_x8((q, u, v), &tex, g, pass)

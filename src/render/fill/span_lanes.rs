@@ -364,11 +364,13 @@ mod tests {
             let scale = [0.002, 0.05, 1.0][rng.below(3) as usize];
             let mut gradient = || std::array::from_fn(|_| float(&mut rng, hostile) * scale);
             let g = TexGradients { dx: gradient(), dy: gradient() };
-            let filter =
-                [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8)][rng.below(4) as usize];
+            let filters = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8), Filter::Area];
+            let filter = filters[rng.below(5) as usize];
             let lod = float(&mut rng, hostile) * 2.0;
-            // A level for each pixel, or a filtered level (or two) for the polygon.
+            // A level for each pixel, or a filtered level (or two) for the polygon; `area` measures its
+            // footprint at each pixel.
             let levels = match rng.below(2) {
+                _ if filter == Filter::Area => Tex::per_pixel(&tex, sampler, filter, g),
                 0 => Tex::per_pixel(&tex, sampler, filter, g),
                 _ => Tex::polygon(&tex, sampler, filter, lod),
             };

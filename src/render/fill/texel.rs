@@ -24,7 +24,8 @@ pub(crate) struct Tex<'a> {
     pub(crate) sampler: Sampler,
     /// Nearest, bilinear, trilinear or anisotropic.
     pub(crate) filter: Filter,
-    /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel.
+    /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel, or (`area`) when the
+    /// footprint's extent is measured at every pixel.
     pub(crate) per_pixel: Option<TexGradients>,
 }
 
@@ -42,7 +43,8 @@ impl<'a> Tex<'a> {
         Self { texture, coarser, sampler, filter, per_pixel: None }
     }
 
-    /// The texture `chain` filtered by `filter` with the level chosen per pixel from the gradients `g`.
+    /// The texture `chain` filtered by `filter` with the level chosen per pixel from the gradients `g` (for
+    /// [`Filter::Area`], level 0 with the footprint measured per pixel from them).
     pub(crate) fn per_pixel(chain: &'a Texture, sampler: Sampler, filter: Filter, g: TexGradients) -> Self {
         Self { texture: chain, coarser: None, sampler, filter, per_pixel: Some(g) }
     }
@@ -72,6 +74,11 @@ impl<'a> Tex<'a> {
         };
         let t = self.texture;
         let qst = [s.q0 + k * s.dq, s.s0 + k * s.ds, s.t0 + k * s.dt];
+        if self.filter == Filter::Area {
+            // Level 0, the footprint's extent measured here (as the general span measures it).
+            let w = 1.0 / qst[0];
+            return t.area(qst[1] * w, qst[2] * w, g.extent_at(qst, (t.width(), t.height())), self.sampler);
+        }
         if let Filter::Anisotropic(max) = self.filter {
             let w = 1.0 / qst[0];
             return self.probed(w, (qst[1] * w, qst[2] * w), g, max);
@@ -99,7 +106,9 @@ impl<'a> Tex<'a> {
             }
             Filter::Bilinear => t.level(nearest_level(lod, t.last_level())).bilinear(u, v, self.sampler),
             // A polygon's shading resolves it by the polygon's level; given a pixel's level, by that one.
-            Filter::MinBilinear => Self { filter: self.filter.for_polygon(lod), ..*self }.at_lod(u, v, lod),
+            Filter::MinBilinear | Filter::Area => {
+                Self { filter: Filter::MinBilinear.for_polygon(lod), ..*self }.at_lod(u, v, lod)
+            }
             Filter::Trilinear | Filter::Anisotropic(_) => {
                 let (k, weight) = trilinear_levels(lod, t.last_level());
                 let fine = t.level(k).bilinear(u, v, self.sampler);

@@ -176,7 +176,7 @@ mod tests {
             (
                 r#"{"antialias": "ssaa", "filter": ["trilinear"]}"#,
                 (Antialias::Supersample2x2, Filter::Nearest, MipMode::Polygon),
-                "filter [\"trilinear\"] is not nearest, bilinear, min-bilinear, trilinear, aniso2, aniso4, aniso8 or aniso16: nearest used",
+                "filter [\"trilinear\"] is not nearest, bilinear, min-bilinear, area, trilinear, aniso2, aniso4, aniso8 or aniso16: nearest used",
             ),
             (
                 r#"{"mip": "Pixel", "filter": "trilinear"}"#,
