@@ -56,7 +56,7 @@ pub const LATE_PERIODS: f64 = 1.5;
 
 /// Each step's frame time relative to `low`'s: the means over the three courses of the presets' times
 /// measured as the bench measures them (1 thread, 640x480; docs/performance.md, "Quality presets").
-pub const BENCH_COST: [f64; 4] = [1.0, 1.3, 2.5, 2.6];
+pub const BENCH_COST: [f64; 4] = [1.0, 1.6, 2.5, 3.1];
 
 /// What the window's picture follows: a fixed preset, or `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

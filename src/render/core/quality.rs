@@ -25,14 +25,14 @@ pub enum Quality {
     /// the renderer's default.
     #[default]
     Low,
-    /// As `low`, with minified textures' texels bilinear (`min-bilinear`: a polygon whose texture is
-    /// magnified keeps the nearest texel), finer models kept twice as far (LOD bias +1) and
-    /// level-of-detail changes cross-faded.
+    /// As `low`, with `area` texels (minified textures bilinear, magnified ones box-filtered over the
+    /// pixel: each texel a sharp square whose edges take the share of the pixel each side covers), finer
+    /// models kept twice as far (LOD bias +1) and level-of-detail changes cross-faded.
     Medium,
     /// 2x2 supersampling (edges and texture detail both sampled four times a pixel) with `medium`'s models,
-    /// mip bias and cross-fades, and nearest texels: with four samples a pixel `min-bilinear` cost about
-    /// as much as the rotated grid's `ultra` and was less accurate, which would leave this step off the
-    /// front.
+    /// mip bias and cross-fades, and nearest texels: with four samples a pixel `area` (or `min-bilinear`)
+    /// cost more than the rotated grid's `ultra` with nearest texels and was less accurate, which would
+    /// leave this step off the front.
     High,
     /// As `high` with the four samples on a rotated grid (four rows and four columns of them, where 2x2 has
     /// two of each): the most accurate and steadiest picture within 3.5x the bottom step's time.
@@ -58,7 +58,7 @@ impl Quality {
     /// bias of this step, in that order.
     #[must_use]
     pub fn picture(self) -> (Filter, MipMode, Antialias, bool, f32, f32) {
-        let (nearest, mixed, polygon) = (Filter::Nearest, Filter::MinBilinear, MipMode::Polygon);
+        let (nearest, mixed, polygon) = (Filter::Nearest, Filter::Area, MipMode::Polygon);
         match self {
             Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0, 0.0),
             Quality::Medium => (mixed, polygon, Antialias::Off, true, 1.0, FINER),
@@ -141,8 +141,8 @@ mod tests {
         // Above the bottom step, the finer of the two nearest mip levels; the bottom keeps the default's.
         let biases = Quality::ALL.map(|q| q.apply(kept).mip_bias);
         assert_eq!(biases, [0.0, -0.5, -0.5, -0.5]);
-        // One step, `medium`, has bilinear texels where a polygon's texture is minified.
-        let (nearest, mixed) = (Filter::Nearest, Filter::MinBilinear);
+        // One step, `medium`, filters its texels (`area`: bilinear where minified, box-filtered where magnified).
+        let (nearest, mixed) = (Filter::Nearest, Filter::Area);
         assert_eq!(Quality::ALL.map(|q| q.apply(kept).filter), [nearest, mixed, nearest, nearest]);
         let mut custom = ultra;
         custom.mip_bias = 0.0;
