@@ -1,5 +1,5 @@
-//! The texture filters a frame may draw with, and the filter a polygon is drawn with (`min-bilinear`
-//! decided by the polygon's level of detail); how each one samples is [`super::texture`]'s.
+//! The texture filters a frame may draw with, and the filter a polygon is drawn with (`min-bilinear` and
+//! `area` decided by the polygon's level of detail); how each one samples is [`super::texture`]'s.
 
 /// Texture filtering used for every texture in a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -65,8 +65,8 @@ impl Filter {
     }
 
     /// The filter a polygon whose level of detail is `lod` (before any mip bias) is drawn with:
-    /// [`Filter::MinBilinear`] resolved to bilinear when `lod` is above 0 and to nearest otherwise, every
-    /// other filter itself.
+    /// [`Filter::MinBilinear`] resolved to bilinear when `lod` is above 0 and to nearest otherwise,
+    /// [`Filter::Area`] to bilinear when `lod` is above 0 and to itself otherwise, every other filter itself.
     #[must_use]
     pub fn for_polygon(self, lod: f32) -> Filter {
         match self {

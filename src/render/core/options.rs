@@ -127,7 +127,8 @@ impl MipMode {
 impl MipMode {
     /// The choice a frame makes with `filter`: an anisotropic filter chooses its level at every pixel (the
     /// level where its probes' boxes fit a texel is part of the filter), so with it every choice is `pixel`;
-    /// `min-bilinear` decides by the polygon's level of detail, so with it every choice is `polygon`.
+    /// `min-bilinear` and `area` decide by the polygon's level of detail, so with them every choice is
+    /// `polygon`.
     #[must_use]
     pub fn with_filter(self, filter: Filter) -> MipMode {
         match filter {

@@ -30,9 +30,9 @@ pub enum Quality {
     /// models kept twice as far (LOD bias +1) and level-of-detail changes cross-faded.
     Medium,
     /// 2x2 supersampling (edges and texture detail both sampled four times a pixel) with `medium`'s models,
-    /// mip bias and cross-fades, and nearest texels: with four samples a pixel `area` (or `min-bilinear`)
-    /// cost more than the rotated grid's `ultra` with nearest texels and was less accurate, which would
-    /// leave this step off the front.
+    /// mip bias and cross-fades, and nearest texels: with four samples a pixel `min-bilinear` cost as much
+    /// as the rotated grid's `ultra` with nearest texels and `area` more, each for no better a picture,
+    /// which would leave this step off the front.
     High,
     /// As `high` with the four samples on a rotated grid (four rows and four columns of them, where 2x2 has
     /// two of each): the most accurate and steadiest picture within 3.5x the bottom step's time.

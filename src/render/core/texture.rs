@@ -1,5 +1,5 @@
-//! Textures and their sampling: wrap modes, nearest, bilinear and trilinear filtering, any size, each
-//! texture with its chain of mip levels (made as [`super::mip`] says).
+//! Textures and their sampling: wrap modes, nearest, bilinear, `area` and trilinear filtering, any size,
+//! each texture with its chain of mip levels (made as [`super::mip`] says).
 //!
 //! Texels are stored as packed `0xAARRGGBB` and used exactly as stored (no colour-space conversion), as the
 //! `render` command promises. Texture coordinates follow glTF: `(0, 0)` is the top-left corner of the image,
@@ -11,7 +11,8 @@
 //! `v`. Two texels blend per channel, alpha included, as `(x·(256 − a) + y·a + 128) >> 8` ([`blend`]): two
 //! channels at a time in one 32-bit word (each product fits 16 bits), exact at `a = 0`, never outside
 //! `0..=255`. Trilinear blends the bilinear texels of the two levels around `λ` by its fraction in 1/256,
-//! truncated ([`trilinear_levels`]). Every span path, fast or general, filters this way, so they agree.
+//! truncated ([`trilinear_levels`]). `area` takes the bilinear rule's four texels with the weights sharpened
+//! to a box footprint ([`area_weight`]). Every span path, fast or general, filters this way, so they agree.
 
 use thiserror::Error;
 

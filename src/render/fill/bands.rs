@@ -150,6 +150,10 @@ impl<'a> FillContext<'a> {
         let bias = Some(self.options.mip_bias).filter(|b| b.is_finite() && *b != 0.0);
         let (lod, gradients) = match bias {
             Some(b) if measured => (p.lod(), gradients.biased(b)),
+            // `area` on a magnified polygon keeps level 0 and measures its box from the planes: a coarser bias
+            // widens the box by its power of two (towards bilinear); a finer one changes nothing there (no
+            // level is finer than 0, and a box narrower than the footprint would alias).
+            Some(b) if filter == Filter::Area && b > 0.0 => ((p.lod() + b).max(0.0), gradients.biased(b)),
             Some(b) => ((p.lod() + b).max(0.0), gradients),
             None => (p.lod(), gradients),
         };

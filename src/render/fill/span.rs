@@ -77,7 +77,8 @@ impl Shading<'_> {
     }
 
     /// How the texture is sampled at a pixel whose `1/w`, `s/w`, `t/w` are `qst`: by the anisotropic
-    /// filter's probes, measured there, for levels chosen per pixel, else at [`lod_at`](Self::lod_at). The
+    /// filter's probes, measured there, for levels chosen per pixel; by `area`'s footprint extent measured
+    /// there; else at [`lod_at`](Self::lod_at). The
     /// `footprint` `shade_surface` takes.
     #[inline]
     #[must_use]
@@ -93,7 +94,8 @@ impl Shading<'_> {
     }
 }
 
-/// How a pixel's texture is sampled: at a level of detail by the filter, or by anisotropic probes.
+/// How a pixel's texture is sampled: at a level of detail by the filter, by anisotropic probes, or by
+/// `area`'s box of a measured extent.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Footprint {
     /// The level of detail `λ` ([`Shading::lod_at`]).
@@ -330,10 +332,14 @@ mod tests {
         let texture = Texture::new(64, 16, (0..64 * 16).map(|_| rng.next() | 0xff00_0000).collect()).unwrap();
         let mut unit = |scale: f32| (rng.unit() - 0.5) * scale;
         for case in 0..1200 {
-            let gradients =
-                TexGradients { dx: [unit(0.01), unit(0.5), unit(0.5)], dy: [unit(0.01), unit(0.5), unit(0.5)] };
             let filter =
                 [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic(8), Filter::Area][case % 5];
+            // `area`'s planes magnified (footprints of a few tenths of a texel), so its weights are sharpened.
+            let k = if filter == Filter::Area { 0.004 } else { 1.0 };
+            let gradients = TexGradients {
+                dx: [unit(0.01 * k), unit(0.5 * k), unit(0.5 * k)],
+                dy: [unit(0.01 * k), unit(0.5 * k), unit(0.5 * k)],
+            };
             // Levels per span for every other case (an anisotropic filter's are always per pixel; `area`
             // measures its footprint at every pixel of the polygon's level).
             let mip = match filter {

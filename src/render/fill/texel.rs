@@ -1,5 +1,6 @@
 //! The fast paths' texels: nearest, bilinear or trilinear, from the polygon's mip level (or two) or from
-//! the level chosen at each pixel; anisotropic, the mean of box probes ([`anisotropic`]).
+//! the level chosen at each pixel; `area`, level 0's bilinear texels with weights sharpened to the
+//! footprint measured at each pixel; anisotropic, the mean of box probes ([`anisotropic`]).
 //!
 //! Nearest takes the texel under `(u·W, v·H)`, floored; bilinear and trilinear follow the integer rule
 //! of [`Texture::bilinear`] (sample at `u·W − ½` in `Fx24_8`, blends rounded in 1/256). Both are exactly
@@ -22,7 +23,8 @@ pub(crate) struct Tex<'a> {
     pub(crate) coarser: Option<(&'a Texture, u32)>,
     /// The wrap modes.
     pub(crate) sampler: Sampler,
-    /// Nearest, bilinear, trilinear or anisotropic.
+    /// Nearest, bilinear, trilinear, `area` (with `per_pixel`) or anisotropic (`min-bilinear` resolved by the
+    /// polygon's level).
     pub(crate) filter: Filter,
     /// The polygon's `1/w`, `s/w`, `t/w` gradients when the level is chosen per pixel, or (`area`) when the
     /// footprint's extent is measured at every pixel.
@@ -30,8 +32,14 @@ pub(crate) struct Tex<'a> {
 }
 
 impl<'a> Tex<'a> {
-    /// The texture `chain` (level 0) filtered by `filter` at the polygon's level of detail `lod`.
+    /// The texture `chain` (level 0) filtered by `filter` at the polygon's level of detail `lod`
+    /// (`min-bilinear` resolved by `lod`; `area`, which needs the gradients ([`per_pixel`](Self::per_pixel)),
+    /// as `min-bilinear` without them).
     pub(crate) fn polygon(chain: &'a Texture, sampler: Sampler, filter: Filter, lod: f32) -> Self {
+        let filter = match filter {
+            Filter::MinBilinear | Filter::Area => Filter::MinBilinear.for_polygon(lod),
+            f => f,
+        };
         let last = chain.last_level();
         let (texture, coarser) = match filter {
             Filter::Trilinear | Filter::Anisotropic(_) => {
