@@ -241,13 +241,7 @@ impl Texture {
     #[inline(always)]
     #[must_use]
     pub fn area(&self, u: f32, v: f32, extent: [f32; 2], sampler: Sampler) -> u32 {
-        let (px, py) = (fx24_8(u, self.width), fx24_8(v, self.height));
-        let (x, y) = (px >> 8, py >> 8);
-        let (ax, ay) = (area_weight((px & 255) as u32, extent[0]), area_weight((py & 255) as u32, extent[1]));
-        let (x1, y1) = (x.wrapping_add(1), y.wrapping_add(1));
-        let top = blend(self.texel(x, y, sampler), self.texel(x1, y, sampler), ax);
-        let bottom = blend(self.texel(x, y1, sampler), self.texel(x1, y1, sampler), ax);
-        blend(top, bottom, ay)
+        self.blend_2x2(u, v, sampler, |ax, ay| (area_weight(ax, extent[0]), area_weight(ay, extent[1])))
     }
 
     /// The bilinear texel at `(u, v)`, packed, by the integer rule of the module doc; each of the four
@@ -255,8 +249,16 @@ impl Texture {
     #[inline(always)]
     #[must_use]
     pub fn bilinear(&self, u: f32, v: f32, sampler: Sampler) -> u32 {
+        self.blend_2x2(u, v, sampler, |ax, ay| (ax, ay))
+    }
+
+    /// The four texels around `(u, v)` by the bilinear rule, blended by its weights across and down as
+    /// `weights` gives them from the bilinear ones (itself for bilinear, sharpened for `area`).
+    #[inline(always)]
+    fn blend_2x2(&self, u: f32, v: f32, sampler: Sampler, weights: impl Fn(u32, u32) -> (u32, u32)) -> u32 {
         let (px, py) = (fx24_8(u, self.width), fx24_8(v, self.height));
-        let (x, y, ax, ay) = (px >> 8, py >> 8, (px & 255) as u32, (py & 255) as u32);
+        let (x, y) = (px >> 8, py >> 8);
+        let (ax, ay) = weights((px & 255) as u32, (py & 255) as u32);
         let (x1, y1) = (x.wrapping_add(1), y.wrapping_add(1));
         let top = blend(self.texel(x, y, sampler), self.texel(x1, y, sampler), ax);
         let bottom = blend(self.texel(x, y1, sampler), self.texel(x1, y1, sampler), ax);

@@ -163,8 +163,9 @@ impl<'a> Shading<'a> {
         // With levels per span, the chain and gradients too: `draw_prepared` picks each span's level (and
         // the anti-aliased fill, whose pixels are not spans, measures at each pixel).
         let tex = |t: &'a Texture| match self.mip {
-            _ if self.filter == Filter::Area => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
+            // `area` measures its footprint at every pixel of its polygon's level.
             MipMode::Pixel | MipMode::Span => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
+            _ if self.filter == Filter::Area => Tex::per_pixel(t, self.sampler, self.filter, self.gradients),
             _ => Tex::polygon(t, self.sampler, self.filter, self.lod_at([1.0, 0.0, 0.0])),
         };
         // Which fast path, for a polygon the rule gives one.
