@@ -1,6 +1,7 @@
 //! The picture points the quality examples take on their command lines (`examples/presets`,
 //! `examples/error_map`): a preset (`ultra`), a preset and a texture filter (`ultra/aniso4`), or the
-//! anti-aliasing, filter and mip choice over the default (`ssaa/aniso8/pixel`); any of them may end in
+//! anti-aliasing, filter and mip choice over the default (`ssaa/aniso8/pixel`) or over a preset
+//! (`medium/4x/area/polygon`, the preset's models, fades and mip bias kept); any of them may end in
 //! `:BIAS`, a LOD bias (`ultra/nearest:2`), and then in `@BIAS`, a mip bias (`rgss/nearest/pixel:1@-1`).
 
 use scanline_racer::render::{Antialias, Filter, MipMode, Quality, RenderOptions};
@@ -22,7 +23,15 @@ pub fn options(point: &str) -> RenderOptions {
             mip: mip.parse::<MipMode>().unwrap(),
             ..RenderOptions::default()
         },
-        _ => panic!("a point is preset, preset/filter or aa/filter/mip (each may end in :BIAS), got {point}"),
+        [preset, aa, filter, mip] => RenderOptions {
+            antialias: aa.parse::<Antialias>().unwrap(),
+            filter: filter.parse::<Filter>().unwrap(),
+            mip: mip.parse::<MipMode>().unwrap(),
+            ..preset.parse::<Quality>().unwrap().apply(RenderOptions::default())
+        },
+        _ => panic!(
+            "a point is preset, preset/filter, aa/filter/mip or preset/aa/filter/mip (each may end in :BIAS), got {point}"
+        ),
     };
     RenderOptions {
         lod_bias: bias.unwrap_or(options.lod_bias),

@@ -220,16 +220,17 @@ impl Setup {
     }
 
     /// True when the texel coordinates of every pixel of a span `0..=last` (in offsets from its start) are
-    /// finite and within `±2^30`. Perspective-correct coordinates are ratios of linear functions, monotone
+    /// finite and within `±2^22`. Perspective-correct coordinates are ratios of linear functions, monotone
     /// wherever the denominator `1/w` keeps its sign, so checking both ends (with `1/w` clearly positive at
-    /// both) bounds the pixels between them; the margin to `2^31` covers their rounding.
+    /// both) bounds the pixels between them. The bound leaves the bilinear rule's positions in 1/256 texel
+    /// within `±2^30`, and the margin to `2^31` covers the rounding of every product.
     pub(crate) fn texels_in_range(&self, last: usize) -> bool {
         let s = self;
         let at = |k: f32| {
             let q = s.q0 + k * s.dq;
             let r = 1.0 / q;
             let (x, y) = ((s.s0 + k * s.ds) * r * s.w, (s.t0 + k * s.dt) * r * s.h);
-            q > 1e-30 && q.is_finite() && x.abs() < 1_073_741_824.0 && y.abs() < 1_073_741_824.0
+            q > 1e-30 && q.is_finite() && x.abs() < 4_194_304.0 && y.abs() < 4_194_304.0
         };
         at(0.0) && at(last as f32)
     }

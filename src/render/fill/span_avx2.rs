@@ -190,25 +190,43 @@ macro_rules! blend_x8 {
 
 /// The 2x2 texels of one level at wrapped columns `x`, `x + 1` and rows `y`, `y + 1` on eight lanes, blended
 /// by `ax` across and then `ay` down (in 1/256): a bilinear texel, or an anisotropic probe's box.
+///
+/// Three [`blend_x8`]s, bit for bit, with the two across kept as 16-bit channels for the one down (a blend's
+/// packed result split again into its channels is the same two vectors).
 macro_rules! blend_2x2_x8 {
     ($tex:expr, $columns:expr, $rows:expr, $weights:expr) => {{
-        let (tex, (x, x1), (y, y1), (ax, ay)): (&Texture, (__m256i, __m256i), (__m256i, __m256i), (__m256i, __m256i)) =
+        let (tex, columns, rows, (ax, ay)): (&Texture, (__m256i, __m256i), (__m256i, __m256i), (__m256i, __m256i)) =
             ($tex, $columns, $rows, $weights);
         let texels = tex.texels();
-        let width = _mm256_set1_epi32(tex.width() as i32);
-        let (y, y1) = (_mm256_mullo_epi32(y, width), _mm256_mullo_epi32(y1, width));
-        // Each index is in range (wrapped into the level); the lookups are still checked.
-        let fetch = |row: __m256i, column: __m256i| {
-            let idx = _mm256_add_epi32(row, column);
-            crate::render::simd::x86::gather8(texels, idx).unwrap_or_else(|| {
-                let idx: [u32; LANES] = bytemuck::cast(idx);
-                let out: [u32; LANES] = std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0));
+        let size = (tex.width(), tex.height());
+        let fetch = |y: __m256i, x: __m256i| {
+            crate::render::simd::x86::gather_texels(texels, size, x, y).unwrap_or_else(|| {
+                let (xs, ys): ([u32; LANES], [u32; LANES]) = (bytemuck::cast(x), bytemuck::cast(y));
+                let at = |l: usize| ys[l].wrapping_mul(size.0).wrapping_add(xs[l]) as usize;
+                let out: [u32; LANES] = std::array::from_fn(|l| texels.get(at(l)).copied().unwrap_or(0));
                 bytemuck::cast::<[u32; LANES], __m256i>(out)
             })
         };
-        let top = blend_x8!(fetch(y, x), fetch(y, x1), ax);
-        let bottom = blend_x8!(fetch(y1, x), fetch(y1, x1), ax);
-        blend_x8!(top, bottom, ay)
+        let ((x, x1), (y, y1)) = (columns, rows);
+        let [a, b, c, d] = [fetch(y, x), fetch(y, x1), fetch(y1, x), fetch(y1, x1)];
+        let m = _mm256_set1_epi32(0x00ff_00ff);
+        let half = _mm256_set1_epi32(0x0080_0080);
+        let pair = |w: __m256i| _mm256_or_si256(w, _mm256_slli_epi32::<16>(w));
+        let weights = |w: __m256i| (pair(w), pair(_mm256_sub_epi32(_mm256_set1_epi32(256), w)));
+        // A texel's red and blue, and its green and alpha, each in the low byte of a 16-bit lane.
+        let split = |t: __m256i| (_mm256_and_si256(t, m), _mm256_and_si256(_mm256_srli_epi32::<8>(t), m));
+        // `x * (256 - w) + y * w + 128` per 16-bit lane (at most 255 * 256 + 128: no carry between lanes).
+        let mix = |x: __m256i, y: __m256i, (wy, wx): (__m256i, __m256i)| {
+            _mm256_add_epi16(_mm256_add_epi16(_mm256_mullo_epi16(x, wx), _mm256_mullo_epi16(y, wy)), half)
+        };
+        let across = |x: __m256i, y: __m256i| {
+            let ((x_rb, x_ag), (y_rb, y_ag), w) = (split(x), split(y), weights(ax));
+            (_mm256_srli_epi16::<8>(mix(x_rb, y_rb, w)), _mm256_srli_epi16::<8>(mix(x_ag, y_ag, w)))
+        };
+        let ((top_rb, top_ag), (bottom_rb, bottom_ag)) = (across(a, b), across(c, d));
+        let w = weights(ay);
+        let rb = _mm256_srli_epi16::<8>(mix(top_rb, bottom_rb, w));
+        _mm256_or_si256(rb, _mm256_andnot_si256(m, mix(top_ag, bottom_ag, w)))
     }};
 }
 
@@ -246,17 +264,21 @@ macro_rules! extent_x8 {
 }
 
 /// `bilinear` on eight lanes: the bilinear texels of one level at texture coordinates `u`, `v`; or, given
-/// the footprint's extents across and down, its `area` texels.
+/// the footprint's extents across and down, its `area` texels. `in_range` says the drawn lanes' texel
+/// coordinates are finite and within `±2^22` ([`Setup::texels_in_range`]).
 macro_rules! bilinear_x8 {
-    ($u:expr, $v:expr, $tex:expr, $sampler:expr) => {
-        bilinear_x8!($u, $v, $tex, $sampler, None)
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $in_range:expr) => {
+        bilinear_x8!($u, $v, $tex, $sampler, $in_range, None)
     };
-    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $extent:expr) => {{
+    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $in_range:expr, $extent:expr) => {{
         let (u, v, tex, sampler, extent): (__m256, __m256, &Texture, Sampler, Option<(__m256, __m256)>) =
             ($u, $v, $tex, $sampler, $extent);
         let (w, h) = (tex.width(), tex.height());
+        // In 1/256 texel, the centres at whole numbers. Within `±2^22` texels (`in_range`) that is within
+        // `±2^30`, where the plain truncation corrected downwards is the floor.
         let position = |u: __m256, size: u32| {
-            floor_i32x8!(_mm256_sub_ps(_mm256_mul_ps(u, _mm256_set1_ps(size as f32 * 256.0)), _mm256_set1_ps(128.0)))
+            let p = _mm256_sub_ps(_mm256_mul_ps(u, _mm256_set1_ps(size as f32 * 256.0)), _mm256_set1_ps(128.0));
+            if $in_range { floor_in_range_x8!(p) } else { floor_i32x8!(p) }
         };
         let (px, py) = (position(u, w), position(v, h));
         let (x, y) = (_mm256_srai_epi32::<8>(px), _mm256_srai_epi32::<8>(py));
@@ -315,29 +337,31 @@ macro_rules! lane_by_lane {
 /// level (or two), or from the levels chosen at each pixel, fetched a level at a time when the drawn lanes
 /// (`pass`) share it, else one lane at a time.
 macro_rules! filtered_texels_x8 {
-    ($s:expr, $k:expr, $tex:expr, $pass:expr) => {{
+    ($s:expr, $k:expr, $tex:expr, $pass:expr, $in_range:expr) => {{
         let (s, k): (&Setup, __m256) = ($s, $k);
         let (q, u, v) = coordinates_x8!(s, k);
-        filtered_texels_at_x8!(q, u, v, $tex, $pass)
+        filtered_texels_at_x8!(q, u, v, $tex, $pass, $in_range)
     }};
 }
 
 /// [`filtered_texels_x8`] at pixels whose `w`, `u` and `v` are given (as [`coordinates_x8`] gives them).
 macro_rules! filtered_texels_at_x8 {
-    ($q:expr, $u:expr, $v:expr, $tex:expr, $pass:expr) => {{
+    ($q:expr, $u:expr, $v:expr, $tex:expr, $pass:expr, $in_range:expr) => {{
         let (q, u, v, tex, pass): (__m256, __m256, __m256, Tex<'_>, __m256i) = ($q, $u, $v, $tex, $pass);
         let t = tex.texture;
         match &tex.per_pixel {
             None => {
-                let fine = bilinear_x8!(u, v, t, tex.sampler);
+                let fine = bilinear_x8!(u, v, t, tex.sampler, $in_range);
                 match tex.coarser {
-                    Some((c, w)) => blend_x8!(fine, bilinear_x8!(u, v, c, tex.sampler), _mm256_set1_epi32(w as i32)),
+                    Some((c, w)) => {
+                        blend_x8!(fine, bilinear_x8!(u, v, c, tex.sampler, $in_range), _mm256_set1_epi32(w as i32))
+                    }
                     None => fine,
                 }
             }
             Some(g) if tex.filter == Filter::Area => {
                 let extent = extent_x8!(q, u, v, g, (t.width(), t.height()));
-                bilinear_x8!(u, v, t, tex.sampler, Some(extent))
+                bilinear_x8!(u, v, t, tex.sampler, $in_range, Some(extent))
             }
             Some(g) if matches!(tex.filter, Filter::Anisotropic(_)) => {
                 crate::render::fill::span_avx2::anisotropic::probed_x8((q, u, v), &tex, g, pass)
@@ -351,12 +375,12 @@ macro_rules! filtered_texels_at_x8 {
                 };
                 match shared_level!(levels, pass) {
                     Some(k) => {
-                        let fine = bilinear_x8!(u, v, t.level(k), tex.sampler);
+                        let fine = bilinear_x8!(u, v, t.level(k), tex.sampler, $in_range);
                         let blends = _mm256_cmpgt_epi32(weight, _mm256_setzero_si256());
                         if _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(pass, blends))) == 0 {
                             fine
                         } else {
-                            blend_x8!(fine, bilinear_x8!(u, v, t.level(k + 1), tex.sampler), weight)
+                            blend_x8!(fine, bilinear_x8!(u, v, t.level(k + 1), tex.sampler, $in_range), weight)
                         }
                     }
                     None => lane_by_lane!(tex, u, v, lod),

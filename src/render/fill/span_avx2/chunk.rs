@@ -96,7 +96,7 @@ macro_rules! chunk_x8 {
                         texels_x8!(u, v, t.texture, t.sampler, in_range)
                     }
                     (Some(g), Filter::Nearest) => per_pixel_texels_x8!(s, k, *t, g, pass, in_range),
-                    _ => filtered_texels_x8!(s, k, *t, pass),
+                    _ => filtered_texels_x8!(s, k, *t, pass, in_range),
                 },
             };
             // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).

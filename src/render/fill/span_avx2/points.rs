@@ -48,7 +48,7 @@ fn shade_points_avx2<const SRC: u8>(
     let texels = match (&t.per_pixel, t.filter) {
         (None, Filter::Nearest) => texels_x8!(u, v, t.texture, t.sampler, false),
         (Some(g), Filter::Nearest) => per_pixel_texels_at_x8!(q, u, v, t, g, pass, false),
-        _ => filtered_texels_at_x8!(q, u, v, t, pass),
+        _ => filtered_texels_at_x8!(q, u, v, t, pass, false),
     };
     // Alpha mask: the texel's alpha times the polygon's, kept when at least the cutoff (NaN fails).
     let kept = match alpha {
