@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use super::core::band::FrameLayout;
+use super::core::band::{FrameLayout, Resolve, RowFilter};
 use super::core::camera::Camera;
 use super::core::draw_list::DrawList;
 use super::core::error::RenderError;
@@ -26,9 +26,10 @@ use super::supersample;
 /// guard band.
 const MAX_SIDE: usize = 1 << 20;
 
-/// How a frame is spread over a big frame before drawing over it (`frame`, its width, the big frame), and
-/// how the big frame comes back to it (the big frame, `frame`, its width, the pool).
-type BigPasses = (fn(&[u32], usize, &mut [u32]), fn(&[u32], &mut [u32], usize, Option<&rayon::ThreadPool>));
+/// How a frame is spread over a big frame before drawing over it (`frame`, its width, the big frame), how
+/// the big frame comes back to it (rows of the big frame, their rows of `frame`, its width), and how many
+/// rows of the big frame make one of `frame`'s.
+type BigPasses = (fn(&[u32], usize, &mut [u32]), RowFilter, usize);
 
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing per polygon or
 /// per pixel (only the fill's short lists of bands and runs, a few dozen entries, are made each frame).
@@ -66,6 +67,18 @@ impl Renderer {
         list: &DrawList<'_>,
         options: &RenderOptions,
     ) -> Result<Stats, RenderError> {
+        self.render_into(frame, (width, height), (camera, list, options), None)
+    }
+
+    /// [`render`](Self::render), resolving the frame band by band into the picture `resolve` names when it
+    /// names one (a big frame of 2x2 supersampling or the rotated grid; `frame` is then the big frame).
+    fn render_into(
+        &mut self,
+        frame: &mut [u32],
+        (width, height): (usize, usize),
+        (camera, list, options): (&Camera, &DrawList<'_>, &RenderOptions),
+        resolve: Option<Resolve<'_>>,
+    ) -> Result<Stats, RenderError> {
         let needed = width.saturating_mul(height);
         if frame.len() < needed {
             return Err(RenderError::FrameTooSmall { len: frame.len(), width, height, needed });
@@ -88,12 +101,12 @@ impl Renderer {
             n => n,
         }
         .min(super::MAX_THREADS);
-        let layout = FrameLayout::new(width, height, threads);
+        let layout = FrameLayout::new(width, height, threads).grouped(resolve.as_ref().map_or(1, |r| r.rows));
         let pool = self.take_pool(layout.threads)?;
         let frame = &mut frame[..needed];
         let counts = match &pool {
-            Some(p) => p.pool.install(|| self.frame(frame, layout, camera, list, options, &mut stats)),
-            None => self.frame(frame, layout, camera, list, options, &mut stats),
+            Some(p) => p.pool.install(|| self.frame(frame, layout, (camera, list, options), &mut stats, resolve)),
+            None => self.frame(frame, layout, (camera, list, options), &mut stats, resolve),
         };
         self.pool = pool;
         stats.pixels_shaded = counts.shaded;
@@ -122,7 +135,7 @@ impl Renderer {
             ..*options
         };
         // Drawn over what is there, each pixel becomes its four; each 2x2 block comes back as one.
-        let passes: BigPasses = (supersample::expand, supersample::box_filter);
+        let passes: BigPasses = (supersample::expand, supersample::box_filter, 2);
         self.big_frame(frame, (width, (width * 2, height * 2)), passes, (camera, list, &inner), false)
     }
 
@@ -143,19 +156,20 @@ impl Renderer {
             height.checked_mul(4).filter(|&h| h <= MAX_SIDE).ok_or(RenderError::FrameTooLarge { width, height })?;
         let [dx, dy] = options.pixel_offset;
         let inner = RenderOptions { antialias: Antialias::Off, pixel_offset: [dx, 4.0 * dy], ..*options };
-        let passes: BigPasses = (supersample::expand_rows, supersample::mean_rows);
+        let passes: BigPasses = (supersample::expand_rows, supersample::mean_rows, 4);
         self.big_frame(frame, (width, (width, th)), passes, (camera, list, &inner), true)
     }
 
     /// Draws the scene into the renderer's big frame, `bw` x `bh` (twice the width and height for 2x2
     /// supersampling, four times the height for the rotated grid, a tall frame when `tall`) with `inner`,
     /// starting from `frame` spread over it by the first of `passes` when the options draw no background,
-    /// and brings it back to `frame` (`width` a row) by the second, on the pool the drawing used.
+    /// and brings it back to `frame` (`width` a row) by the second, each band as soon as it is drawn (by the
+    /// thread that drew it, its rows still in that core's cache).
     fn big_frame(
         &mut self,
         frame: &mut [u32],
         (width, (bw, bh)): (usize, (usize, usize)),
-        (spread, resolve): BigPasses,
+        (spread, resolve, rows): BigPasses,
         (camera, list, inner): (&Camera, &DrawList<'_>, &RenderOptions),
         tall: bool,
     ) -> Result<Stats, RenderError> {
@@ -166,11 +180,9 @@ impl Renderer {
             spread(frame, width, &mut big);
         }
         self.tall = tall;
-        let stats = self.render(&mut big, bw, bh, camera, list, inner);
+        let into = Resolve { out: frame, width, rows, run: resolve };
+        let stats = self.render_into(&mut big, (bw, bh), (camera, list, inner), Some(into));
         self.tall = false;
-        if stats.is_ok() {
-            resolve(&big, frame, width, self.pool.as_ref().map(|p| &p.pool));
-        }
         self.big = big;
         stats
     }
@@ -218,10 +230,9 @@ impl Renderer {
         &mut self,
         frame: &mut [u32],
         layout: FrameLayout,
-        camera: &Camera,
-        list: &DrawList<'_>,
-        options: &RenderOptions,
+        (camera, list, options): (&Camera, &DrawList<'_>, &RenderOptions),
         stats: &mut Stats,
+        resolve: Option<Resolve<'_>>,
     ) -> SpanCounts {
         let t = Instant::now();
         self.geometry.run((layout, self.tall), camera, list, options, stats);
@@ -237,7 +248,7 @@ impl Renderer {
             stretches: &self.geometry.set_up.stretches,
             order: &self.order.order,
         };
-        let counts = self.fill.run(frame, layout, &polygons, list, (options, self.tall));
+        let counts = self.fill.run(frame, layout, &polygons, list, (options, self.tall), resolve);
         stats.ms_fill = ms_since(t_fill);
         debug_assert!(stats.ms_transform + stats.ms_clip <= ms_since(t) + 1.0);
         counts

@@ -5,13 +5,9 @@
 //! each pixel becomes a column of four, and each column of four one pixel, by the same rounding.
 //!
 //! The mean adds red and blue in one word (each sum of four fits in ten bits, sixteen bits apart) and green
-//! in another, so a pixel costs a few integer operations; the rows are shared among the renderer's threads,
-//! each output pixel depending only on its own block, so the frame is the same for every thread count.
-
-use rayon::prelude::*;
-
-/// Output rows per task when the box filter is shared among threads.
-const ROWS_PER_TASK: usize = 16;
+//! in another, so a pixel costs a few integer operations. The fill resolves each band as soon as it is drawn,
+//! on the thread that drew it, while its rows are still in the core's cache (`core::band::Resolve`); each
+//! output pixel depends only on its own block, so the frame is the same for every thread count.
 
 /// Copies each pixel of `frame` (`width` pixels a row) into its 2x2 block of `big`, which is twice the width
 /// and height.
@@ -36,8 +32,9 @@ fn mean4(a: u32, b: u32, c: u32, d: u32) -> u32 {
     ((rb >> 2) & RB) | ((g >> 2) & G)
 }
 
-/// Box-filters rows of `big` (twice the width, two rows for each of `out`'s) into `out` (`width` a row).
-fn filter_rows(big: &[u32], out: &mut [u32], width: usize) {
+/// Box-filters rows of `big` (twice the width, two rows for each of `out`'s) into `out` (`width` a row): a
+/// band of the big frame into its rows of the picture, each output pixel from its own 2x2 block only.
+pub(crate) fn box_filter(big: &[u32], out: &mut [u32], width: usize) {
     let bw = 2 * width;
     for (row, pair) in out.chunks_exact_mut(width).zip(big.chunks_exact(2 * bw)) {
         let (top, bottom) = pair.split_at(bw);
@@ -57,42 +54,18 @@ pub(crate) fn expand_rows(frame: &[u32], width: usize, tall: &mut [u32]) {
 }
 
 /// Each column of four pixels of `tall` (four times `frame`'s height) as the rounded mean of the four, into
-/// `frame` (`width` pixels a row), the rows shared among `pool`'s threads when there is a pool.
-pub(crate) fn mean_rows(tall: &[u32], frame: &mut [u32], width: usize, pool: Option<&rayon::ThreadPool>) {
-    if width == 0 || tall.len() < 4 * frame.len() {
-        return;
-    }
-    let rows = |(out, four): (&mut [u32], &[u32])| {
-        for (row, four) in out.chunks_exact_mut(width).zip(four.chunks_exact(4 * width)) {
-            let (a, rest) = four.split_at(width);
-            let (b, rest) = rest.split_at(width);
-            let (c, d) = rest.split_at(width);
-            for ((((o, &a), &b), &c), &d) in row.iter_mut().zip(a).zip(b).zip(c).zip(d) {
-                *o = mean4(a, b, c, d);
-            }
-        }
-    };
-    let chunk = width * ROWS_PER_TASK;
-    match pool {
-        Some(pool) => pool.install(|| frame.par_chunks_mut(chunk).zip(tall.par_chunks(4 * chunk)).for_each(rows)),
-        None => rows((frame, tall)),
-    }
-}
-
-/// Box-filters `big` (twice `frame`'s width and height) into `frame` (`width` pixels a row), the rows shared
-/// among `pool`'s threads when there is a pool.
-pub(crate) fn box_filter(big: &[u32], frame: &mut [u32], width: usize, pool: Option<&rayon::ThreadPool>) {
+/// `frame` (`width` pixels a row): a band of the tall frame into its rows of the picture.
+pub(crate) fn mean_rows(tall: &[u32], frame: &mut [u32], width: usize) {
     if width == 0 {
         return;
     }
-    match pool {
-        Some(pool) => pool.install(|| {
-            frame
-                .par_chunks_mut(width * ROWS_PER_TASK)
-                .zip(big.par_chunks(4 * width * ROWS_PER_TASK))
-                .for_each(|(out, big)| filter_rows(big, out, width));
-        }),
-        None => filter_rows(big, frame, width),
+    for (row, four) in frame.chunks_exact_mut(width).zip(tall.chunks_exact(4 * width)) {
+        let (a, rest) = four.split_at(width);
+        let (b, rest) = rest.split_at(width);
+        let (c, d) = rest.split_at(width);
+        for ((((o, &a), &b), &c), &d) in row.iter_mut().zip(a).zip(b).zip(c).zip(d) {
+            *o = mean4(a, b, c, d);
+        }
     }
 }
 
@@ -113,7 +86,7 @@ mod tests {
     }
 
     #[test]
-    fn expanded_rows_come_back_and_the_mean_of_four_rows_is_each_columns_mean_on_any_thread_count() {
+    fn expanded_rows_come_back_and_the_mean_of_four_rows_is_each_columns_mean() {
         let (w, h) = (23, 37);
         let mut rng = Lcg(5);
         let frame: Vec<u32> = (0..w * h).map(|_| word(&mut rng) & 0x00ff_ffff).collect();
@@ -121,7 +94,7 @@ mod tests {
         expand_rows(&frame, w, &mut tall);
         assert_eq!(tall[(4 * 5 + 3) * w + 7], frame[5 * w + 7]);
         let mut back = vec![0u32; w * h];
-        mean_rows(&tall, &mut back, w, None);
+        mean_rows(&tall, &mut back, w);
         assert_eq!(back, frame);
         let tall: Vec<u32> = (0..4 * w * h).map(|_| word(&mut rng)).collect();
         let want: Vec<u32> = (0..w * h)
@@ -131,12 +104,14 @@ mod tests {
             })
             .collect();
         let mut one = vec![0u32; w * h];
-        mean_rows(&tall, &mut one, w, None);
+        mean_rows(&tall, &mut one, w);
         assert_eq!(one, want);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
-        let mut three = vec![0u32; w * h];
-        mean_rows(&tall, &mut three, w, Some(&pool));
-        assert_eq!(three, want);
+        // Band by band (whole groups of four rows), as the fill resolves them: the same pixels.
+        let mut banded = vec![0u32; w * h];
+        for (out, band) in banded.chunks_mut(5 * w).zip(tall.chunks(20 * w)) {
+            mean_rows(band, out, w);
+        }
+        assert_eq!(banded, want);
     }
 
     #[test]
@@ -159,7 +134,7 @@ mod tests {
     }
 
     #[test]
-    fn expanded_then_filtered_is_the_frame_and_threads_change_nothing() {
+    fn expanded_then_filtered_is_the_frame_whole_or_band_by_band() {
         let (w, h) = (37, 41);
         let mut rng = Lcg(11);
         let frame: Vec<u32> = (0..w * h).map(|_| word(&mut rng) & 0x00ff_ffff).collect();
@@ -167,15 +142,17 @@ mod tests {
         expand(&frame, w, &mut big);
         assert_eq!(big[(2 * 5 + 1) * 2 * w + 2 * 7 + 1], frame[5 * w + 7]);
         let mut back = vec![0u32; w * h];
-        box_filter(&big, &mut back, w, None);
+        box_filter(&big, &mut back, w);
         assert_eq!(back, frame);
-        // A big frame of noise, filtered on one thread and on a pool of three: the same pixels.
+        // A big frame of noise, filtered whole and band by band (whole pairs of rows, as the fill resolves
+        // them): the same pixels.
         let big: Vec<u32> = (0..4 * w * h).map(|_| word(&mut rng)).collect();
-        let (mut one, mut three) = (vec![0u32; w * h], vec![1u32; w * h]);
-        box_filter(&big, &mut one, w, None);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
-        box_filter(&big, &mut three, w, Some(&pool));
-        assert_eq!(one, three);
+        let (mut one, mut banded) = (vec![0u32; w * h], vec![1u32; w * h]);
+        box_filter(&big, &mut one, w);
+        for (out, band) in banded.chunks_mut(3 * w).zip(big.chunks(6 * 2 * w)) {
+            box_filter(band, out, w);
+        }
+        assert_eq!(one, banded);
         let q = |x: usize, y: usize| big[y * 2 * w + x];
         assert_eq!(one[3 * w + 4], mean4_per_channel([q(8, 6), q(9, 6), q(8, 7), q(9, 7)]));
     }

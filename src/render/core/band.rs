@@ -33,6 +33,13 @@ impl FrameLayout {
         let bands = height.div_ceil(BAND_ROWS).next_multiple_of(threads).max(1);
         Self { width, height, threads, rows_per_band: height.div_ceil(bands).max(1) }
     }
+
+    /// This layout with bands of whole groups of `rows` rows (each band of a frame resolved into a smaller
+    /// picture must hold every row the picture's rows come from).
+    #[must_use]
+    pub(crate) fn grouped(self, rows: usize) -> Self {
+        Self { rows_per_band: self.rows_per_band.next_multiple_of(rows.max(1)), ..self }
+    }
 }
 
 /// The rows of one band and their colour.
@@ -43,18 +50,53 @@ pub(crate) struct Band<'a> {
     pub(crate) rows: usize,
     /// Its rows of the frame.
     pub(crate) color: &'a mut [u32],
+    /// Where its rows are resolved to once drawn, for a frame drawn larger than the picture (see
+    /// [`Resolve`]): its rows of the picture.
+    pub(crate) out: Option<&'a mut [u32]>,
 }
 
-/// Cuts the frame into bands of `rows_per_band` rows (the last may be shorter).
-pub(crate) fn split_bands(mut color: &mut [u32], width: usize, rows_per_band: usize) -> Vec<Band<'_>> {
+/// A filter from rows of a big frame into their rows of the picture (the big rows, the picture's rows, the
+/// picture's width).
+pub(crate) type RowFilter = fn(&[u32], &mut [u32], usize);
+
+/// How a frame drawn larger than the picture (2x2 supersampling, the rotated grid) comes back to it: each
+/// band, once drawn, is filtered into its rows of the picture while its rows are still in the core's cache,
+/// instead of the whole big frame being read back from memory after the last band.
+pub(crate) struct Resolve<'a> {
+    /// The picture.
+    pub(crate) out: &'a mut [u32],
+    /// The picture's width.
+    pub(crate) width: usize,
+    /// Rows of the big frame for each row of the picture (bands hold whole groups of them).
+    pub(crate) rows: usize,
+    /// The filter: rows of the big frame into rows of the picture `width` a row.
+    pub(crate) run: RowFilter,
+}
+
+/// Cuts the frame into bands of `rows_per_band` rows (the last may be shorter), each with its rows of the
+/// picture `out` when the frame is resolved into one (`rows_per_band` then a multiple of its `rows`).
+pub(crate) fn split_bands<'a>(
+    mut color: &'a mut [u32],
+    width: usize,
+    rows_per_band: usize,
+    out: Option<&'a mut [u32]>,
+    (out_width, group): (usize, usize),
+) -> Vec<Band<'a>> {
     let height = color.len() / width.max(1);
+    let mut out = out;
     let mut bands = Vec::new();
     let mut y0 = 0;
     while y0 < height {
         let rows = rows_per_band.max(1).min(height - y0);
         let (c, rest) = std::mem::take(&mut color).split_at_mut(rows * width);
         color = rest;
-        bands.push(Band { y0, rows, color: c });
+        debug_assert!(out.is_none() || rows.is_multiple_of(group.max(1)), "a band holds whole groups of rows");
+        let mine = out.take().map(|o| {
+            let (mine, rest) = o.split_at_mut((rows / group.max(1) * out_width).min(o.len()));
+            out = Some(rest);
+            mine
+        });
+        bands.push(Band { y0, rows, color: c, out: mine });
         y0 += rows;
     }
     bands

@@ -11,7 +11,7 @@ use super::scanline::Span;
 use super::small::{self, NextFlat};
 use super::span::{Prepared, Shading, draw_prepared};
 use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
-use crate::render::core::band::Band;
+use crate::render::core::band::{Band, RowFilter};
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
 use crate::render::core::filter::Filter;
@@ -118,12 +118,22 @@ pub(crate) struct FillContext<'a> {
     /// ([`Door::in_tall_frame`](crate::render::core::door::Door::in_tall_frame)), and its textures are
     /// sampled as in such a frame.
     pub(crate) tall: bool,
+    /// The filter a band's rows are resolved by into its rows of the picture, when it has them
+    /// ([`Resolve`](crate::render::core::band::Resolve)), with the picture's width.
+    pub(crate) resolve: Option<(RowFilter, usize)>,
 }
 
 impl<'a> FillContext<'a> {
-    /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
+    /// Clears a band's buffers and draws its bin, band `index` of each run in turn, then resolves its rows
+    /// into the picture when the frame is resolved into one; returns the pixel counts.
     pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
-        SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(band, index, scratch))
+        let Band { y0, rows, color, out } = band;
+        let drawn = Band { y0, rows, color: &mut *color, out: None };
+        let counts = SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(drawn, index, scratch));
+        if let (Some(out), Some((run, width))) = (out, self.resolve) {
+            run(color, out, width);
+        }
+        counts
     }
 
     /// How polygon `p`'s pixels are shaded: its paint, the frame's filter, mip choice and visibility, the
@@ -175,7 +185,7 @@ impl<'a> FillContext<'a> {
     }
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
-        let Band { y0, rows: height, color } = band;
+        let Band { y0, rows: height, color, .. } = band;
         let Scratch { runs, depth, coverage, samples } = scratch;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {

@@ -37,7 +37,7 @@ use rayon::iter::{IndexedParallelIterator, IntoParallelRefMutIterator, ParallelI
 use self::bands::{BinnedRun, FillContext};
 use self::row::{SpanCounts, Visibility};
 use self::schedule::BandCosts;
-use crate::render::core::band::{FrameLayout, bin, split_bands};
+use crate::render::core::band::{FrameLayout, Resolve, bin, split_bands};
 use crate::render::core::batch::{Batch, Screens, Stretch};
 use crate::render::core::draw_list::DrawList;
 use crate::render::core::options::{Method, RenderOptions};
@@ -71,7 +71,8 @@ pub(crate) struct Polygons<'a> {
 
 impl Fill {
     /// Clears the buffers the method needs and fills every polygon in order, band by band, across the
-    /// current thread pool when `layout.threads` is more than 1 (the caller runs this inside the pool).
+    /// current thread pool when `layout.threads` is more than 1 (the caller runs this inside the pool);
+    /// with `resolve`, each band is then filtered into its rows of the picture by the thread that drew it.
     pub(crate) fn run(
         &mut self,
         frame: &mut [u32],
@@ -79,6 +80,7 @@ impl Fill {
         polygons: &Polygons<'_>,
         list: &DrawList<'_>,
         (options, tall): (&RenderOptions, bool),
+        resolve: Option<Resolve<'_>>,
     ) -> SpanCounts {
         let ordered = options.method != Method::ZBuffer;
         // Out of `self` while the runs below borrow its bins.
@@ -100,8 +102,13 @@ impl Fill {
             words: layout.width.div_ceil(64),
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
             tall,
+            resolve: resolve.as_ref().map(|r| (r.run, r.width)),
         };
-        let bands = split_bands(frame, layout.width, layout.rows_per_band);
+        let (out, shape) = match resolve {
+            Some(Resolve { out, width, rows, .. }) => (Some(out), (width, rows)),
+            None => (None, (0, 1)),
+        };
+        let bands = split_bands(frame, layout.width, layout.rows_per_band, out, shape);
         let counts = if layout.threads == 1 {
             bands
                 .into_iter()
