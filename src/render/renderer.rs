@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use super::core::band::{FrameLayout, Resolve, RowFilter};
+use super::core::band::{BandResolve, FrameLayout, Resolve, RowFilter, RowSpread};
 use super::core::camera::Camera;
 use super::core::draw_list::DrawList;
 use super::core::error::RenderError;
@@ -26,10 +26,10 @@ use super::supersample;
 /// guard band.
 const MAX_SIDE: usize = 1 << 20;
 
-/// How a frame is spread over a big frame before drawing over it (`frame`, its width, the big frame), how
-/// the big frame comes back to it (rows of the big frame, their rows of `frame`, its width), and how many
-/// rows of the big frame make one of `frame`'s.
-type BigPasses = (fn(&[u32], usize, &mut [u32]), RowFilter, usize);
+/// How rows of a frame are spread over their rows of a big frame before drawing over them, how rows of the
+/// big frame come back to their rows of the frame, and how many rows of the big frame make one of the
+/// frame's.
+type BigPasses = (RowSpread, RowFilter, usize);
 
 /// A reusable renderer: holds scratch buffers so frames after the first allocate nothing per polygon or
 /// per pixel (only the fill's short lists of bands and runs, a few dozen entries, are made each frame).
@@ -40,8 +40,6 @@ pub struct Renderer {
     fill: Fill,
     /// The worker pool and its thread count, kept while the count stays the same.
     pool: Option<Pool>,
-    /// The frame at twice the size, for 2x2 supersampling, or at four times the height, for the rotated grid.
-    big: Vec<u32>,
     /// Whether the frame being drawn is a rotated-grid frame, four rows a pixel.
     tall: bool,
 }
@@ -71,7 +69,8 @@ impl Renderer {
     }
 
     /// [`render`](Self::render), resolving the frame band by band into the picture `resolve` names when it
-    /// names one (a big frame of 2x2 supersampling or the rotated grid; `frame` is then the big frame).
+    /// names one (a big frame of 2x2 supersampling or the rotated grid, drawn a band at a time into each
+    /// thread's own rows; `frame` is then empty).
     fn render_into(
         &mut self,
         frame: &mut [u32],
@@ -80,7 +79,9 @@ impl Renderer {
         resolve: Option<Resolve<'_>>,
     ) -> Result<Stats, RenderError> {
         let needed = width.saturating_mul(height);
-        if frame.len() < needed {
+        // A resolved frame has no buffer of its own (its bands draw into their threads' rows).
+        let needed_here = if resolve.is_some() { 0 } else { needed };
+        if frame.len() < needed_here {
             return Err(RenderError::FrameTooSmall { len: frame.len(), width, height, needed });
         }
         if width > MAX_SIDE || height > MAX_SIDE {
@@ -103,7 +104,7 @@ impl Renderer {
         .min(super::MAX_THREADS);
         let layout = FrameLayout::new(width, height, threads).grouped(resolve.as_ref().map_or(1, |r| r.rows));
         let pool = self.take_pool(layout.threads)?;
-        let frame = &mut frame[..needed];
+        let frame = &mut frame[..needed_here];
         let counts = match &pool {
             Some(p) => p.pool.install(|| self.frame(frame, layout, (camera, list, options), &mut stats, resolve)),
             None => self.frame(frame, layout, (camera, list, options), &mut stats, resolve),
@@ -160,30 +161,24 @@ impl Renderer {
         self.big_frame(frame, (width, (width, th)), passes, (camera, list, &inner), true)
     }
 
-    /// Draws the scene into the renderer's big frame, `bw` x `bh` (twice the width and height for 2x2
-    /// supersampling, four times the height for the rotated grid, a tall frame when `tall`) with `inner`,
-    /// starting from `frame` spread over it by the first of `passes` when the options draw no background,
-    /// and brings it back to `frame` (`width` a row) by the second, each band as soon as it is drawn (by the
-    /// thread that drew it, its rows still in that core's cache).
+    /// Draws the scene as a big frame, `bw` x `bh` (twice the width and height for 2x2 supersampling, four
+    /// times the height for the rotated grid, a tall frame when `tall`) with `inner`, and brings it back to
+    /// `frame` (`width` a row) by the second of `passes`. The big frame is never whole: each band is drawn
+    /// into the drawing thread's own rows (spread from its rows of `frame` by the first of `passes` when the
+    /// options draw no background) and filtered into its rows of `frame` as soon as it is drawn.
     fn big_frame(
         &mut self,
         frame: &mut [u32],
         (width, (bw, bh)): (usize, (usize, usize)),
-        (spread, resolve, rows): BigPasses,
+        (spread, run, rows): BigPasses,
         (camera, list, inner): (&Camera, &DrawList<'_>, &RenderOptions),
         tall: bool,
     ) -> Result<Stats, RenderError> {
-        let mut big = std::mem::take(&mut self.big);
-        // Not cleared: the drawing fills every pixel with the background, or the spreading writes them all.
-        big.resize(bw * bh, 0);
-        if inner.background.is_none() {
-            spread(frame, width, &mut big);
-        }
         self.tall = tall;
-        let into = Resolve { out: frame, width, rows, run: resolve };
-        let stats = self.render_into(&mut big, (bw, bh), (camera, list, inner), Some(into));
+        let band = BandResolve { run, spread: inner.background.is_none().then_some(spread), width };
+        let into = Resolve { out: frame, rows, band };
+        let stats = self.render_into(&mut [], (bw, bh), (camera, list, inner), Some(into));
         self.tall = false;
-        self.big = big;
         stats
     }
 

@@ -334,9 +334,9 @@ fn anti_aliased_frames_are_bit_identical_for_every_thread_count() {
     }
 }
 
-/// 2x2 supersampling keeps its big frame from frame to frame without clearing it, and the rotated grid its
-/// four passes: a renderer reused across sizes, thread counts, backgrounds (drawn over noise when there is
-/// none) and the two draws what a fresh one draws.
+/// 2x2 supersampling and the rotated grid draw each band into rows each thread keeps from band to band and
+/// frame to frame without clearing them: a renderer reused across sizes, thread counts, backgrounds (drawn
+/// over noise when there is none) and the two draws what a fresh one draws.
 #[test]
 fn a_supersampling_renderer_reused_across_sizes_and_backgrounds_draws_what_a_fresh_one_draws() {
     let scene = scanline_racer::asset::load(&samples().join("Duck/Duck.gltf")).expect("Duck loads");

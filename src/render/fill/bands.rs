@@ -11,7 +11,7 @@ use super::scanline::Span;
 use super::small::{self, NextFlat};
 use super::span::{Prepared, Shading, draw_prepared};
 use super::span_lanes::{Fill, Paint, Source, dispatch, walk};
-use crate::render::core::band::{Band, RowFilter};
+use crate::render::core::band::{Band, BandResolve};
 use crate::render::core::batch::Screens;
 use crate::render::core::draw_list::DrawList;
 use crate::render::core::filter::Filter;
@@ -26,6 +26,8 @@ use crate::render::simd::{self, Avx2};
 /// A thread's depth and coverage rows for the band it is drawing, and a polygon's short spans there.
 #[derive(Default)]
 struct Scratch {
+    /// A resolved frame's band's colour rows.
+    color: Vec<u32>,
     runs: Vec<RowRun>,
     depth: Vec<f32>,
     coverage: Vec<u64>,
@@ -118,22 +120,31 @@ pub(crate) struct FillContext<'a> {
     /// ([`Door::in_tall_frame`](crate::render::core::door::Door::in_tall_frame)), and its textures are
     /// sampled as in such a frame.
     pub(crate) tall: bool,
-    /// The filter a band's rows are resolved by into its rows of the picture, when it has them
-    /// ([`Resolve`](crate::render::core::band::Resolve)), with the picture's width.
-    pub(crate) resolve: Option<(RowFilter, usize)>,
+    /// How a band's rows come from and go back to its rows of the picture, when the frame is resolved into
+    /// one ([`Resolve`](crate::render::core::band::Resolve)).
+    pub(crate) resolve: Option<BandResolve>,
 }
 
 impl<'a> FillContext<'a> {
-    /// Clears a band's buffers and draws its bin, band `index` of each run in turn, then resolves its rows
-    /// into the picture when the frame is resolved into one; returns the pixel counts.
+    /// Clears a band's buffers and draws its bin, band `index` of each run in turn; returns the pixel counts.
+    /// A band of a resolved frame is drawn into the thread's own rows (spread from its rows of the picture
+    /// first, when there is no background), which are then filtered into its rows of the picture.
     pub(crate) fn fill_band(&self, band: Band<'_>, index: usize) -> SpanCounts {
-        let Band { y0, rows, color, out } = band;
-        let drawn = Band { y0, rows, color: &mut *color, out: None };
-        let counts = SCRATCH.with_borrow_mut(|scratch| self.fill_band_with(drawn, index, scratch));
-        if let (Some(out), Some((run, width))) = (out, self.resolve) {
-            run(color, out, width);
-        }
-        counts
+        SCRATCH.with_borrow_mut(|scratch| {
+            let (y0, rows, out, resolve) = match (band, self.resolve) {
+                (Band { y0, rows, out: Some(out), .. }, Some(resolve)) => (y0, rows, out, resolve),
+                (band, _) => return self.fill_band_with(band, index, scratch),
+            };
+            let mut color = std::mem::take(&mut scratch.color);
+            color.resize(rows * self.width, 0);
+            if let Some(spread) = resolve.spread {
+                spread(out, resolve.width, &mut color);
+            }
+            let counts = self.fill_band_with(Band { y0, rows, color: &mut color, out: None }, index, scratch);
+            (resolve.run)(&color, out, resolve.width);
+            scratch.color = color;
+            counts
+        })
     }
 
     /// How polygon `p`'s pixels are shaded: its paint, the frame's filter, mip choice and visibility, the
@@ -186,7 +197,7 @@ impl<'a> FillContext<'a> {
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color, .. } = band;
-        let Scratch { runs, depth, coverage, samples } = scratch;
+        let Scratch { runs, depth, coverage, samples, .. } = scratch;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
             color.fill(bg);

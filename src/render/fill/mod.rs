@@ -102,13 +102,13 @@ impl Fill {
             words: layout.width.div_ceil(64),
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
             tall,
-            resolve: resolve.as_ref().map(|r| (r.run, r.width)),
+            resolve: resolve.as_ref().map(|r| r.band),
         };
         let (out, shape) = match resolve {
-            Some(Resolve { out, width, rows, .. }) => (Some(out), (width, rows)),
+            Some(Resolve { out, rows, band }) => (Some(out), (band.width, rows)),
             None => (None, (0, 1)),
         };
-        let bands = split_bands(frame, layout.width, layout.rows_per_band, out, shape);
+        let bands = split_bands(frame, (layout.width, layout.height), layout.rows_per_band, out, shape);
         let counts = if layout.threads == 1 {
             bands
                 .into_iter()
