@@ -8,7 +8,7 @@
 //! Texture coordinates are interpolated linearly (there is no perspective in 2D) and sampled bilinearly.
 
 use crate::render::core::fixed::Fx28_4;
-use crate::render::core::texture::{Sampler, Texture, Wrap};
+use crate::render::core::texture::{Sampler, Texture, Wrap, blend_footprint};
 use crate::render::core::vertex::{ATTRS, ScreenVertex, slot};
 use crate::render::fill::scanline::fill_spans;
 
@@ -69,27 +69,67 @@ pub fn draw_triangles(
         fill_spans(&[a, b, c], (cy0 as i32, cy1 as i32), cx1 as i32, |span| {
             let x0 = (span.x0 as usize).max(cx0);
             let row = span.y as usize * width;
-            for x in x0..span.x1 as usize {
-                let k = (x - span.x0 as usize) as f32;
-                let at = |i: usize| span.a0[i] + k * span.da[i];
+            let Some(pixels) = frame.get_mut(row + x0..row + (span.x1.max(0) as usize).max(x0)) else { return };
+            written += pixels.len() as u64;
+            let at = |i: usize, x: usize| span.a0[i] + (x - span.x0 as usize) as f32 * span.da[i];
+            let colour = |x: usize| {
+                let r = slot::RGBA;
+                [at(r, x), at(r + 1, x), at(r + 2, x), at(r + 3, x)]
+            };
+            // A span of one colour and one texel (a panel: egui maps a whole shape to its white texel)
+            // computes its colour once: every pixel would compute the same from the same values.
+            let flat_colour = (slot::RGBA..slot::RGBA + 4).all(|i| span.da[i] == 0.0);
+            let one_texel = texture.is_none() || span.da[slot::S] == 0.0 && span.da[slot::T] == 0.0;
+            if flat_colour && one_texel {
+                let t = texture.map_or([1.0; 4], |t| t.sample_bilinear(at(slot::S, x0), at(slot::T, x0), clamp));
+                let src = tinted(t, colour(x0));
+                // Opaque: the destination is multiplied by 0, so every pixel gets the same colour.
+                let opaque = src[3] >= 1.0;
+                let fill = blend(0, src);
+                for p in pixels {
+                    *p = if opaque { fill } else { blend(*p, src) };
+                }
+                return;
+            }
+            for (x, p) in (x0..).zip(pixels) {
                 let t = match texture {
-                    Some(t) => t.sample_bilinear(at(slot::S), at(slot::T), clamp),
+                    Some(t) => {
+                        let (texels, weights) = t.bilinear_footprint(at(slot::S, x), at(slot::T, x), clamp);
+                        // Four clear texels (around a glyph) blend to a clear source, which leaves the
+                        // pixel as it is.
+                        if texels == [0; 4] {
+                            continue;
+                        }
+                        blend_footprint(texels, weights)
+                    }
                     None => [1.0; 4],
                 };
-                let r = slot::RGBA;
-                let src = [t[0] * at(r), t[1] * at(r + 1), t[2] * at(r + 2), t[3] * at(r + 3)];
-                let keep = 1.0 - src[3].clamp(0.0, 1.0);
-                let d = frame[row + x];
-                let ch = |shift: u32, s: f32| {
-                    let dst = ((d >> shift) & 0xff) as f32 / 255.0;
-                    ((s + dst * keep) * 255.0 + 0.5).clamp(0.0, 255.0) as u32
-                };
-                frame[row + x] = (ch(16, src[0]) << 16) | (ch(8, src[1]) << 8) | ch(0, src[2]);
-                written += 1;
+                *p = blend(*p, tinted(t, colour(x)));
             }
         });
     }
     written
+}
+
+/// A texel (premultiplied RGBA in `0..=1`) times a vertex colour (the same): the source a pixel blends.
+#[inline(always)]
+fn tinted(t: [f32; 4], c: [f32; 4]) -> [f32; 4] {
+    [t[0] * c[0], t[1] * c[1], t[2] * c[2], t[3] * c[3]]
+}
+
+/// Pixel `d` (`0x00RRGGBB`) under the premultiplied source `src`: `src + d * (1 - src alpha)` per channel,
+/// rounded to the nearest of 256 levels.
+///
+/// With a clear source (all zero) this gives `d` back: `d / 255 * 255` is within a few units of the last
+/// place of `d`, far from the half that rounding adds.
+#[inline(always)]
+fn blend(d: u32, src: [f32; 4]) -> u32 {
+    let keep = 1.0 - src[3].clamp(0.0, 1.0);
+    let ch = |shift: u32, s: f32| {
+        let dst = ((d >> shift) & 0xff) as f32 / 255.0;
+        ((s + dst * keep) * 255.0 + 0.5).clamp(0.0, 255.0) as u32
+    };
+    (ch(16, src[0]) << 16) | (ch(8, src[1]) << 8) | ch(0, src[2])
 }
 
 #[cfg(test)]
@@ -130,5 +170,67 @@ mod tests {
         let bad = [v(f32::NAN, 0.0, [255; 4]), v(1e30, 1.0, [255; 4]), v(0.0, 5.0, [255; 4])];
         assert_eq!(draw_triangles(&mut frame, 8, 8, &bad, &[0, 1, 2, 0, 1, 7], None, [0.0, 0.0, 8.0, 8.0]), 0);
         assert_eq!(draw_triangles(&mut [], 0, 0, &verts, &[0, 1, 2], None, [0.0, 0.0, 8.0, 8.0]), 0);
+    }
+
+    /// The per-pixel rule the fast paths must match: every pixel of every span sampled and blended.
+    fn every_pixel(frame: &mut [u32], w: usize, verts: &[OverlayVertex], indices: &[u32], tex: Option<&Texture>) {
+        let clamp = Sampler { wrap_s: Wrap::ClampToEdge, wrap_t: Wrap::ClampToEdge };
+        for tri in indices.chunks_exact(3) {
+            let v: Vec<ScreenVertex> = tri.iter().filter_map(|&i| to_screen(&verts[i as usize])).collect();
+            fill_spans(&v, (0, (frame.len() / w) as i32), w as i32, |span| {
+                for x in span.x0 as usize..span.x1 as usize {
+                    let at = |i: usize| span.a0[i] + (x - span.x0 as usize) as f32 * span.da[i];
+                    let t = tex.map_or([1.0; 4], |t| t.sample_bilinear(at(slot::S), at(slot::T), clamp));
+                    let c = [at(slot::RGBA), at(slot::RGBA + 1), at(slot::RGBA + 2), at(slot::RGBA + 3)];
+                    let p = &mut frame[span.y as usize * w + x];
+                    *p = blend(*p, tinted(t, c));
+                }
+            });
+        }
+    }
+
+    #[test]
+    fn panels_and_glyphs_are_drawn_as_every_pixel_blended_on_its_own_would_be() {
+        use crate::render::core::test_rng::Lcg;
+        let mut rng = Lcg(29);
+        // A glyph atlas: mostly clear, some opaque and some translucent (premultiplied) texels.
+        let texels: Vec<u32> = (0..32 * 32)
+            .map(|_| match rng.below(4) {
+                0 | 1 => 0,
+                2 => 0xffff_ffff,
+                _ => {
+                    let a = rng.below(256);
+                    (a << 24) | ((a / 2) << 16) | ((a / 3) << 8) | (a / 4)
+                }
+            })
+            .collect();
+        let atlas = Texture::new(32, 32, texels).unwrap();
+        let (w, h) = (48, 40);
+        for case in 0..300 {
+            let background: Vec<u32> = (0..w * h).map(|_| rng.next() & 0x00ff_ffff).collect();
+            // Panels: one colour, one texel (opaque or translucent); glyphs: texels across, one colour;
+            // gradients: colours across.
+            let kind = case % 3;
+            let alpha = if rng.below(2) == 0 { 255 } else { rng.below(256) as u8 };
+            let colour = |rng: &mut Lcg| {
+                let a = if kind == 2 { rng.below(256) as u8 } else { alpha };
+                [a / 2, a, a / 3, a].map(|c| c.min(a))
+            };
+            let verts: Vec<OverlayVertex> = (0..4)
+                .map(|_| OverlayVertex {
+                    pos: [rng.unit() * 60.0 - 6.0, rng.unit() * 50.0 - 5.0],
+                    uv: if kind == 0 { [0.5 / 32.0, 0.5 / 32.0] } else { [rng.unit(), rng.unit()] },
+                    color: if kind == 1 { [200, 100, 50, 255] } else { colour(&mut rng) },
+                })
+                .collect();
+            let indices = [0, 1, 2, 0, 2, 3];
+            for tex in [Some(&atlas), None] {
+                let mut want = background.clone();
+                every_pixel(&mut want, w, &verts, &indices, tex);
+                let mut got = background.clone();
+                draw_triangles(&mut got, w, h, &verts, &indices, tex, [0.0, 0.0, w as f32, h as f32]);
+                assert!(got == want, "case {case}, textured {}", tex.is_some());
+            }
+        }
     }
 }

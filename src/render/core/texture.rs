@@ -190,23 +190,30 @@ impl Texture {
     /// 1/256 steps, for the overlay's magnified glyphs); each of the four texels is wrapped on its own.
     #[must_use]
     pub fn sample_bilinear(&self, u: f32, v: f32, sampler: Sampler) -> [f32; 4] {
+        let (texels, weights) = self.bilinear_footprint(u, v, sampler);
+        blend_footprint(texels, weights)
+    }
+
+    /// The four packed texels [`Texture::sample_bilinear`] blends at `(u, v)` (top left, top right, bottom
+    /// left, bottom right, each wrapped on its own) and its weights across and down: a caller that finds
+    /// them all clear (the space around a glyph) can skip the blend, whose result it knows.
+    #[inline]
+    #[must_use]
+    pub fn bilinear_footprint(&self, u: f32, v: f32, sampler: Sampler) -> ([u32; 4], [f32; 2]) {
         let fx = u * self.width as f32 - 0.5;
         let fy = v * self.height as f32 - 0.5;
         let x0f = fx.floor();
         let y0f = fy.floor();
         let (ax, ay) = (sanitize_frac(fx - x0f), sanitize_frac(fy - y0f));
         let (x0, y0) = (x0f as i32, y0f as i32);
-        let t00 = unpack(self.texel(x0, y0, sampler));
-        let t10 = unpack(self.texel(x0.wrapping_add(1), y0, sampler));
-        let t01 = unpack(self.texel(x0, y0.wrapping_add(1), sampler));
-        let t11 = unpack(self.texel(x0.wrapping_add(1), y0.wrapping_add(1), sampler));
-        let mut out = [0.0; 4];
-        for c in 0..4 {
-            let top = t00[c] + (t10[c] - t00[c]) * ax;
-            let bottom = t01[c] + (t11[c] - t01[c]) * ax;
-            out[c] = top + (bottom - top) * ay;
-        }
-        out
+        let (x1, y1) = (x0.wrapping_add(1), y0.wrapping_add(1));
+        let t = [
+            self.texel(x0, y0, sampler),
+            self.texel(x1, y0, sampler),
+            self.texel(x0, y1, sampler),
+            self.texel(x1, y1, sampler),
+        ];
+        (t, [ax, ay])
     }
 
     /// A sample at `(u, v)` by `filter` at level of detail `lod` (`λ`, see [`mip`]) as RGBA in `0..=1`:
@@ -316,6 +323,20 @@ pub const AREA_MIN_EXTENT: f32 = 1.0 / 64.0;
 
 fn sanitize_frac(f: f32) -> f32 {
     if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }
+}
+
+/// The bilinear blend in floats of a footprint from [`Texture::bilinear_footprint`], as RGBA in `0..=1`.
+#[inline]
+#[must_use]
+pub fn blend_footprint(texels: [u32; 4], [ax, ay]: [f32; 2]) -> [f32; 4] {
+    let [t00, t10, t01, t11] = texels.map(unpack);
+    let mut out = [0.0; 4];
+    for c in 0..4 {
+        let top = t00[c] + (t10[c] - t00[c]) * ax;
+        let bottom = t01[c] + (t11[c] - t01[c]) * ax;
+        out[c] = top + (bottom - top) * ay;
+    }
+    out
 }
 
 /// `x.floor() as i32` without a call to libm's `floorf` (the x86-64 baseline has no rounding instruction,
