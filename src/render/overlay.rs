@@ -172,18 +172,32 @@ mod tests {
         assert_eq!(draw_triangles(&mut [], 0, 0, &verts, &[0, 1, 2], None, [0.0, 0.0, 8.0, 8.0]), 0);
     }
 
-    /// The per-pixel rule the fast paths must match: every pixel of every span sampled and blended.
-    fn every_pixel(frame: &mut [u32], w: usize, verts: &[OverlayVertex], indices: &[u32], tex: Option<&Texture>) {
+    /// The per-pixel rule the fast paths must match, written out on its own: every pixel of every span
+    /// inside the clip's columns `cols` sampled, tinted and blended.
+    fn every_pixel(
+        frame: &mut [u32],
+        w: usize,
+        (verts, indices): (&[OverlayVertex], &[u32]),
+        tex: Option<&Texture>,
+        (rows, cols): ((i32, i32), (usize, usize)),
+    ) {
         let clamp = Sampler { wrap_s: Wrap::ClampToEdge, wrap_t: Wrap::ClampToEdge };
         for tri in indices.chunks_exact(3) {
             let v: Vec<ScreenVertex> = tri.iter().filter_map(|&i| to_screen(&verts[i as usize])).collect();
-            fill_spans(&v, (0, (frame.len() / w) as i32), w as i32, |span| {
-                for x in span.x0 as usize..span.x1 as usize {
+            fill_spans(&v, rows, cols.1 as i32, |span| {
+                for x in (span.x0 as usize).max(cols.0)..span.x1 as usize {
                     let at = |i: usize| span.a0[i] + (x - span.x0 as usize) as f32 * span.da[i];
                     let t = tex.map_or([1.0; 4], |t| t.sample_bilinear(at(slot::S), at(slot::T), clamp));
-                    let c = [at(slot::RGBA), at(slot::RGBA + 1), at(slot::RGBA + 2), at(slot::RGBA + 3)];
+                    let r = slot::RGBA;
+                    let src = [t[0] * at(r), t[1] * at(r + 1), t[2] * at(r + 2), t[3] * at(r + 3)];
+                    let keep = 1.0 - src[3].clamp(0.0, 1.0);
                     let p = &mut frame[span.y as usize * w + x];
-                    *p = blend(*p, tinted(t, c));
+                    let d = *p;
+                    let ch = |shift: u32, s: f32| {
+                        let dst = ((d >> shift) & 0xff) as f32 / 255.0;
+                        ((s + dst * keep) * 255.0 + 0.5).clamp(0.0, 255.0) as u32
+                    };
+                    *p = (ch(16, src[0]) << 16) | (ch(8, src[1]) << 8) | ch(0, src[2]);
                 }
             });
         }
@@ -193,44 +207,55 @@ mod tests {
     fn panels_and_glyphs_are_drawn_as_every_pixel_blended_on_its_own_would_be() {
         use crate::render::core::test_rng::Lcg;
         let mut rng = Lcg(29);
-        // A glyph atlas: mostly clear, some opaque and some translucent (premultiplied) texels.
-        let texels: Vec<u32> = (0..32 * 32)
+        // A glyph atlas: mostly clear, some opaque and some translucent (premultiplied) texels; its first
+        // row holds one of each, which the panels take.
+        let translucent = |a: u32| (a << 24) | ((a / 2) << 16) | ((a / 3) << 8) | (a / 4);
+        let mut texels: Vec<u32> = (0..32 * 32)
             .map(|_| match rng.below(4) {
                 0 | 1 => 0,
                 2 => 0xffff_ffff,
-                _ => {
-                    let a = rng.below(256);
-                    (a << 24) | ((a / 2) << 16) | ((a / 3) << 8) | (a / 4)
-                }
+                _ => translucent(rng.below(256)),
             })
             .collect();
+        texels[..3].copy_from_slice(&[0xffff_ffff, translucent(100), 0]);
         let atlas = Texture::new(32, 32, texels).unwrap();
         let (w, h) = (48, 40);
-        for case in 0..300 {
+        let mut filled = [0u32; 2];
+        for case in 0..600 {
             let background: Vec<u32> = (0..w * h).map(|_| rng.next() & 0x00ff_ffff).collect();
-            // Panels: one colour, one texel (opaque or translucent); glyphs: texels across, one colour;
-            // gradients: colours across.
+            // Panels: one colour, one texel (opaque, translucent or clear); glyphs: texels across, one
+            // colour; gradients: colours across.
             let kind = case % 3;
             let alpha = if rng.below(2) == 0 { 255 } else { rng.below(256) as u8 };
             let colour = |rng: &mut Lcg| {
                 let a = if kind == 2 { rng.below(256) as u8 } else { alpha };
                 [a / 2, a, a / 3, a].map(|c| c.min(a))
             };
+            let texel = (rng.below(3) as f32 + 0.5) / 32.0;
             let verts: Vec<OverlayVertex> = (0..4)
                 .map(|_| OverlayVertex {
                     pos: [rng.unit() * 60.0 - 6.0, rng.unit() * 50.0 - 5.0],
-                    uv: if kind == 0 { [0.5 / 32.0, 0.5 / 32.0] } else { [rng.unit(), rng.unit()] },
+                    uv: if kind == 0 { [texel, 0.5 / 32.0] } else { [rng.unit(), rng.unit()] },
                     color: if kind == 1 { [200, 100, 50, 255] } else { colour(&mut rng) },
                 })
                 .collect();
             let indices = [0, 1, 2, 0, 2, 3];
+            // Half the cases clipped to a rectangle inside the frame, whose left edge cuts spans.
+            let (x0, y0) = if case % 2 == 0 { (0, 0) } else { (rng.range(1, 20) as usize, rng.range(1, 15)) };
+            let (x1, y1) = if case % 2 == 0 { (w, h as i32) } else { (rng.range(25, 48) as usize, rng.range(20, 40)) };
+            let clip = [x0 as f32, y0 as f32, x1 as f32, y1 as f32];
             for tex in [Some(&atlas), None] {
                 let mut want = background.clone();
-                every_pixel(&mut want, w, &verts, &indices, tex);
+                every_pixel(&mut want, w, (&verts, &indices), tex, ((y0, y1), (x0, x1)));
                 let mut got = background.clone();
-                draw_triangles(&mut got, w, h, &verts, &indices, tex, [0.0, 0.0, w as f32, h as f32]);
+                draw_triangles(&mut got, w, h, &verts, &indices, tex, clip);
                 assert!(got == want, "case {case}, textured {}", tex.is_some());
+                if kind == 0 && got != background {
+                    filled[usize::from(tex.is_some())] += 1;
+                }
             }
         }
+        // Panels were drawn both with and without the atlas.
+        assert!(filled.iter().all(|&n| n > 20), "{filled:?}");
     }
 }
