@@ -12,7 +12,7 @@
 
 use super::row::{BandPixels, FLAT, SpanCounts};
 #[cfg(target_arch = "x86_64")]
-use super::row::{LANES, OVERWRITE, RowRun, Setup};
+use super::row::{LANES, OVERWRITE, RowRun, Setup, corners_in_range};
 use super::scanline::{Span, fill_spans_wound};
 use super::span_lanes::{Fill, Paint, span_run};
 #[cfg(target_arch = "x86_64")]
@@ -58,11 +58,15 @@ impl Fill for PolygonSpans<'_, '_, '_> {
         {
             let (tex, colors) = paint.parts();
             let size = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
+            // Once for the polygon, instead of two divisions a span (on courses of small polygons, most of a
+            // span's set-up).
+            let corners_in = |v: &ScreenVertex| [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]];
+            let known = SRC != FLAT && corners_in_range(verts.iter().map(corners_in), size);
             runs.clear();
             walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
                 let n = span.x1 - span.x0;
                 if n > SHORT {
-                    total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y));
+                    total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), known);
                     return;
                 }
                 // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`.
@@ -73,14 +77,14 @@ impl Fill for PolygonSpans<'_, '_, '_> {
                     size,
                 );
                 let (x0, x1) = (span.x0.max(0) as usize, span.x1.max(0) as usize);
-                let in_range = SRC != FLAT && setup.texels_in_range(x1.saturating_sub(x0 + 1));
+                let in_range = SRC != FLAT && (known || setup.texels_in_range(x1.saturating_sub(x0 + 1)));
                 runs.push(RowRun { y: span.y as usize, x0, x1, in_range, setup });
             });
             let across = super::span_avx2::rows::rows::<VIS, SRC>(avx2, runs, tex, colors, rows);
             return total + across.unpack();
         }
         walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
-            total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y))
+            total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), false)
         });
         total
     }
@@ -260,5 +264,65 @@ mod tests {
             }
         }
         assert!(short_spans > 5000 && cases > 10_000, "{short_spans} short spans, {cases} cases");
+    }
+
+    #[test]
+    fn a_polygon_whose_corners_are_in_range_has_every_span_in_range() {
+        // The promise `corners_in_range` makes for all of a polygon's spans, held against the check a span
+        // makes for itself, on polygons up to its limits: `1/w` varying sixteen-fold, texel coordinates at
+        // the corners near `2^20`, slivers, both windings and the rotated grid's shifted rows.
+        let mut rng = Lcg(23);
+        let unit = |rng: &mut Lcg| rng.unit();
+        let (mut promised, mut refused, mut spans) = (0, 0, 0);
+        for case in 0..20_000 {
+            let size = [0.5, 3.0, 20.0, 200.0][rng.below(4) as usize];
+            let n = 3 + rng.below(2) as usize;
+            let (cx, cy) = (unit(&mut rng) * 64.0, unit(&mut rng) * 64.0);
+            let mut verts = random_polygon(&mut rng, (cx, cy, size), n, false);
+            let (tw, th) = ([1.0f32, 64.0, 4096.0][rng.below(3) as usize], [1.0f32, 256.0][rng.below(2) as usize]);
+            let q_base = [1e-6f32, 0.01, 1.0, 300.0][rng.below(4) as usize];
+            let spread = 1.0 + unit(&mut rng) * 31.0;
+            // Now and then coordinates past `2^22` and a corner behind the eye, which a span's own check
+            // refuses, so that a promise made for them would fail below.
+            let reach = 1_048_576.0 * (0.5 + unit(&mut rng) * if case % 3 == 0 { 8.0 } else { 1.0 });
+            let behind = if case % 7 == 0 { rng.below(n as u32) as usize } else { n };
+            for (i, v) in verts.iter_mut().enumerate() {
+                let q = q_base * (1.0 + unit(&mut rng) * (spread - 1.0)) * if i == behind { -0.5 } else { 1.0 };
+                let (u, w) = ((unit(&mut rng) * 2.0 - 1.0) * reach / tw, (unit(&mut rng) * 2.0 - 1.0) * reach / th);
+                v.attrs[slot::Q] = q;
+                v.attrs[slot::S] = u * q;
+                v.attrs[slot::T] = w * q;
+            }
+            let Some(winding) = Winding::of(&verts) else { continue };
+            let corners = verts.iter().map(|v| [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]);
+            if !corners_in_range(corners, (tw, th)) {
+                refused += 1;
+                continue;
+            }
+            promised += 1;
+            let tall = (case % 2 == 0).then_some(ROW_SHIFTS);
+            fill_spans_wound::<4>(&verts, winding, (0, 400), 400, tall, |s| {
+                let (a0, da) = (&s.a0, &s.da);
+                let setup = Setup::new(
+                    [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
+                    [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
+                    (tw, th),
+                );
+                let last = (s.x1 - s.x0 - 1).max(0) as usize;
+                assert!(setup.texels_in_range(last), "case {case}: {s:?} of {verts:?}, texture {tw}x{th}");
+                spans += 1;
+            });
+        }
+        assert!(
+            promised > 5000 && refused > 5000 && spans > 100_000,
+            "{promised} promised, {refused} refused, {spans} spans"
+        );
+        // What it refuses: NaN, a corner at or behind the eye plane, and a coordinate past `2^20`.
+        let corner = |q: f32, s: f32| [q, s, 0.0];
+        assert!(corners_in_range([corner(1.0, 5.0), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([corner(1.0, f32::NAN), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([corner(1.0, 5.0), corner(0.0, 0.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([corner(1.0, 5.0), corner(1.0 / 17.0, 0.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([corner(1.0, 20_000.0), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
     }
 }

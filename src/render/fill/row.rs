@@ -152,6 +152,37 @@ pub(crate) struct Run {
     pub(crate) a0: [f32; 4],
     /// Their change per pixel.
     pub(crate) da: [f32; 4],
+    /// The caller has found the texel coordinates of every pixel in range for the whole polygon
+    /// ([`corners_in_range`]), so the chunk loop need not check this run ([`Setup::texels_in_range`]).
+    pub(crate) in_range: bool,
+}
+
+/// True when the texel coordinates of every pixel a polygon with these corners covers are finite and
+/// within `±2^22` as the span loops compute them ([`Setup::texels_in_range`]'s promise, made once for
+/// all of the polygon's spans instead of by two divisions a span); `corners` gives each corner's `1/w`,
+/// `s/w` and `t/w`, `(w, h)` the texture's size.
+///
+/// Why it holds: inside a convex polygon with `1/w` positive at every corner, `1/w` is a convex
+/// combination of the corners' values, and `u = (s/w) / (1/w)` (a ratio of linear functions with a positive
+/// denominator) takes its extremes at corners; so every pixel's exact `1/w` is at least the smallest
+/// corner's, and its `u`, `v` lie within the corners'. The spans' values differ from the exact ones by the
+/// rounding of a few products and sums (the edges' interpolation, and a pixel centre a rounding's width
+/// outside the edge at most), each well under 1% of the largest corner value: requiring the smallest `1/w`
+/// to be at least a sixteenth of the largest keeps `1/w` positive and the division's growth of those errors
+/// under 2x, and the corners' texel coordinates within `±2^20` leaves a factor of four to `2^22`. A polygon
+/// that fails (NaN, a corner near the eye plane, a coordinate far out) is checked a span at a time.
+pub(crate) fn corners_in_range(corners: impl Iterator<Item = [f32; 3]>, (w, h): (f32, f32)) -> bool {
+    const LIMIT: f32 = 1_048_576.0;
+    let (mut q_min, mut q_max) = (f32::INFINITY, 0.0f32);
+    for [q, s, t] in corners {
+        let (x, y) = (s / q * w, t / q * h);
+        // Written so that NaN fails every test.
+        if !(q > 1e-20 && q < f32::INFINITY && x.abs() < LIMIT && y.abs() < LIMIT) {
+            return false;
+        }
+        (q_min, q_max) = (q_min.min(q), q_max.max(q));
+    }
+    q_max > 0.0 && q_min >= q_max * (1.0 / 16.0)
 }
 
 /// One row's span for the chunk loop across rows (`span_avx2::rows`): pixels `x0..x1` of frame row `y`,

@@ -439,7 +439,8 @@ use chunk::{ChunkPixels, ChunkSpan};
 /// Draws span pixels `x0..x1` eight at a time and returns where it stopped (`x1` unless the row is shorter
 /// than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
 /// row's end, and lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable
-/// loop's visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for MASK.
+/// loop's visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for MASK;
+/// `in_range` says the caller has found the span's texel coordinates in range (else the loop checks).
 pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     _: Avx2,
     span: (usize, usize),
@@ -447,11 +448,12 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     tex: Option<&Tex<'_>>,
     colors: &(u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
+    in_range: bool,
 ) -> (usize, PackedCounts) {
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `chunks_avx2` needs.
     #[allow(unsafe_code)]
     unsafe {
-        chunks_avx2::<VIS, SRC>(span, s, tex, colors, row)
+        chunks_avx2::<VIS, SRC>(span, s, tex, colors, row, in_range)
     }
 }
 
@@ -463,10 +465,11 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     tex: Option<&Tex<'_>>,
     &(flat, tint, alpha): &(u32, [u32; 3], Option<(f32, f32)>),
     row: &mut Row<'_>,
+    known_in_range: bool,
 ) -> (usize, PackedCounts) {
     let mut counts = PackedCounts::default();
     let width = row.color.len();
-    let in_range = SRC != FLAT && s.texels_in_range(x1.saturating_sub(x0 + 1));
+    let in_range = SRC != FLAT && (known_in_range || s.texels_in_range(x1.saturating_sub(x0 + 1)));
     let mut x = x0;
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.

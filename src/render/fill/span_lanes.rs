@@ -58,7 +58,7 @@ pub(crate) fn draw(
     impl Fill for OneSpan<'_, '_, '_> {
         #[inline(always)]
         fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-            span_run::<VIS, SRC>(self.0, paint, self.1)
+            span_run::<VIS, SRC>(self.0, paint, self.1, false)
         }
     }
     dispatch(source, alpha, vis, OneSpan(span, row))
@@ -67,7 +67,12 @@ pub(crate) fn draw(
 /// Draws a span with the loop for visibility `VIS` and source `SRC` (as [`dispatch`] chose them): what
 /// [`draw`] does once the loop is chosen, for a caller drawing many spans with one choice.
 #[inline(always)]
-pub(crate) fn span_run<const VIS: u8, const SRC: u8>(span: &Span, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
+pub(crate) fn span_run<const VIS: u8, const SRC: u8>(
+    span: &Span,
+    paint: &Paint<'_>,
+    row: &mut Row<'_>,
+    in_range: bool,
+) -> SpanCounts {
     // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
     if SRC == FLAT && VIS == OVERWRITE {
         let n = span.x1.saturating_sub(span.x0).max(0) as u64;
@@ -90,7 +95,7 @@ pub(crate) fn span_run<const VIS: u8, const SRC: u8>(span: &Span, paint: &Paint<
             *a += skip * d;
         }
     }
-    let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da };
+    let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da, in_range };
     walk::<VIS, SRC>(&run, paint, row)
 }
 
@@ -231,6 +236,7 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
             paint.tex.as_ref(),
             &paint.colors,
             row,
+            run.in_range,
         );
         (x, counts) = (next, packed.unpack());
     }
