@@ -60,7 +60,7 @@ impl Fill for PolygonSpans<'_, '_, '_> {
             let size = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
             // Once for the polygon, instead of two divisions a span (on courses of small polygons, most of a
             // span's set-up).
-            let corners_in = |v: &ScreenVertex| [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]];
+            let corners_in = |v: &ScreenVertex| (v.x.0, [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]);
             let known = SRC != FLAT && corners_in_range(verts.iter().map(corners_in), size);
             runs.clear();
             walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
@@ -266,25 +266,58 @@ mod tests {
         assert!(short_spans > 5000 && cases > 10_000, "{short_spans} short spans, {cases} cases");
     }
 
+    /// Each corner's x (raw) and `1/w`, `s/w`, `t/w`, as [`corners_in_range`] takes them.
+    fn corners_of(verts: &[ScreenVertex]) -> impl Iterator<Item = (i32, [f32; 3])> + '_ {
+        verts.iter().map(|v| (v.x.0, [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]))
+    }
+
+    /// True when every span the walk gives `verts` on rows `0..rows` of a frame `width` wide passes its own
+    /// range check for a texture of `size`.
+    fn every_span_in_range(verts: &[ScreenVertex], (width, rows): (i32, i32), size: (f32, f32), tall: bool) -> usize {
+        let Some(winding) = Winding::of(verts) else { return 0 };
+        let mut spans = 0;
+        fill_spans_wound::<4>(verts, winding, (0, rows), width, tall.then_some(ROW_SHIFTS), |s| {
+            let (a0, da) = (&s.a0, &s.da);
+            let setup = Setup::new(
+                [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
+                [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
+                size,
+            );
+            let last = (s.x1 - s.x0 - 1).max(0) as usize;
+            assert!(setup.texels_in_range(last), "{s:?} of {verts:?}, texture {size:?}");
+            spans += 1;
+        });
+        spans
+    }
+
     #[test]
     fn a_polygon_whose_corners_are_in_range_has_every_span_in_range() {
         // The promise `corners_in_range` makes for all of a polygon's spans, held against the check a span
-        // makes for itself, on polygons up to its limits: `1/w` varying sixteen-fold, texel coordinates at
-        // the corners near `2^20`, slivers, both windings and the rotated grid's shifted rows.
+        // makes for itself, on polygons up to its limits: `1/w` varying eight-fold, texel coordinates at the
+        // corners near `2^20`, a corner far out to the side (the clipper's guard band reaches 8,192 pixels)
+        // with long edges crossing the frame, slivers, both windings and the rotated grid's shifted rows.
         let mut rng = Lcg(23);
         let unit = |rng: &mut Lcg| rng.unit();
         let (mut promised, mut refused, mut spans) = (0, 0, 0);
-        for case in 0..20_000 {
-            let size = [0.5, 3.0, 20.0, 200.0][rng.below(4) as usize];
+        let (width, rows) = (1024, 256);
+        for case in 0..6_000 {
+            let size = [0.5, 3.0, 20.0, 300.0][rng.below(4) as usize];
             let n = 3 + rng.below(2) as usize;
-            let (cx, cy) = (unit(&mut rng) * 64.0, unit(&mut rng) * 64.0);
+            let (cx, cy) = (unit(&mut rng) * width as f32, unit(&mut rng) * rows as f32);
             let mut verts = random_polygon(&mut rng, (cx, cy, size), n, false);
+            // One corner out to the side a third of the time (within the promise's 4,096 pixels, or past it).
+            if case % 3 == 0 {
+                let far = &mut verts[rng.below(n as u32) as usize];
+                let reach = [4000.0, 8000.0][rng.below(2) as usize];
+                far.x = Fx28_4(((unit(&mut rng) * 2.0 - 1.0) * reach * 16.0) as i32);
+                far.y = Fx28_4(((unit(&mut rng) * 2.0 - 1.0) * reach * 8.0) as i32);
+            }
             let (tw, th) = ([1.0f32, 64.0, 4096.0][rng.below(3) as usize], [1.0f32, 256.0][rng.below(2) as usize]);
             let q_base = [1e-6f32, 0.01, 1.0, 300.0][rng.below(4) as usize];
-            let spread = 1.0 + unit(&mut rng) * 31.0;
+            let spread = 1.0 + unit(&mut rng) * 15.0;
             // Now and then coordinates past `2^22` and a corner behind the eye, which a span's own check
             // refuses, so that a promise made for them would fail below.
-            let reach = 1_048_576.0 * (0.5 + unit(&mut rng) * if case % 3 == 0 { 8.0 } else { 1.0 });
+            let reach = 1_048_576.0 * (0.5 + unit(&mut rng) * if case % 5 == 0 { 8.0 } else { 1.0 });
             let behind = if case % 7 == 0 { rng.below(n as u32) as usize } else { n };
             for (i, v) in verts.iter_mut().enumerate() {
                 let q = q_base * (1.0 + unit(&mut rng) * (spread - 1.0)) * if i == behind { -0.5 } else { 1.0 };
@@ -293,36 +326,48 @@ mod tests {
                 v.attrs[slot::S] = u * q;
                 v.attrs[slot::T] = w * q;
             }
-            let Some(winding) = Winding::of(&verts) else { continue };
-            let corners = verts.iter().map(|v| [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]);
-            if !corners_in_range(corners, (tw, th)) {
+            if !corners_in_range(corners_of(&verts), (tw, th)) {
                 refused += 1;
                 continue;
             }
             promised += 1;
-            let tall = (case % 2 == 0).then_some(ROW_SHIFTS);
-            fill_spans_wound::<4>(&verts, winding, (0, 400), 400, tall, |s| {
-                let (a0, da) = (&s.a0, &s.da);
-                let setup = Setup::new(
-                    [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
-                    [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
-                    (tw, th),
-                );
-                let last = (s.x1 - s.x0 - 1).max(0) as usize;
-                assert!(setup.texels_in_range(last), "case {case}: {s:?} of {verts:?}, texture {tw}x{th}");
-                spans += 1;
-            });
+            spans += every_span_in_range(&verts, (width, rows), (tw, th), case % 2 == 0);
         }
         assert!(
-            promised > 5000 && refused > 5000 && spans > 100_000,
+            promised > 1500 && refused > 1500 && spans > 50_000,
             "{promised} promised, {refused} refused, {spans} spans"
         );
-        // What it refuses: NaN, a corner at or behind the eye plane, and a coordinate past `2^20`.
-        let corner = |q: f32, s: f32| [q, s, 0.0];
-        assert!(corners_in_range([corner(1.0, 5.0), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([corner(1.0, f32::NAN), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([corner(1.0, 5.0), corner(0.0, 0.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([corner(1.0, 5.0), corner(1.0 / 17.0, 0.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([corner(1.0, 20_000.0), corner(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        // A sliver of a triangle whose far corner is 8,184 pixels out (found in review): its float edge lands
+        // 1/1024 pixel right of a sample the exact rule covers, a span 1/60 of a pixel wide extrapolates from
+        // there, and with sixteen-fold `1/w` one span's texel coordinate comes to 2^24. It is refused.
+        let corner = |x: i32, y: i32, q: f32, u: f32| {
+            let mut attrs = [0.0; ATTRS];
+            (attrs[slot::DEPTH], attrs[slot::Q], attrs[slot::S]) = (0.5, q, u * q);
+            ScreenVertex { x: Fx28_4(x), y: Fx28_4(y), attrs }
+        };
+        let u = 1e6 / 256.0;
+        let sliver =
+            [corner(-130_951, -63_755, 1.0, u), corner(25_127, 10_027, 1.0, u), corner(16_488, 5_943, 16.0, -u)];
+        assert!(!corners_in_range(corners_of(&sliver), (256.0, 256.0)));
+        let winding = Winding::of(&sliver).expect("a triangle");
+        let mut out_of_range = 0;
+        fill_spans_wound::<4>(&sliver, winding, (0, 720), 1280, None, |s| {
+            let setup = Setup::new(
+                [s.a0[slot::DEPTH], s.a0[slot::Q], s.a0[slot::S], s.a0[slot::T]],
+                [s.da[slot::DEPTH], s.da[slot::Q], s.da[slot::S], s.da[slot::T]],
+                (256.0, 256.0),
+            );
+            out_of_range += usize::from(!setup.texels_in_range((s.x1 - s.x0 - 1).max(0) as usize));
+        });
+        assert!(out_of_range > 0, "the sliver's spans are all in range: the case no longer shows the hazard");
+        // What it refuses besides: NaN, a corner at or behind the eye plane, `1/w` varying more than
+        // eight-fold, and a coordinate past `2^20`.
+        let c = |q: f32, s: f32| (0, [q, s, 0.0]);
+        assert!(corners_in_range([c(1.0, 5.0), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([c(1.0, f32::NAN), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([c(1.0, 5.0), c(0.0, 0.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([c(1.0, 5.0), c(1.0 / 9.0, 0.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([c(1.0, 20_000.0), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        assert!(!corners_in_range([(4096 * 16, [1.0, 5.0, 0.0]), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
     }
 }

@@ -159,30 +159,43 @@ pub(crate) struct Run {
 
 /// True when the texel coordinates of every pixel a polygon with these corners covers are finite and
 /// within `±2^22` as the span loops compute them ([`Setup::texels_in_range`]'s promise, made once for
-/// all of the polygon's spans instead of by two divisions a span); `corners` gives each corner's `1/w`,
-/// `s/w` and `t/w`, `(w, h)` the texture's size.
+/// all of the polygon's spans instead of by two divisions a span); `corners` gives each corner's x (in
+/// [`Fx28_4`](crate::render::core::fixed::Fx28_4) units) and its `1/w`, `s/w` and `t/w`, `(w, h)` the
+/// texture's size.
 ///
 /// Why it holds: inside a convex polygon with `1/w` positive at every corner, `1/w` is a convex
 /// combination of the corners' values, and `u = (s/w) / (1/w)` (a ratio of linear functions with a positive
 /// denominator) takes its extremes at corners; so every pixel's exact `1/w` is at least the smallest
-/// corner's, and its `u`, `v` lie within the corners'. The spans' values differ from the exact ones by the
-/// rounding of a few products and sums (the edges' interpolation, and a pixel centre a rounding's width
-/// outside the edge at most), each well under 1% of the largest corner value: requiring the smallest `1/w`
-/// to be at least a sixteenth of the largest keeps `1/w` positive and the division's growth of those errors
-/// under 2x, and the corners' texel coordinates within `±2^20` leaves a factor of four to `2^22`. A polygon
-/// that fails (NaN, a corner near the eye plane, a coordinate far out) is checked a span at a time.
-pub(crate) fn corners_in_range(corners: impl Iterator<Item = [f32; 3]>, (w, h): (f32, f32)) -> bool {
+/// corner's, and its `u`, `v` lie within the corners'. The spans' values stray from the exact ones mostly
+/// where a span is a sliver: the walk places each edge at a row by a float product (the edge's x at its
+/// top plus its slope times the rows down), which with every corner within 4096 pixels of x = 0 is off by
+/// at most about `2^-24 * 20480`, 0.0012 of a pixel, while the covered pixels come from the exact integer
+/// rule; so a pixel centre may lie that far outside the float edges, and across a span as narrow as 1/64 of
+/// a pixel (narrower ones take the left edge's values) an attribute is extrapolated by up to 8% of its
+/// change across the span. Requiring the smallest `1/w` to be at least an eighth of the largest keeps `1/w`
+/// above 44% of the smallest corner's, so `u`, `v` grow at most about 2.7-fold, and the corners' texel
+/// coordinates within `±2^20` leave that factor within `2^22`. A polygon that fails (NaN, a corner near the
+/// eye plane or far to the side, a coordinate far out) is checked a span at a time. (A corner 8,000 pixels
+/// out, in the clipper's guard band, with a sixteen-fold `1/w` was seen to break a looser rule.)
+pub(crate) fn corners_in_range(corners: impl Iterator<Item = (i32, [f32; 3])>, (w, h): (f32, f32)) -> bool {
     const LIMIT: f32 = 1_048_576.0;
+    /// 4096 pixels in `Fx28_4` units.
+    const X_LIMIT: i32 = 4096 * 16;
     let (mut q_min, mut q_max) = (f32::INFINITY, 0.0f32);
-    for [q, s, t] in corners {
+    for (x_raw, [q, s, t]) in corners {
         let (x, y) = (s / q * w, t / q * h);
         // Written so that NaN fails every test.
-        if !(q > 1e-20 && q < f32::INFINITY && x.abs() < LIMIT && y.abs() < LIMIT) {
+        if !(x_raw.unsigned_abs() < X_LIMIT as u32
+            && q > 1e-20
+            && q < f32::INFINITY
+            && x.abs() < LIMIT
+            && y.abs() < LIMIT)
+        {
             return false;
         }
         (q_min, q_max) = (q_min.min(q), q_max.max(q));
     }
-    q_max > 0.0 && q_min >= q_max * (1.0 / 16.0)
+    q_max > 0.0 && q_min >= q_max * (1.0 / 8.0)
 }
 
 /// One row's span for the chunk loop across rows (`span_avx2::rows`): pixels `x0..x1` of frame row `y`,
