@@ -211,9 +211,8 @@ pub(crate) fn colours_at(source: Source<'_>, alpha: Option<(f32, f32)>, a: &[[f3
 #[inline(always)]
 pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, row: &mut Row<'_>) -> SpanCounts {
     let Paint { tex, colors } = *paint;
-    let (a0, da) = (&run.a0, &run.da);
     let (w, h) = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
-    let setup = Setup::new(*a0, *da, (w, h));
+    let setup = Setup::new(run.a0, run.da, (w, h));
     let (x0, x1) = (run.x0, run.x1);
     // Both loops count in registers: the chunk loop returns its counts packed in a word, the per-pixel loop
     // keeps them in locals (counting through memory costs a store-forwarding stall per span).
