@@ -4,9 +4,10 @@
 //! `cargo run --release --example lod_polygons -- [every] [width] [height] [course,...]` (defaults: every
 //! second tick, 320x240, every course). Two renderers follow the race from the chase camera, each keeping
 //! its LOD history as the game does: one with `lod_fade` off, one with it on. Prints the mean polygons
-//! drawn per frame of each, and the changes of model per minute with fades (a third renderer's LOD choice
-//! every frame at 60 Hz: an instance seen in a frame and the one before with another chosen model; each
-//! starts a fade, where the swap would pop).
+//! drawn per frame of each, the pops per minute with swaps (a third renderer's LOD choice every frame at
+//! 60 Hz, counted by `bench`'s rule, `bench::frames::pops`), and the changes of model per minute with fades
+//! (a fourth's: an instance seen in a frame and the one before with another chosen model; each starts a
+//! fade, where the swap would pop).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -30,13 +31,16 @@ fn main() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut frame = vec![0u32; w * h];
     println!("every {every} ticks at {w}x{h}, chase camera, 1 thread\n");
-    println!("| course | frames | polygons drawn, swap | with fades | change | changes/min with fades |");
-    println!("|---|---|---|---|---|---|");
+    println!(
+        "| course | frames | polygons drawn, swap | with fades | change | pops/min, swap | changes/min with fades |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     for (course, trace) in COURSES.iter().filter(|c| chosen.contains(&c.0)) {
         let scene = RaceScene::load(&root.join("assets"), course).unwrap();
         let mut replay = Replay::open(&root.join("assets/replays").join(trace), scene.track.clone()).unwrap();
         let (mut swap, mut fade, mut choice) = (Renderer::new(), Renderer::new(), Renderer::new());
         let (mut last, mut changes): (Vec<Choice>, u64) = (Vec::new(), 0);
+        let (mut swap_choice, mut last_swap, mut pops): (Renderer, Vec<Choice>, u64) = (Renderer::new(), Vec::new(), 0);
         let plain = RenderOptions { threads: 1, ..RenderOptions::default() };
         let faded = RenderOptions { lod_fade: true, ..plain };
         let (mut frames, mut sum_swap, mut sum_fade) = (0u64, 0u64, 0u64);
@@ -48,6 +52,9 @@ fn main() {
                 let changed = |(a, b): (&Choice, &Choice)| matches!((a, b), (Some((m, _)), Some((n, _))) if m != n);
                 changes += now.iter().zip(&last).filter(|&p| changed(p)).count() as u64;
                 last = now;
+                let swapped = swap_choice.frame_lod(w, h, &camera, &scene.draw_list(&instances), &plain);
+                pops += scanline_racer::bench::frames::pops(&last_swap, &swapped);
+                last_swap = swapped;
             }
             if replay.world.tick.is_multiple_of(every) {
                 let camera = camera_for(&replay.world, View::ChaseNear);
@@ -64,8 +71,9 @@ fn main() {
         let (a, b) = (sum_swap as f64 / frames as f64, sum_fade as f64 / frames as f64);
         let minutes = replay.world.tick as f64 / f64::from(TICK_HZ) / 60.0;
         println!(
-            "| {course} | {frames} | {a:.1} | {b:.1} | {:+.2}% | {:.0} |",
+            "| {course} | {frames} | {a:.1} | {b:.1} | {:+.2}% | {:.0} | {:.0} |",
             (b / a - 1.0) * 100.0,
+            pops as f64 / minutes,
             changes as f64 / minutes
         );
     }
