@@ -15,8 +15,6 @@ use super::row::{BandPixels, FLAT, SpanCounts};
 use super::row::{LANES, OVERWRITE, RowRun, Setup, corners_in_range};
 use super::scanline::{Span, fill_spans_wound};
 use super::span_lanes::{Fill, Paint, span_run};
-#[cfg(target_arch = "x86_64")]
-use crate::render::core::vertex::slot;
 use crate::render::core::vertex::{ScreenVertex, Winding};
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;
@@ -60,8 +58,7 @@ impl Fill for PolygonSpans<'_, '_, '_> {
             let size = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
             // Once for the polygon, instead of two divisions a span (on courses of small polygons, most of a
             // span's set-up).
-            let corners_in = |v: &ScreenVertex| (v.x.0, [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]);
-            let known = SRC != FLAT && corners_in_range(verts.iter().map(corners_in), size);
+            let known = SRC != FLAT && corners_in_range(verts, size);
             runs.clear();
             walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
                 let n = span.x1 - span.x0;
@@ -70,12 +67,7 @@ impl Fill for PolygonSpans<'_, '_, '_> {
                     return;
                 }
                 // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`.
-                let (a0, da) = (&span.a0, &span.da);
-                let setup = Setup::new(
-                    [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
-                    [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
-                    size,
-                );
+                let setup = Setup::of_span(span, size);
                 let (x0, x1) = (span.x0.max(0) as usize, span.x1.max(0) as usize);
                 let in_range = SRC != FLAT && (known || setup.texels_in_range(x1.saturating_sub(x0 + 1)));
                 runs.push(RowRun { y: span.y as usize, x0, x1, in_range, setup });
@@ -266,23 +258,13 @@ mod tests {
         assert!(short_spans > 5000 && cases > 10_000, "{short_spans} short spans, {cases} cases");
     }
 
-    /// Each corner's x (raw) and `1/w`, `s/w`, `t/w`, as [`corners_in_range`] takes them.
-    fn corners_of(verts: &[ScreenVertex]) -> impl Iterator<Item = (i32, [f32; 3])> + '_ {
-        verts.iter().map(|v| (v.x.0, [v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]]))
-    }
-
     /// True when every span the walk gives `verts` on rows `0..rows` of a frame `width` wide passes its own
     /// range check for a texture of `size`.
     fn every_span_in_range(verts: &[ScreenVertex], (width, rows): (i32, i32), size: (f32, f32), tall: bool) -> usize {
         let Some(winding) = Winding::of(verts) else { return 0 };
         let mut spans = 0;
         fill_spans_wound::<4>(verts, winding, (0, rows), width, tall.then_some(ROW_SHIFTS), |s| {
-            let (a0, da) = (&s.a0, &s.da);
-            let setup = Setup::new(
-                [a0[slot::DEPTH], a0[slot::Q], a0[slot::S], a0[slot::T]],
-                [da[slot::DEPTH], da[slot::Q], da[slot::S], da[slot::T]],
-                size,
-            );
+            let setup = Setup::of_span(s, size);
             let last = (s.x1 - s.x0 - 1).max(0) as usize;
             assert!(setup.texels_in_range(last), "{s:?} of {verts:?}, texture {size:?}");
             spans += 1;
@@ -326,7 +308,7 @@ mod tests {
                 v.attrs[slot::S] = u * q;
                 v.attrs[slot::T] = w * q;
             }
-            if !corners_in_range(corners_of(&verts), (tw, th)) {
+            if !corners_in_range(&verts, (tw, th)) {
                 refused += 1;
                 continue;
             }
@@ -348,26 +330,27 @@ mod tests {
         let u = 1e6 / 256.0;
         let sliver =
             [corner(-130_951, -63_755, 1.0, u), corner(25_127, 10_027, 1.0, u), corner(16_488, 5_943, 16.0, -u)];
-        assert!(!corners_in_range(corners_of(&sliver), (256.0, 256.0)));
+        assert!(!corners_in_range(&sliver, (256.0, 256.0)));
         let winding = Winding::of(&sliver).expect("a triangle");
         let mut out_of_range = 0;
         fill_spans_wound::<4>(&sliver, winding, (0, 720), 1280, None, |s| {
-            let setup = Setup::new(
-                [s.a0[slot::DEPTH], s.a0[slot::Q], s.a0[slot::S], s.a0[slot::T]],
-                [s.da[slot::DEPTH], s.da[slot::Q], s.da[slot::S], s.da[slot::T]],
-                (256.0, 256.0),
-            );
+            let setup = Setup::of_span(s, (256.0, 256.0));
             out_of_range += usize::from(!setup.texels_in_range((s.x1 - s.x0 - 1).max(0) as usize));
         });
         assert!(out_of_range > 0, "the sliver's spans are all in range: the case no longer shows the hazard");
         // What it refuses besides: NaN, a corner at or behind the eye plane, `1/w` varying more than
         // eight-fold, and a coordinate past `2^20`.
-        let c = |q: f32, s: f32| (0, [q, s, 0.0]);
-        assert!(corners_in_range([c(1.0, 5.0), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([c(1.0, f32::NAN), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([c(1.0, 5.0), c(0.0, 0.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([c(1.0, 5.0), c(1.0 / 9.0, 0.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([c(1.0, 20_000.0), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
-        assert!(!corners_in_range([(4096 * 16, [1.0, 5.0, 0.0]), c(0.5, 1.0)].into_iter(), (64.0, 64.0)));
+        let c = |x: i32, q: f32, s: f32| {
+            let mut attrs = [0.0; ATTRS];
+            (attrs[slot::Q], attrs[slot::S]) = (q, s);
+            ScreenVertex { x: Fx28_4(x), y: Fx28_4(0), attrs }
+        };
+        let size = (64.0, 64.0);
+        assert!(corners_in_range(&[c(0, 1.0, 5.0), c(0, 0.5, 1.0)], size));
+        assert!(!corners_in_range(&[c(0, 1.0, f32::NAN), c(0, 0.5, 1.0)], size));
+        assert!(!corners_in_range(&[c(0, 1.0, 5.0), c(0, 0.0, 0.0)], size));
+        assert!(!corners_in_range(&[c(0, 1.0, 5.0), c(0, 1.0 / 9.0, 0.0)], size));
+        assert!(!corners_in_range(&[c(0, 1.0, 20_000.0), c(0, 0.5, 1.0)], size));
+        assert!(!corners_in_range(&[c(4096 * 16, 1.0, 5.0), c(0, 0.5, 1.0)], size));
     }
 }

@@ -1,7 +1,9 @@
 //! What the pixel loops draw into and count, and the records they share: a band's row of colour, depth and
 //! coverage, a run of pixels with its attributes, and the coverage bits.
 
+use super::scanline::Span;
 use crate::render::core::texture::floor_i32;
+use crate::render::core::vertex::{ATTRS, ScreenVertex, slot};
 
 /// How a pixel decides whether it may be written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,9 +161,8 @@ pub(crate) struct Run {
 
 /// True when the texel coordinates of every pixel a polygon with these corners covers are finite and
 /// within `±2^22` as the span loops compute them ([`Setup::texels_in_range`]'s promise, made once for
-/// all of the polygon's spans instead of by two divisions a span); `corners` gives each corner's x (in
-/// [`Fx28_4`](crate::render::core::fixed::Fx28_4) units) and its `1/w`, `s/w` and `t/w`, `(w, h)` the
-/// texture's size.
+/// all of the polygon's spans instead of by two divisions a span), from the corners' x and their `1/w`,
+/// `s/w` and `t/w`; `(w, h)` is the texture's size.
 ///
 /// Why it holds: inside a convex polygon with `1/w` positive at every corner, `1/w` is a convex
 /// combination of the corners' values, and `u = (s/w) / (1/w)` (a ratio of linear functions with a positive
@@ -177,12 +178,14 @@ pub(crate) struct Run {
 /// coordinates within `±2^20` leave that factor within `2^22`. A polygon that fails (NaN, a corner near the
 /// eye plane or far to the side, a coordinate far out) is checked a span at a time. (A corner 8,000 pixels
 /// out, in the clipper's guard band, with a sixteen-fold `1/w` was seen to break a looser rule.)
-pub(crate) fn corners_in_range(corners: impl Iterator<Item = (i32, [f32; 3])>, (w, h): (f32, f32)) -> bool {
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+pub(crate) fn corners_in_range(corners: &[ScreenVertex], (w, h): (f32, f32)) -> bool {
     const LIMIT: f32 = 1_048_576.0;
     /// 4096 pixels in `Fx28_4` units.
     const X_LIMIT: i32 = 4096 * 16;
     let (mut q_min, mut q_max) = (f32::INFINITY, 0.0f32);
-    for (x_raw, [q, s, t]) in corners {
+    for v in corners {
+        let (x_raw, q, s, t) = (v.x.0, v.attrs[slot::Q], v.attrs[slot::S], v.attrs[slot::T]);
         let (x, y) = (s / q * w, t / q * h);
         // Written so that NaN fails every test.
         if !(x_raw.unsigned_abs() < X_LIMIT as u32
@@ -248,6 +251,14 @@ impl Setup {
     #[inline(always)]
     pub(crate) fn new(a0: [f32; 4], da: [f32; 4], (w, h): (f32, f32)) -> Self {
         Self { d0: a0[0], dd: da[0], q0: a0[1], dq: da[1], s0: a0[2], ds: da[2], t0: a0[3], dt: da[3], w, h }
+    }
+
+    /// The set-up of a span from the walk (its attributes at its first pixel, `x0`), for a texture of `size`.
+    #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    pub(crate) fn of_span(span: &Span, size: (f32, f32)) -> Self {
+        let pick = |a: &[f32; ATTRS]| [a[slot::DEPTH], a[slot::Q], a[slot::S], a[slot::T]];
+        Self::new(pick(&span.a0), pick(&span.da), size)
     }
 
     /// The depth at pixel offset `k` from the span's start.
