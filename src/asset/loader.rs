@@ -114,6 +114,7 @@ fn load_from_base(bytes: &[u8], base: Base<'_>, file: &str, budget: &LoadBudget)
         mesh_map: BTreeMap::new(),
         mirrored: BTreeMap::new(),
         local_bounds: vec![],
+        trims: super::trim::Trimmer::default(),
     };
     loader.load_scene()?;
     let mut out = loader.out;

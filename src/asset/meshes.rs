@@ -203,14 +203,32 @@ impl Loader<'_> {
         }
         let base = b.vertex_count() as u32;
         let verts = vertices(n, &positions, uvs.as_deref(), colors.as_deref());
+        let (sampler, alpha) = (material.sampler, material.base_color.w);
+        let cut_out = match (material.alpha_mode, material.texture) {
+            (AlphaMode::Mask { cutoff }, Some(t)) => self.out.textures.get(t).map(|tex| (tex, t, cutoff)),
+            _ => None,
+        };
         let m = b.material(material);
         for v in &verts {
             b.vertex(*v);
         }
         let mut idx = Vec::with_capacity(4);
+        let mut corners = Vec::with_capacity(4);
         for poly in merge_pairs(&verts, &triangles(prim.mode(), indices)) {
             idx.clear();
             idx.extend(poly.iter().map(|&i| base + i));
+            if let Some((tex, t, cutoff)) = cut_out {
+                corners.clear();
+                corners.extend(poly.iter().map(|&i| verts[i as usize]));
+                let trimmed = self.trims.trim((tex, t), sampler, (alpha, cutoff), &corners);
+                // New corners are vertices too: within the budget, or the polygon stays whole.
+                if let Some(cut) =
+                    trimmed.filter(|c| self.meter.check(Limit::Vertices, (b.vertex_count() + c.len()) as u64).is_ok())
+                {
+                    idx.clear();
+                    idx.extend(cut.iter().map(|v| b.vertex(*v)));
+                }
+            }
             b.polygon(&idx, m);
             *polygons += 1;
         }

@@ -18,6 +18,7 @@ pub mod quads;
 pub mod scene;
 pub mod sources;
 mod state;
+mod trim;
 pub mod uri;
 pub mod validate;
 

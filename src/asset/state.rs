@@ -27,4 +27,6 @@ pub(super) struct Loader<'a> {
     pub(super) mirrored: BTreeMap<usize, usize>,
     /// Each of `out.meshes`' local box of finite vertex positions (None when it has none).
     pub(super) local_bounds: Vec<Option<(Vec3, Vec3)>>,
+    /// The cut-out hulls found so far.
+    pub(super) trims: super::trim::Trimmer,
 }

@@ -1,0 +1,368 @@
+//! Cut-out polygons trimmed at load to the part of their texture that can be drawn.
+//!
+//! A cut-out (a tree, a fence, a sign with a shaped edge) is a quad whose texture is mostly transparent,
+//! and every pixel of the transparent part still costs the fill a depth test, a texel fetch and the alpha
+//! test that throws it away: on the mountain, tree cards are half the frame's time. So each polygon of an
+//! alpha-masked, textured material is clipped to the convex hull of the level-0 texels of its texture
+//! region that can pass the test, each texel widened by one texel on every side (a bilinear or
+//! box-filtered sample reaches less than one texel past the texel it weighs), the hull first simplified
+//! to at most [`MAX_HULL`] corners by pushing edges outward, never inward.
+//!
+//! The clipped polygon lies in the original's plane, with each new corner's position, texture coordinates
+//! and colour interpolated along an edge of the original, so a pixel inside it is shaded as before and a
+//! pixel outside it could not pass the alpha test at level 0. Coarser mip levels average texels in blocks,
+//! and a block that passes can reach past the hull: there the trimmed polygon draws the outline of the
+//! level-0 texels, which is what the reference integrates, instead of a block's square.
+//!
+//! A polygon is kept whole when trimming it would not pay (less than a tenth of its area cut), when its
+//! texture region wraps or lies outside `0..1` with a clamped or mirrored sampler, when its region is
+//! larger than [`MAX_REGION_TEXELS`], or when nothing in it can pass (the drawing then decides, as without
+//! trimming).
+
+use std::collections::BTreeMap;
+
+use glam::{DVec2, Vec2};
+
+use crate::render::{Sampler, Texture, Vertex, Wrap};
+
+/// The most corners a simplified hull keeps (each one more half-plane to clip by).
+pub const MAX_HULL: usize = 5;
+
+/// The largest texture region (texels) scanned for one polygon; a larger one keeps its polygon whole.
+pub const MAX_REGION_TEXELS: u64 = 1 << 22;
+
+/// The most texels one load scans for hulls over all its polygons (regions already seen are free).
+pub const MAX_LOAD_TEXELS: u64 = 1 << 26;
+
+/// A trimmed polygon must cut at least this share of the original's area to replace it.
+const MIN_CUT: f64 = 0.1;
+
+/// One texture region's hull, in texel coordinates of its tile: `None` when nothing in it can pass.
+type Hull = Option<Vec<DVec2>>;
+
+/// The hulls found so far in one load, by texture, tile-relative texel rectangle and alpha threshold.
+#[derive(Default)]
+pub(super) struct Trimmer {
+    hulls: BTreeMap<(usize, [i32; 4], u32), Hull>,
+    scanned: u64,
+}
+
+impl Trimmer {
+    /// The polygon `poly` (corners in order) clipped to the drawable part of `texture` (draw-list index
+    /// `index`) under `sampler`, for a material drawn where texel alpha times `alpha` (the base colour's
+    /// alpha) is at least `cutoff`; `None` keeps the polygon as it is.
+    pub(super) fn trim(
+        &mut self,
+        (texture, index): (&Texture, usize),
+        sampler: Sampler,
+        (alpha, cutoff): (f32, f32),
+        poly: &[Vertex],
+    ) -> Option<Vec<Vertex>> {
+        let most_alpha = poly.iter().map(|v| v.color.w).fold(0.0f32, f32::max) * alpha;
+        if !(cutoff > 0.0 && most_alpha > 0.0 && most_alpha.is_finite()) || poly.len() < 3 {
+            return None;
+        }
+        // A texel may pass when its alpha times the most the colours can give reaches the cutoff.
+        let threshold = cutoff / most_alpha * (1.0 - 1e-5);
+        let (lo, hi) = uv_bounds(poly)?;
+        let (w, h) = (texture.width() as f64, texture.height() as f64);
+        let tile = DVec2::new(tile_of(lo.x, hi.x, sampler.wrap_s)?, tile_of(lo.y, hi.y, sampler.wrap_t)?);
+        let rect = [
+            ((lo.x - tile.x) * w).floor() as i32,
+            ((lo.y - tile.y) * h).floor() as i32,
+            ((hi.x - tile.x) * w).ceil() as i32,
+            ((hi.y - tile.y) * h).ceil() as i32,
+        ];
+        let rect = [rect[0].max(0), rect[1].max(0), rect[2].min(w as i32), rect[3].min(h as i32)];
+        let area = (rect[2] - rect[0]).max(0) as u64 * (rect[3] - rect[1]).max(0) as u64;
+        if area == 0 || area > MAX_REGION_TEXELS {
+            return None;
+        }
+        let key = (index, rect, threshold.to_bits());
+        if !self.hulls.contains_key(&key) {
+            self.scanned = self.scanned.saturating_add(area);
+            if self.scanned > MAX_LOAD_TEXELS {
+                return None;
+            }
+            self.hulls.insert(key, hull_of(texture, rect, threshold));
+        }
+        let hull = self.hulls.get(&key)?.as_ref()?;
+        // The hull in the polygon's texture coordinates.
+        let scale = DVec2::new(w, h);
+        let hull_uv: Vec<DVec2> = hull.iter().map(|&p| p / scale + tile).collect();
+        let cut = clip(poly, &hull_uv);
+        let (before, after) = (uv_area(poly), uv_area(&cut));
+        (cut.len() >= 3 && after <= before * (1.0 - MIN_CUT)).then_some(cut)
+    }
+}
+
+/// The box of the polygon's texture coordinates, if they are all finite.
+fn uv_bounds(poly: &[Vertex]) -> Option<(DVec2, DVec2)> {
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for v in poly {
+        let uv = v.uv.as_dvec2();
+        if !uv.is_finite() {
+            return None;
+        }
+        lo = lo.min(uv);
+        hi = hi.max(uv);
+    }
+    Some((lo, hi))
+}
+
+/// The whole-number tile holding `lo..hi` along one axis: any one tile when the texture repeats, only
+/// `0..1` otherwise (a clamped texture stretches its edge texels outside it, a mirrored one flips).
+fn tile_of(lo: f64, hi: f64, wrap: Wrap) -> Option<f64> {
+    let tile = lo.floor();
+    let fits = hi <= tile + 1.0 && (wrap == Wrap::Repeat || tile == 0.0);
+    fits.then_some(tile)
+}
+
+/// The convex hull (counter-clockwise in texel coordinates, y down as the texture's rows) of the texels
+/// in `rect` whose alpha reaches `threshold`, each widened by one texel, simplified to [`MAX_HULL`]
+/// corners; `None` when no texel reaches it.
+fn hull_of(texture: &Texture, [x0, y0, x1, y1]: [i32; 4], threshold: f32) -> Hull {
+    let width = texture.width() as usize;
+    let mut points = Vec::new();
+    for y in y0..y1 {
+        let row = &texture.texels()[y as usize * width..][x0 as usize..x1 as usize];
+        let passes = |t: &u32| (t >> 24) as f32 / 255.0 >= threshold;
+        let (Some(first), Some(last)) = (row.iter().position(passes), row.iter().rposition(passes)) else {
+            continue;
+        };
+        let (left, right) = ((x0 + first as i32 - 1) as f64, (x0 + last as i32 + 2) as f64);
+        let (top, bottom) = ((y - 1) as f64, (y + 2) as f64);
+        points.extend([(left, top), (left, bottom), (right, top), (right, bottom)].map(DVec2::from));
+    }
+    let hull = convex_hull(points);
+    (hull.len() >= 3).then(|| simplify(hull, MAX_HULL))
+}
+
+fn cross(o: DVec2, a: DVec2, b: DVec2) -> f64 {
+    (a - o).perp_dot(b - o)
+}
+
+/// Andrew's monotone chain: the hull's corners, counter-clockwise, without collinear points.
+fn convex_hull(mut points: Vec<DVec2>) -> Vec<DVec2> {
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let mut hull: Vec<DVec2> = Vec::with_capacity(points.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &DVec2>> =
+            if pass == 0 { Box::new(points.iter()) } else { Box::new(points.iter().rev()) };
+        for &p in iter {
+            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// Fewer corners for a convex polygon, by the cheapest edge removals: edge `i`..`i+1` goes, and its two
+/// neighbouring edges are extended to meet outside it, so the polygon only grows. An edge whose
+/// neighbours do not meet outside (they turn half a circle or more between them) is not removable.
+fn simplify(mut hull: Vec<DVec2>, most: usize) -> Vec<DVec2> {
+    while hull.len() > most {
+        let n = hull.len();
+        let best = (0..n)
+            .filter_map(|i| {
+                let (a, b, c, d) = (hull[(i + n - 1) % n], hull[i], hull[(i + 1) % n], hull[(i + 2) % n]);
+                let meet = meeting(a, b, c, d)?;
+                Some((cross(b, meet, c).abs() * 0.5, i, meet))
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        let Some((_, i, meet)) = best else { break };
+        // Corners `i` and `i + 1` become the one meeting point.
+        hull[i] = meet;
+        hull.remove((i + 1) % n);
+    }
+    hull
+}
+
+/// Where the line `a`->`b` extended past `b` meets the line `d`->`c` extended past `c`, when it does.
+fn meeting(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<DVec2> {
+    let (r, s) = (b - a, c - d);
+    let denom = r.perp_dot(s);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = (c - b).perp_dot(s) / denom;
+    let u = (c - b).perp_dot(r) / denom;
+    (t >= 0.0 && u >= 0.0).then(|| b + r * t)
+}
+
+/// The polygon clipped to the convex `hull` (in texture coordinates, either winding), each new corner
+/// interpolated along the edge it cuts (Sutherland-Hodgman).
+fn clip(poly: &[Vertex], hull: &[DVec2]) -> Vec<Vertex> {
+    let turn = hull_area(hull).signum();
+    let mut out = poly.to_vec();
+    for k in 0..hull.len() {
+        let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+        let side = |v: &Vertex| cross(a, b, v.uv.as_dvec2()) * turn;
+        let input = std::mem::take(&mut out);
+        for (i, cur) in input.iter().enumerate() {
+            let next = &input[(i + 1) % input.len()];
+            let (sc, sn) = (side(cur), side(next));
+            if sc >= 0.0 {
+                out.push(*cur);
+            }
+            if (sc >= 0.0) != (sn >= 0.0) {
+                out.push(lerp(cur, next, sc / (sc - sn)));
+            }
+        }
+        if out.len() < 3 {
+            return Vec::new();
+        }
+    }
+    out
+}
+
+/// The point a share `t` of the way from `p` to `q`, every attribute as `p + (q - p) t` (so an attribute
+/// the two ends share, such as a polygon's one colour, keeps its exact bits: the fill's fast paths need a
+/// colour that does not change across the polygon).
+fn lerp(p: &Vertex, q: &Vertex, t: f64) -> Vertex {
+    let mix = |a: f32, b: f32| (f64::from(a) + (f64::from(b) - f64::from(a)) * t) as f32;
+    let position = glam::Vec3::new(
+        mix(p.position.x, q.position.x),
+        mix(p.position.y, q.position.y),
+        mix(p.position.z, q.position.z),
+    );
+    let uv = Vec2::new(mix(p.uv.x, q.uv.x), mix(p.uv.y, q.uv.y));
+    let color = glam::Vec4::new(
+        mix(p.color.x, q.color.x),
+        mix(p.color.y, q.color.y),
+        mix(p.color.z, q.color.z),
+        mix(p.color.w, q.color.w),
+    );
+    Vertex { position, uv, color }
+}
+
+/// The signed area of a polygon's corners (positive counter-clockwise with y up).
+fn hull_area(p: &[DVec2]) -> f64 {
+    (0..p.len()).map(|i| p[i].perp_dot(p[(i + 1) % p.len()])).sum::<f64>() * 0.5
+}
+
+/// The area a polygon covers in texture coordinates.
+fn uv_area(poly: &[Vertex]) -> f64 {
+    hull_area(&poly.iter().map(|v| v.uv.as_dvec2()).collect::<Vec<_>>()).abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec3, Vec4};
+
+    use super::*;
+
+    const CLAMP: Sampler = Sampler { wrap_s: Wrap::ClampToEdge, wrap_t: Wrap::ClampToEdge };
+
+    /// A 32x32 texture, clear but for an opaque disc of radius 6 texels centred at (20, 12).
+    fn disc() -> Texture {
+        let texels = (0..32 * 32)
+            .map(|i| {
+                let (x, y) = ((i % 32) as f32 + 0.5, (i / 32) as f32 + 0.5);
+                if (x - 20.0).powi(2) + (y - 12.0).powi(2) < 36.0 { 0xff40_8020 } else { 0x0040_8020 }
+            })
+            .collect();
+        Texture::new(32, 32, texels).unwrap()
+    }
+
+    /// A quad in the XY plane from (0, 0) to (8, 4) with texture coordinates 0..1, v down the texture.
+    fn quad(color: Vec4) -> Vec<Vertex> {
+        let corner =
+            |x: f32, y: f32| Vertex { position: Vec3::new(x * 8.0, y * 4.0, 1.5), uv: Vec2::new(x, 1.0 - y), color };
+        vec![corner(0.0, 0.0), corner(1.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0)]
+    }
+
+    fn inside(poly: &[Vertex], p: DVec2) -> bool {
+        let uv: Vec<DVec2> = poly.iter().map(|v| v.uv.as_dvec2()).collect();
+        let turn = hull_area(&uv).signum();
+        (0..uv.len()).all(|i| cross(uv[i], uv[(i + 1) % uv.len()], p) * turn >= -1e-9)
+    }
+
+    #[test]
+    fn a_cut_out_keeps_every_texel_that_can_pass_and_a_texel_around_it() {
+        let tex = disc();
+        let cut = Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(Vec4::ONE)).unwrap();
+        assert!(cut.len() <= MAX_HULL + 4, "{} corners", cut.len());
+        // Every opaque texel's square, widened by one texel, lies inside; a texel three away does not.
+        for (i, t) in tex.texels().iter().enumerate() {
+            let (x, y) = ((i % 32) as f64, (i / 32) as f64);
+            if t >> 24 == 0xff {
+                for (cx, cy) in [(x - 1.0, y - 1.0), (x + 2.0, y - 1.0), (x - 1.0, y + 2.0), (x + 2.0, y + 2.0)] {
+                    assert!(inside(&cut, DVec2::new(cx, cy) / 32.0), "texel ({x}, {y}) cut off");
+                }
+            }
+        }
+        assert!(!inside(&cut, DVec2::new(20.5, 21.5) / 32.0));
+        // A disc of 113 texels and its margin: far less than the quad's 1024.
+        assert!(uv_area(&cut) * 1024.0 < 300.0, "{}", uv_area(&cut) * 1024.0);
+    }
+
+    #[test]
+    fn new_corners_lie_in_the_plane_with_the_texture_where_it_was() {
+        let tex = disc();
+        let color = Vec4::new(0.3, 0.6, 0.9, 1.0);
+        let cut = Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(color)).unwrap();
+        for v in &cut {
+            // The quad maps u to x * 8 and v to (1 - y) * 4; the colour is the polygon's, bit for bit.
+            assert!((v.position.x - v.uv.x * 8.0).abs() < 1e-5 && (v.position.y - (1.0 - v.uv.y) * 4.0).abs() < 1e-5);
+            assert_eq!(v.position.z, 1.5);
+            assert_eq!(v.color, color);
+        }
+        // The winding is kept.
+        let area = |p: &[Vertex]| hull_area(&p.iter().map(|v| v.position.truncate().as_dvec2()).collect::<Vec<_>>());
+        assert!(area(&cut) > 0.0 && area(&quad(color)) > 0.0);
+    }
+
+    #[test]
+    fn polygons_that_cannot_be_trimmed_stay_whole() {
+        let tex = disc();
+        let mut t = Trimmer::default();
+        let whole = quad(Vec4::ONE);
+        // Texture coordinates across a tile edge, or outside 0..1 without repeating.
+        let mut shifted = whole.clone();
+        shifted.iter_mut().for_each(|v| v.uv.x += 0.5);
+        assert!(t.trim((&tex, 0), CLAMP, (1.0, 0.5), &shifted).is_none());
+        let repeat = Sampler { wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat };
+        assert!(t.trim((&tex, 0), repeat, (1.0, 0.5), &shifted).is_none());
+        // Inside the next tile of a repeating texture it is trimmed as in the first.
+        let mut next = whole.clone();
+        next.iter_mut().for_each(|v| v.uv.x += 1.0);
+        let cut = t.trim((&tex, 0), repeat, (1.0, 0.5), &next).unwrap();
+        assert!(cut.iter().all(|v| v.uv.x >= 1.0));
+        // Nothing can pass (the colour's alpha halves every texel's), a cutoff of 0, NaN coordinates.
+        assert!(t.trim((&tex, 0), CLAMP, (0.4, 0.5), &whole).is_none());
+        assert!(t.trim((&tex, 0), CLAMP, (1.0, 0.0), &whole).is_none());
+        let mut nan = whole.clone();
+        nan[2].uv.y = f32::NAN;
+        assert!(t.trim((&tex, 0), CLAMP, (1.0, 0.5), &nan).is_none());
+        // A fully opaque region has nothing to cut.
+        let solid = Texture::new(4, 4, vec![0xff00_0000; 16]).unwrap();
+        assert!(t.trim((&solid, 1), CLAMP, (1.0, 0.5), &whole).is_none());
+    }
+
+    #[test]
+    fn simplifying_only_grows_the_hull() {
+        // A 24-gon around a circle: simplified to 8 corners, it still holds every original corner.
+        let ring: Vec<DVec2> = (0..24)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 24.0;
+                DVec2::new(libm::cos(a) * 10.0, libm::sin(a) * 10.0)
+            })
+            .collect();
+        let small = simplify(convex_hull(ring.clone()), 8);
+        assert_eq!(small.len(), 8);
+        for p in ring {
+            assert!((0..8).all(|i| cross(small[i], small[(i + 1) % 8], p) >= -1e-9), "{p} outside");
+        }
+        assert!(hull_area(&small) < 1.1 * std::f64::consts::PI * 100.0);
+    }
+}
