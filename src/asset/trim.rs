@@ -9,8 +9,9 @@
 //! to at most [`MAX_HULL`] corners by pushing edges outward, never inward.
 //!
 //! The clipped polygon lies in the original's plane, with each new corner's position, texture coordinates
-//! and colour interpolated along an edge of the original, so a pixel inside it is shaded as before and a
-//! pixel outside it could not pass the alpha test at level 0. Coarser mip levels average texels in blocks,
+//! and colour interpolated along an edge of the original, so a pixel inside it is shaded as before (up to
+//! the rounding of the new corners, which can move a texel boundary by a rounding step) and a pixel
+//! outside it could not pass the alpha test at level 0. Coarser mip levels average texels in blocks,
 //! and a block that passes can reach past the hull: there the trimmed polygon draws the outline of the
 //! level-0 texels, which is what the reference integrates, instead of a block's square.
 //!
