@@ -93,7 +93,7 @@ impl Trimmer {
         let hull_uv: Vec<DVec2> = hull.iter().map(|&p| p / scale + tile).collect();
         let cut = clip(poly, &hull_uv);
         let (before, after) = (uv_area(poly), uv_area(&cut));
-        (cut.len() >= 3 && after <= before * (1.0 - MIN_CUT)).then_some(cut)
+        (cut.len() >= 3 && before > 0.0 && after <= before * (1.0 - MIN_CUT)).then_some(cut)
     }
 }
 
@@ -345,6 +345,10 @@ mod tests {
         let mut nan = whole.clone();
         nan[2].uv.y = f32::NAN;
         assert!(t.trim((&tex, 0), CLAMP, (1.0, 0.5), &nan).is_none());
+        // Every corner on one texture coordinate (one texel stretched over the polygon): nothing to gain.
+        let mut point = whole.clone();
+        point.iter_mut().for_each(|v| v.uv = Vec2::new(0.6, 0.4));
+        assert!(t.trim((&tex, 0), CLAMP, (1.0, 0.5), &point).is_none());
         // A fully opaque region has nothing to cut.
         let solid = Texture::new(4, 4, vec![0xff00_0000; 16]).unwrap();
         assert!(t.trim((&solid, 1), CLAMP, (1.0, 0.5), &whole).is_none());

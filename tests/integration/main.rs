@@ -25,6 +25,7 @@ mod audio;
 mod auto_quality;
 mod cli;
 mod conformance;
+mod cutouts;
 mod docs;
 mod failures;
 mod game;
