@@ -2,6 +2,7 @@
 //! budget, vertex and polygon counts checked before anything is built, quads merged, decals marked; and
 //! the winding-reversed copy a mirrored placement draws.
 
+use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use glam::{Vec2, Vec3, Vec4};
@@ -12,6 +13,7 @@ use super::budget::{Limit, OverBudget};
 use super::error::{AssetError, Place, PrimitiveProblem};
 use super::quads::merge_pairs;
 use super::state::Loader;
+use super::trim::Trimmer;
 use crate::render::{AlphaMode, Material, Mesh, MeshBuilder, MeshError, Sampler, Vertex, Wrap};
 
 /// Why a primitive could not be read: the file is wrong, or it needs more than the budget.
@@ -203,37 +205,109 @@ impl Loader<'_> {
         }
         let base = b.vertex_count() as u32;
         let verts = vertices(n, &positions, uvs.as_deref(), colors.as_deref());
-        let (sampler, alpha) = (material.sampler, material.base_color.w);
-        let cut_out = match (material.alpha_mode, material.texture) {
-            (AlphaMode::Mask { cutoff }, Some(t)) => self.out.textures.get(t).map(|tex| (tex, t, cutoff)),
-            _ => None,
-        };
+        let polys = merge_pairs(&verts, &triangles(prim.mode(), indices));
+        let (verts, polys) = self.trim_cut_outs(&material, base, verts, polys);
         let m = b.material(material);
         for v in &verts {
             b.vertex(*v);
         }
         let mut idx = Vec::with_capacity(4);
-        let mut corners = Vec::with_capacity(4);
-        for poly in merge_pairs(&verts, &triangles(prim.mode(), indices)) {
+        for poly in polys {
             idx.clear();
             idx.extend(poly.iter().map(|&i| base + i));
-            if let Some((tex, t, cutoff)) = cut_out {
-                corners.clear();
-                corners.extend(poly.iter().map(|&i| verts[i as usize]));
-                let trimmed = self.trims.trim((tex, t), sampler, (alpha, cutoff), &corners);
-                // New corners are vertices too: within the budget, or the polygon stays whole.
-                if let Some(cut) =
-                    trimmed.filter(|c| self.meter.check(Limit::Vertices, (b.vertex_count() + c.len()) as u64).is_ok())
-                {
-                    idx.clear();
-                    idx.extend(cut.iter().map(|v| b.vertex(*v)));
-                }
-            }
             b.polygon(&idx, m);
             *polygons += 1;
         }
         Ok(())
     }
+
+    /// A primitive's polygons with cut-outs trimmed ([`trim_all`]) when `material` is alpha-masked and
+    /// textured, the new corners within the vertex budget after the `base` vertices built before.
+    fn trim_cut_outs(
+        &mut self,
+        material: &Material,
+        base: u32,
+        verts: Vec<Vertex>,
+        polys: Vec<Vec<u32>>,
+    ) -> (Vec<Vertex>, Vec<Vec<u32>>) {
+        let (AlphaMode::Mask { cutoff }, Some(t)) = (material.alpha_mode, material.texture) else {
+            return (verts, polys);
+        };
+        let Some(tex) = self.out.textures.get(t) else { return (verts, polys) };
+        let fits = |count: usize| self.meter.check(Limit::Vertices, (base as usize + count) as u64).is_ok();
+        let how = (tex, t, material.sampler, material.base_color.w, cutoff);
+        trim_all(&mut self.trims, how, verts, polys, fits)
+    }
+}
+
+/// A polygon's edges, each as its two corners' indices.
+fn edges(p: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    (0..p.len()).map(move |k| (p[k], p[(k + 1) % p.len()]))
+}
+
+/// A cut-out primitive's polygons trimmed ([`Trimmer::trim`]) where they share no edge with another of
+/// them (a neighbour cut elsewhere on the edge would leave a crack), new corners appended to `verts`
+/// while `fits` says the vertex count is within the budget, and the vertices no polygon uses any more
+/// dropped. Nothing changes when no polygon is trimmed.
+fn trim_all(
+    trims: &mut Trimmer,
+    (tex, index, sampler, alpha, cutoff): (&crate::render::Texture, usize, Sampler, f32, f32),
+    mut verts: Vec<Vertex>,
+    mut polys: Vec<Vec<u32>>,
+    fits: impl Fn(usize) -> bool,
+) -> (Vec<Vertex>, Vec<Vec<u32>>) {
+    // Each edge by its ends' positions (bits), both directions as one.
+    let key = |verts: &[Vertex], a: u32, b: u32| {
+        let bits = |i: u32| verts.get(i as usize).map(|v| v.position.to_array().map(f32::to_bits));
+        let (p, q) = (bits(a), bits(b));
+        if p <= q { (p, q) } else { (q, p) }
+    };
+    let mut uses: BTreeMap<_, u32> = BTreeMap::new();
+    for p in &polys {
+        for (a, b) in edges(p) {
+            *uses.entry(key(&verts, a, b)).or_default() += 1;
+        }
+    }
+    let mut trimmed = false;
+    let mut corners = Vec::with_capacity(4);
+    for poly in &mut polys {
+        if edges(poly).any(|(a, b)| uses.get(&key(&verts, a, b)).is_some_and(|&n| n > 1)) {
+            continue;
+        }
+        corners.clear();
+        corners.extend(poly.iter().filter_map(|&i| verts.get(i as usize).copied()));
+        if corners.len() != poly.len() {
+            continue;
+        }
+        let Some(cut) = trims.trim((tex, index), sampler, (alpha, cutoff), &corners) else { continue };
+        let new = cut.iter().filter(|c| c.1.is_none()).count();
+        if !fits(verts.len() + new) {
+            continue;
+        }
+        let old = std::mem::take(poly);
+        for (v, k) in cut {
+            poly.push(k.and_then(|k| old.get(k).copied()).unwrap_or_else(|| {
+                verts.push(v);
+                (verts.len() - 1) as u32
+            }));
+        }
+        trimmed = true;
+    }
+    if !trimmed {
+        return (verts, polys);
+    }
+    // Keep the vertices still used, in order.
+    let mut map = vec![u32::MAX; verts.len()];
+    polys.iter().flatten().for_each(|&i| map[i as usize] = 0);
+    let mut kept = Vec::with_capacity(verts.len());
+    for (i, v) in verts.iter().enumerate() {
+        if map[i] == 0 {
+            map[i] = kept.len() as u32;
+            kept.push(*v);
+        }
+    }
+    polys.iter_mut().flatten().for_each(|i| *i = map[*i as usize]);
+    (kept, polys)
 }
 
 /// Whether a glTF mesh asks to turn about its Y axis to face the eye: `"extras": {"billboard": "y"}` (glTF

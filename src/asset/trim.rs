@@ -2,23 +2,29 @@
 //!
 //! A cut-out (a tree, a fence, a sign with a shaped edge) is a quad whose texture is mostly transparent,
 //! and every pixel of the transparent part still costs the fill a depth test, a texel fetch and the alpha
-//! test that throws it away: on the mountain, tree cards are half the frame's time. So each polygon of an
-//! alpha-masked, textured material is clipped to the convex hull of the level-0 texels of its texture
-//! region that can pass the test, each texel widened by one texel on every side (a bilinear or
-//! box-filtered sample reaches less than one texel past the texel it weighs), the hull first simplified
-//! to at most [`MAX_HULL`] corners by pushing edges outward, never inward.
+//! test that throws it away. So each polygon of an alpha-masked, textured material is clipped to the
+//! convex hull of the level-0 texels that can pass the test around its texture region (the region and one
+//! texel beyond it, read through the sampler's wrap as the fill reads them), each texel widened by one
+//! texel on every side (a bilinear or box-filtered sample reaches less than one texel past the texel it
+//! weighs), the hull first simplified to at most [`MAX_HULL`] corners by pushing edges outward, never
+//! inward.
 //!
-//! The clipped polygon lies in the original's plane, with each new corner's position, texture coordinates
-//! and colour interpolated along an edge of the original, so a pixel inside it is shaded as before (up to
-//! the rounding of the new corners, which can move a texel boundary by a rounding step) and a pixel
-//! outside it could not pass the alpha test at level 0. Coarser mip levels average texels in blocks,
-//! and a block that passes can reach past the hull: there the trimmed polygon draws the outline of the
-//! level-0 texels, which is what the reference integrates, instead of a block's square.
+//! The clipped polygon lies in the original's plane, its corners the original's that are inside and points
+//! interpolated along the original's edges, so a pixel outside it could not pass the alpha test at level 0
+//! with one sample at its centre and a filter reaching at most a texel. What can still differ from the
+//! whole polygon: a pixel whose new corners' rounding moves a texel boundary or the card's edge by a
+//! rounding step; a polygon whose level of detail (its texels over its pixels, which under perspective
+//! is not the same for a part as for the whole) crosses to the next level; a coarse level's block that
+//! passed beyond the hull (the trimmed card draws the level-0 outline the reference integrates); and
+//! filters that reach further at level 0 (an anisotropic probe, a coverage sample shaded at a pixel's
+//! centre far from it).
 //!
-//! A polygon is kept whole when trimming it would not pay (less than a tenth of its area cut), when its
-//! texture region wraps or lies outside `0..1` with a clamped or mirrored sampler, when its region is
-//! larger than [`MAX_REGION_TEXELS`], or when nothing in it can pass (the drawing then decides, as without
-//! trimming).
+//! A polygon is kept whole when trimming it would not pay (less than a tenth of its area cut, or its
+//! texture coordinates all one point), when it shares an edge with another polygon of its primitive (a
+//! neighbour cut elsewhere on that edge would leave a crack), when its texture region crosses a tile edge
+//! or leaves `0..1` unrepeated, when the region is larger than [`MAX_REGION_SIDE`] a side or
+//! [`MAX_REGION_TEXELS`], when the load has scanned [`MAX_LOAD_TEXELS`] or kept [`MAX_HULLS`] hulls, or
+//! when nothing in the region can pass (the drawing then decides, as without trimming).
 
 use std::collections::BTreeMap;
 
@@ -29,11 +35,21 @@ use crate::render::{Sampler, Texture, Vertex, Wrap};
 /// The most corners a simplified hull keeps (each one more half-plane to clip by).
 pub const MAX_HULL: usize = 5;
 
+/// The longest side (texels) of a texture region scanned for one polygon.
+pub const MAX_REGION_SIDE: i64 = 4096;
+
 /// The largest texture region (texels) scanned for one polygon; a larger one keeps its polygon whole.
 pub const MAX_REGION_TEXELS: u64 = 1 << 22;
 
 /// The most texels one load scans for hulls over all its polygons (regions already seen are free).
 pub const MAX_LOAD_TEXELS: u64 = 1 << 26;
+
+/// The most hulls one load keeps; later regions keep their polygons whole.
+pub const MAX_HULLS: usize = 1 << 16;
+
+/// The furthest tile (texture coordinates' whole part) trimmed: beyond it `f32` coordinates keep too few
+/// bits below the texel for the one-texel margin to hold.
+const MAX_TILE: f64 = 1024.0;
 
 /// A trimmed polygon must cut at least this share of the original's area to replace it.
 const MIN_CUT: f64 = 0.1;
@@ -41,11 +57,26 @@ const MIN_CUT: f64 = 0.1;
 /// One texture region's hull, in texel coordinates of its tile: `None` when nothing in it can pass.
 type Hull = Option<Vec<DVec2>>;
 
-/// The hulls found so far in one load, by texture, tile-relative texel rectangle and alpha threshold.
+/// A corner of a trimmed polygon: the original's corner `Some(k)` (its index in the polygon), or a new
+/// point on one of its edges.
+pub(super) type Corner = (Vertex, Option<usize>);
+
+/// What a hull is cached by: texture, wraps, tile-relative texel rectangle and alpha threshold.
+type Key = (usize, [u8; 2], [i64; 4], u32);
+
+/// The hulls found so far in one load.
 #[derive(Default)]
 pub(super) struct Trimmer {
-    hulls: BTreeMap<(usize, [i32; 4], u32), Hull>,
+    hulls: BTreeMap<Key, Hull>,
     scanned: u64,
+}
+
+fn wrap_code(w: Wrap) -> u8 {
+    match w {
+        Wrap::Repeat => 0,
+        Wrap::ClampToEdge => 1,
+        Wrap::MirroredRepeat => 2,
+    }
 }
 
 impl Trimmer {
@@ -58,41 +89,46 @@ impl Trimmer {
         sampler: Sampler,
         (alpha, cutoff): (f32, f32),
         poly: &[Vertex],
-    ) -> Option<Vec<Vertex>> {
+    ) -> Option<Vec<Corner>> {
         let most_alpha = poly.iter().map(|v| v.color.w).fold(0.0f32, f32::max) * alpha;
         if !(cutoff > 0.0 && most_alpha > 0.0 && most_alpha.is_finite()) || poly.len() < 3 {
             return None;
         }
-        // A texel may pass when its alpha times the most the colours can give reaches the cutoff.
-        let threshold = cutoff / most_alpha * (1.0 - 1e-5);
+        // A texel may pass when its alpha times the most the colours can give reaches the cutoff (with room
+        // for a merged quad's colours, affine to 1e-3, to exceed its corners' a little).
+        let threshold = cutoff / most_alpha * (1.0 - 2e-3);
         let (lo, hi) = uv_bounds(poly)?;
         let (w, h) = (texture.width() as f64, texture.height() as f64);
         let tile = DVec2::new(tile_of(lo.x, hi.x, sampler.wrap_s)?, tile_of(lo.y, hi.y, sampler.wrap_t)?);
+        // The texels the region's samples can weigh: its own and one beyond it on every side.
         let rect = [
-            ((lo.x - tile.x) * w).floor() as i32,
-            ((lo.y - tile.y) * h).floor() as i32,
-            ((hi.x - tile.x) * w).ceil() as i32,
-            ((hi.y - tile.y) * h).ceil() as i32,
+            ((lo.x - tile.x) * w).floor() as i64 - 1,
+            ((lo.y - tile.y) * h).floor() as i64 - 1,
+            ((hi.x - tile.x) * w).ceil() as i64 + 1,
+            ((hi.y - tile.y) * h).ceil() as i64 + 1,
         ];
-        let rect = [rect[0].max(0), rect[1].max(0), rect[2].min(w as i32), rect[3].min(h as i32)];
-        let area = (rect[2] - rect[0]).max(0) as u64 * (rect[3] - rect[1]).max(0) as u64;
-        if area == 0 || area > MAX_REGION_TEXELS {
+        let (across, down) = (rect[2] - rect[0], rect[3] - rect[1]);
+        let area = across as u64 * down as u64;
+        if across > MAX_REGION_SIDE || down > MAX_REGION_SIDE || area > MAX_REGION_TEXELS {
             return None;
         }
-        let key = (index, rect, threshold.to_bits());
+        let key = (index, [wrap_code(sampler.wrap_s), wrap_code(sampler.wrap_t)], rect, threshold.to_bits());
         if !self.hulls.contains_key(&key) {
-            self.scanned = self.scanned.saturating_add(area);
-            if self.scanned > MAX_LOAD_TEXELS {
+            let scanned = self.scanned.saturating_add(area);
+            if scanned > MAX_LOAD_TEXELS || self.hulls.len() >= MAX_HULLS {
                 return None;
             }
-            self.hulls.insert(key, hull_of(texture, rect, threshold));
+            self.scanned = scanned;
+            self.hulls.insert(key, hull_of(texture, sampler, rect, threshold));
         }
         let hull = self.hulls.get(&key)?.as_ref()?;
         // The hull in the polygon's texture coordinates.
         let scale = DVec2::new(w, h);
         let hull_uv: Vec<DVec2> = hull.iter().map(|&p| p / scale + tile).collect();
         let cut = clip(poly, &hull_uv);
-        let (before, after) = (uv_area(poly), uv_area(&cut));
+        let uv = |c: &[Corner]| c.iter().map(|(v, _)| v.uv.as_dvec2()).collect::<Vec<_>>();
+        let before = polygon_area(&poly.iter().map(|v| v.uv.as_dvec2()).collect::<Vec<_>>()).abs();
+        let after = polygon_area(&uv(&cut)).abs();
         (cut.len() >= 3 && before > 0.0 && after <= before * (1.0 - MIN_CUT)).then_some(cut)
     }
 }
@@ -116,24 +152,25 @@ fn uv_bounds(poly: &[Vertex]) -> Option<(DVec2, DVec2)> {
 /// `0..1` otherwise (a clamped texture stretches its edge texels outside it, a mirrored one flips).
 fn tile_of(lo: f64, hi: f64, wrap: Wrap) -> Option<f64> {
     let tile = lo.floor();
-    let fits = hi <= tile + 1.0 && (wrap == Wrap::Repeat || tile == 0.0);
+    let fits = hi <= tile + 1.0 && tile.abs() <= MAX_TILE && (wrap == Wrap::Repeat || tile == 0.0);
     fits.then_some(tile)
 }
 
-/// The convex hull (counter-clockwise in texel coordinates, y down as the texture's rows) of the texels
-/// in `rect` whose alpha reaches `threshold`, each widened by one texel, simplified to [`MAX_HULL`]
-/// corners; `None` when no texel reaches it.
-fn hull_of(texture: &Texture, [x0, y0, x1, y1]: [i32; 4], threshold: f32) -> Hull {
-    let width = texture.width() as usize;
+/// The convex hull of the texels in `rect` (tile-relative, read through `sampler`'s wrap) whose alpha
+/// reaches `threshold`, each widened by one texel, simplified to [`MAX_HULL`] corners; `None` when no
+/// texel reaches it.
+fn hull_of(texture: &Texture, sampler: Sampler, [x0, y0, x1, y1]: [i64; 4], threshold: f32) -> Hull {
+    let passes = |x: i64, y: i64| {
+        // The region's sides are at most `MAX_REGION_SIDE` and its tile at most `MAX_TILE` away: in range.
+        (texture.texel(x as i32, y as i32, sampler) >> 24) as f32 / 255.0 >= threshold
+    };
     let mut points = Vec::new();
     for y in y0..y1 {
-        let row = &texture.texels()[y as usize * width..][x0 as usize..x1 as usize];
-        let passes = |t: &u32| (t >> 24) as f32 / 255.0 >= threshold;
-        let (Some(first), Some(last)) = (row.iter().position(passes), row.iter().rposition(passes)) else {
+        let (Some(first), Some(last)) = ((x0..x1).find(|&x| passes(x, y)), (x0..x1).rev().find(|&x| passes(x, y)))
+        else {
             continue;
         };
-        let (left, right) = ((x0 + first as i32 - 1) as f64, (x0 + last as i32 + 2) as f64);
-        let (top, bottom) = ((y - 1) as f64, (y + 2) as f64);
+        let (left, right, top, bottom) = ((first - 1) as f64, (last + 2) as f64, (y - 1) as f64, (y + 2) as f64);
         points.extend([(left, top), (left, bottom), (right, top), (right, bottom)].map(DVec2::from));
     }
     let hull = convex_hull(points);
@@ -144,7 +181,7 @@ fn cross(o: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a - o).perp_dot(b - o)
 }
 
-/// Andrew's monotone chain: the hull's corners, counter-clockwise, without collinear points.
+/// Andrew's monotone chain: the hull's corners in one turning order, without collinear points.
 fn convex_hull(mut points: Vec<DVec2>) -> Vec<DVec2> {
     points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     points.dedup();
@@ -201,22 +238,23 @@ fn meeting(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<DVec2> {
 }
 
 /// The polygon clipped to the convex `hull` (in texture coordinates, either winding), each new corner
-/// interpolated along the edge it cuts (Sutherland-Hodgman).
-fn clip(poly: &[Vertex], hull: &[DVec2]) -> Vec<Vertex> {
-    let turn = hull_area(hull).signum();
-    let mut out = poly.to_vec();
+/// interpolated along the edge it cuts (Sutherland-Hodgman); the polygon's winding is kept.
+fn clip(poly: &[Vertex], hull: &[DVec2]) -> Vec<Corner> {
+    let turn = polygon_area(hull).signum();
+    let mut out: Vec<Corner> = poly.iter().enumerate().map(|(k, v)| (*v, Some(k))).collect();
     for k in 0..hull.len() {
         let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
         let side = |v: &Vertex| cross(a, b, v.uv.as_dvec2()) * turn;
         let input = std::mem::take(&mut out);
         for (i, cur) in input.iter().enumerate() {
             let next = &input[(i + 1) % input.len()];
-            let (sc, sn) = (side(cur), side(next));
+            let (sc, sn) = (side(&cur.0), side(&next.0));
             if sc >= 0.0 {
                 out.push(*cur);
             }
-            if (sc >= 0.0) != (sn >= 0.0) {
-                out.push(lerp(cur, next, sc / (sc - sn)));
+            // Strictly across: a corner on the line is kept once, not doubled.
+            if (sc > 0.0 && sn < 0.0) || (sc < 0.0 && sn > 0.0) {
+                out.push((lerp(&cur.0, &next.0, sc / (sc - sn)), None));
             }
         }
         if out.len() < 3 {
@@ -246,14 +284,9 @@ fn lerp(p: &Vertex, q: &Vertex, t: f64) -> Vertex {
     Vertex { position, uv, color }
 }
 
-/// The signed area of a polygon's corners (positive counter-clockwise with y up).
-fn hull_area(p: &[DVec2]) -> f64 {
+/// The signed area of a polygon's corners (its sign tells the winding).
+fn polygon_area(p: &[DVec2]) -> f64 {
     (0..p.len()).map(|i| p[i].perp_dot(p[(i + 1) % p.len()])).sum::<f64>() * 0.5
-}
-
-/// The area a polygon covers in texture coordinates.
-fn uv_area(poly: &[Vertex]) -> f64 {
-    hull_area(&poly.iter().map(|v| v.uv.as_dvec2()).collect::<Vec<_>>()).abs()
 }
 
 #[cfg(test)]
@@ -282,16 +315,31 @@ mod tests {
         vec![corner(0.0, 0.0), corner(1.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0)]
     }
 
+    /// The trimmed polygon's corners, checking that each kept corner is the original's it names.
+    fn corners(cut: Option<Vec<Corner>>, original: &[Vertex]) -> Vec<Vertex> {
+        let cut = cut.expect("trimmed");
+        for (v, k) in &cut {
+            if let Some(k) = k {
+                assert_eq!(original[*k], *v);
+            }
+        }
+        cut.into_iter().map(|(v, _)| v).collect()
+    }
+
+    fn uv_area(poly: &[Vertex]) -> f64 {
+        polygon_area(&poly.iter().map(|v| v.uv.as_dvec2()).collect::<Vec<_>>()).abs()
+    }
+
     fn inside(poly: &[Vertex], p: DVec2) -> bool {
         let uv: Vec<DVec2> = poly.iter().map(|v| v.uv.as_dvec2()).collect();
-        let turn = hull_area(&uv).signum();
+        let turn = polygon_area(&uv).signum();
         (0..uv.len()).all(|i| cross(uv[i], uv[(i + 1) % uv.len()], p) * turn >= -1e-9)
     }
 
     #[test]
     fn a_cut_out_keeps_every_texel_that_can_pass_and_a_texel_around_it() {
         let tex = disc();
-        let cut = Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(Vec4::ONE)).unwrap();
+        let cut = corners(Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(Vec4::ONE)), &quad(Vec4::ONE));
         assert!(cut.len() <= MAX_HULL + 4, "{} corners", cut.len());
         // Every opaque texel's square, widened by one texel, lies inside; a texel three away does not.
         for (i, t) in tex.texels().iter().enumerate() {
@@ -311,7 +359,7 @@ mod tests {
     fn new_corners_lie_in_the_plane_with_the_texture_where_it_was() {
         let tex = disc();
         let color = Vec4::new(0.3, 0.6, 0.9, 1.0);
-        let cut = Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(color)).unwrap();
+        let cut = corners(Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &quad(color)), &quad(color));
         for v in &cut {
             // The quad maps u to x * 8 and v to (1 - y) * 4; the colour is the polygon's, bit for bit.
             assert!((v.position.x - v.uv.x * 8.0).abs() < 1e-5 && (v.position.y - (1.0 - v.uv.y) * 4.0).abs() < 1e-5);
@@ -319,7 +367,7 @@ mod tests {
             assert_eq!(v.color, color);
         }
         // The winding is kept.
-        let area = |p: &[Vertex]| hull_area(&p.iter().map(|v| v.position.truncate().as_dvec2()).collect::<Vec<_>>());
+        let area = |p: &[Vertex]| polygon_area(&p.iter().map(|v| v.position.truncate().as_dvec2()).collect::<Vec<_>>());
         assert!(area(&cut) > 0.0 && area(&quad(color)) > 0.0);
     }
 
@@ -337,7 +385,7 @@ mod tests {
         // Inside the next tile of a repeating texture it is trimmed as in the first.
         let mut next = whole.clone();
         next.iter_mut().for_each(|v| v.uv.x += 1.0);
-        let cut = t.trim((&tex, 0), repeat, (1.0, 0.5), &next).unwrap();
+        let cut = corners(t.trim((&tex, 0), repeat, (1.0, 0.5), &next), &next);
         assert!(cut.iter().all(|v| v.uv.x >= 1.0));
         // Nothing can pass (the colour's alpha halves every texel's), a cutoff of 0, NaN coordinates.
         assert!(t.trim((&tex, 0), CLAMP, (0.4, 0.5), &whole).is_none());
@@ -355,6 +403,22 @@ mod tests {
     }
 
     #[test]
+    fn texels_a_wrapping_sample_reads_beyond_the_region_are_kept() {
+        // Opaque only in the last column (rows 10..20); the polygon covers the left half of the texture,
+        // where a bilinear sample at its left edge weighs that column through the repeat.
+        let texels = (0..32 * 32).map(|i| if i % 32 == 31 && (10..20).contains(&(i / 32)) { 0xff00_0000 } else { 0 });
+        let tex = Texture::new(32, 32, texels.collect()).unwrap();
+        let mut half = quad(Vec4::ONE);
+        half.iter_mut().for_each(|v| v.uv.x *= 0.5);
+        let repeat = Sampler { wrap_s: Wrap::Repeat, wrap_t: Wrap::Repeat };
+        let cut = corners(Trimmer::default().trim((&tex, 0), repeat, (1.0, 0.5), &half), &half);
+        assert!(inside(&cut, DVec2::new(0.5, 15.0) / 32.0) && inside(&cut, DVec2::new(0.5, 9.5) / 32.0));
+        assert!(!inside(&cut, DVec2::new(3.0, 15.0) / 32.0));
+        // Clamped, the column beyond the left edge is the first one, clear: nothing can pass, kept whole.
+        assert!(Trimmer::default().trim((&tex, 0), CLAMP, (1.0, 0.5), &half).is_none());
+    }
+
+    #[test]
     fn simplifying_only_grows_the_hull() {
         // A 24-gon around a circle: simplified to 8 corners, it still holds every original corner.
         let ring: Vec<DVec2> = (0..24)
@@ -368,6 +432,6 @@ mod tests {
         for p in ring {
             assert!((0..8).all(|i| cross(small[i], small[(i + 1) % 8], p) >= -1e-9), "{p} outside");
         }
-        assert!(hull_area(&small) < 1.1 * std::f64::consts::PI * 100.0);
+        assert!(polygon_area(&small) < 1.1 * std::f64::consts::PI * 100.0);
     }
 }

@@ -39,9 +39,13 @@ fn corners() -> [([f32; 3], [f32; 2]); 4] {
     ]
 }
 
-fn gltf() -> Vec<u8> {
+/// The cut-out as a glTF file; `bend` moves the last corner's texture coordinates off the affine map, so
+/// that the two triangles are not merged into one quad.
+fn gltf(bend: f32) -> Vec<u8> {
     let mut buf: Vec<u8> = corners().iter().flat_map(|c| c.0).flat_map(f32::to_le_bytes).collect();
-    buf.extend(corners().iter().flat_map(|c| c.1).flat_map(f32::to_le_bytes));
+    let mut uvs = corners().map(|c| c.1);
+    uvs[3][0] += bend;
+    buf.extend(uvs.iter().flatten().flat_map(|x| x.to_le_bytes()));
     buf.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
     let doc = json!({
         "asset": {"version": "2.0"},
@@ -66,7 +70,7 @@ fn gltf() -> Vec<u8> {
 
 #[test]
 fn a_cut_out_quad_loads_trimmed_and_draws_the_same_pixels_for_fewer_shaded() {
-    let scene = scanline_racer::asset::load_from_slice(&gltf(), Path::new("."), "cutout.gltf").unwrap();
+    let scene = scanline_racer::asset::load_from_slice(&gltf(0.0), Path::new("."), "cutout.gltf").unwrap();
     let trimmed = &scene.meshes[0];
     let polys = trimmed.polygons();
     assert_eq!(polys.len(), 1, "one polygon, as the quad was");
@@ -91,4 +95,15 @@ fn a_cut_out_quad_loads_trimmed_and_draws_the_same_pixels_for_fewer_shaded() {
         // The disc and its margin: well under half the quad.
         assert!(sa.pixels_written > 0 && sa.pixels_shaded * 2 < sb.pixels_shaded, "{sa:?} against {sb:?}");
     }
+}
+
+#[test]
+fn cut_out_triangles_sharing_an_edge_stay_whole() {
+    // Two triangles (not one quad: the bent corner breaks the affine map) share the diagonal; trimming
+    // either alone would cut that edge where the other does not, leaving a crack.
+    let scene = scanline_racer::asset::load_from_slice(&gltf(0.01), Path::new("."), "cutout.gltf").unwrap();
+    let mesh = &scene.meshes[0];
+    let counts: Vec<usize> = mesh.polygons().iter().map(|p| mesh.polygon_indices(p).len()).collect();
+    assert_eq!(counts, [3, 3]);
+    assert_eq!(mesh.vertices().len(), 4);
 }
