@@ -24,6 +24,7 @@ mod assets;
 mod audio;
 mod auto_quality;
 mod cli;
+mod coarse_depth;
 mod conformance;
 mod cutouts;
 mod docs;

@@ -230,6 +230,10 @@ pub struct RenderOptions {
     /// pixel is sampled at its centre minus the offset: how the reference image puts its sub-pixel grid of
     /// samples. `[0.0, 0.0]` for every ordinary frame; an offset that is not finite counts as none.
     pub pixel_offset: [f32; 2],
+    /// Lets the z-buffer's fill skip a polygon whole where a band's coarse depth (the least depth under
+    /// each tile of the band, raised by the polygons that cover a tile) shows every pixel of it would fail
+    /// the depth test. It never changes a pixel; off only to measure what it saves.
+    pub coarse_depth: bool,
 }
 
 impl Default for RenderOptions {
@@ -250,6 +254,7 @@ impl Default for RenderOptions {
             antialias: Antialias::default(),
             lod_fade: false,
             pixel_offset: [0.0, 0.0],
+            coarse_depth: true,
         }
     }
 }

@@ -4,6 +4,7 @@
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::antialias::{self, Target};
+use super::occlusion::{BandTest, CoarseDepth, Verdict};
 use super::polygon_spans::{PolygonSpans, walk_rows};
 use super::row::{BandPixels, FLAT, RowRun, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
@@ -22,6 +23,7 @@ use crate::render::core::samples::{ROW_SHIFTS, SamplePattern};
 use crate::render::core::small::{SmallTriangle, TexPlanes};
 use crate::render::core::vertex::{ATTRS, ScreenVertex, Winding};
 use crate::render::simd::{self, Avx2};
+use std::sync::atomic::AtomicU8;
 
 /// A thread's depth and coverage rows for the band it is drawing, and a polygon's short spans there.
 #[derive(Default)]
@@ -32,6 +34,7 @@ struct Scratch {
     depth: Vec<f32>,
     coverage: Vec<u64>,
     samples: SampleStore,
+    coarse: CoarseDepth,
 }
 
 thread_local! {
@@ -123,6 +126,9 @@ pub(crate) struct FillContext<'a> {
     /// How a band's rows come from and go back to its rows of the picture, when the frame is resolved into
     /// one ([`Resolve`](crate::render::core::band::Resolve)).
     pub(crate) resolve: Option<BandResolve>,
+    /// What each band remembers of the coarse depth test from the frames before
+    /// ([`BandTest`](super::occlusion::BandTest)).
+    pub(crate) occlusion: &'a [AtomicU8],
 }
 
 impl<'a> FillContext<'a> {
@@ -197,25 +203,13 @@ impl<'a> FillContext<'a> {
 
     fn fill_band_with(&self, band: Band<'_>, index: usize, scratch: &mut Scratch) -> SpanCounts {
         let Band { y0, rows: height, color, .. } = band;
-        let Scratch { runs, depth, coverage, samples, .. } = scratch;
+        let Scratch { runs, depth, coverage, samples, coarse, .. } = scratch;
         let (w, words) = (self.width, self.words);
         if let Some(bg) = self.background {
             color.fill(bg);
         }
-        let depth: &mut [f32] = if self.visibility == Visibility::DepthTest {
-            depth.clear();
-            depth.resize(height * w, f32::NEG_INFINITY);
-            depth
-        } else {
-            &mut []
-        };
-        let coverage: &mut [u64] = if self.visibility == Visibility::Coverage {
-            coverage.clear();
-            coverage.resize(height * words, 0);
-            coverage
-        } else {
-            &mut []
-        };
+        let depth = cleared(depth, self.visibility == Visibility::DepthTest, height * w, f32::NEG_INFINITY);
+        let coverage = cleared(coverage, self.visibility == Visibility::Coverage, height * words, 0);
         let mut rows = BandPixels { y0, width: w, words, color, depth, coverage };
         let mut total = SpanCounts::default();
         let mut add = |c: SpanCounts| total += c;
@@ -246,8 +240,17 @@ impl<'a> FillContext<'a> {
             }
             std::hint::black_box(touched);
         }
+        let tested = self.visibility == Visibility::DepthTest && self.options.coarse_depth;
+        let mut occlusion = BandTest::begin(coarse, self.occlusion.get(index), tested, band_rows, w);
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
+            // A polygon drawn from its corners may be hidden whole (small triangles are not tried).
+            let corners = if p.small() { None } else { self.screens.of(p) };
+            let reach = match corners.map(|v| occlusion.before(v)) {
+                Some(Verdict::Hidden) => continue,
+                Some(Verdict::Draw(b)) => b,
+                None => None,
+            };
             let shading = self.shading(p);
             let prepared = shading.prepare();
             if let Some(tri) = self.screens.small(p) {
@@ -261,8 +264,11 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            add(self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, (&mut rows, &mut *runs)));
+            let c = self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, (&mut rows, &mut *runs));
+            occlusion.drawn(verts, reach, c.written, p.alpha_cutoff().is_none() && p.door().is_none());
+            add(c);
         }
+        occlusion.end();
         total
     }
 
@@ -309,6 +315,16 @@ impl<'a> FillContext<'a> {
         antialias::resolve::<N>(target, self.visibility);
         total
     }
+}
+
+/// The band's `n` depths or coverage words, all `value`, when the frame's visibility `uses` them, else none.
+fn cleared<T: Clone>(v: &mut Vec<T>, uses: bool, n: usize, value: T) -> &mut [T] {
+    if !uses {
+        return &mut [];
+    }
+    v.clear();
+    v.resize(n, value);
+    v
 }
 
 /// [`small::fill_flat_run`] for `VIS` (depth-tested, each pixel once, or overwriting), with AVX2

@@ -14,6 +14,7 @@
 pub(crate) mod antialias;
 pub(crate) mod bands;
 pub(crate) mod coverage;
+mod occlusion;
 pub(crate) mod plane;
 mod polygon_spans;
 pub(crate) mod row;
@@ -44,6 +45,8 @@ use crate::render::core::options::{Method, RenderOptions};
 use crate::render::core::samples::SamplePattern;
 
 /// Orders of at least this many polygons are binned in pieces on several threads.
+use std::sync::atomic::AtomicU8;
+
 const PARALLEL_BINNING: usize = 1024;
 
 /// The fill's binning scratch, kept from frame to frame.
@@ -56,6 +59,8 @@ pub(crate) struct Fill {
     bins: Vec<Vec<Vec<u32>>>,
     /// Each band's time in the last frame drawn on several threads: the order bands are handed out in.
     costs: BandCosts,
+    /// What each band remembers of the coarse depth test ([`occlusion`]), for a layout of as many bands.
+    occlusion: Vec<AtomicU8>,
 }
 
 /// What the geometry and ordering stages left for the fill.
@@ -86,6 +91,10 @@ impl Fill {
         // Out of `self` while the runs below borrow its bins.
         let mut costs = std::mem::take(&mut self.costs);
         let chunk = self.bin(layout, polygons, ordered);
+        let bands = layout.height.div_ceil(layout.rows_per_band.max(1));
+        if self.occlusion.len() != bands {
+            self.occlusion = (0..bands).map(|_| AtomicU8::new(0)).collect();
+        }
         let runs = self.runs(polygons, ordered, chunk);
         let ctx = FillContext {
             runs: &runs,
@@ -103,6 +112,7 @@ impl Fill {
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
             tall,
             resolve: resolve.as_ref().map(|r| r.band),
+            occlusion: &self.occlusion,
         };
         let (out, shape) = match resolve {
             Some(Resolve { out, rows, band }) => (Some(out), (band.width, rows)),

@@ -1,0 +1,348 @@
+//! A band's coarse depth: for each tile of [`TILE_ROWS`] x [`TILE_COLUMNS`] pixels, a floor under the
+//! depths stored in it, so that a polygon nearer than no floor it overlaps is skipped whole, without
+//! walking its edges or testing its pixels.
+//!
+//! Why: on the city's frames half the depth-tested pixels fail the test (buildings drawn after what they
+//! hide), and most of those belong to polygons of which no pixel passes in the band; each of them still
+//! costs the walk of its edges and a depth test per chunk.
+//!
+//! **Exactness.** A pixel is drawn only when its depth is strictly greater (nearer) than the stored one,
+//! and a stored depth only ever grows: it starts at `-inf` and a pixel is written only with a greater
+//! value. So a floor, once true, stays true however stale it is, and a polygon whose greatest depth is at
+//! most the floor of every tile its pixels can fall in would have failed the test at every pixel: skipping
+//! it changes no pixel, no depth and no colour (only the count of rejected pixels, which never counts it).
+//! A polygon's depth is affine on the screen, so over its pixels it is at most its corners' greatest; the
+//! fill's interpolation rounds, so the bound is raised by a margin ([`margin`]) far above any rounding of
+//! the few operations that give a pixel's depth. Its pixels lie in the box of its corners widened by a pixel
+//! each way (which holds the rotated grid's shifted samples too). A NaN corner depth is never skipped.
+//!
+//! **Cost.** A floor is recomputed only when a test needs it and a polygon drawn since has written to its
+//! tile (the tile is marked by the box of every polygon drawn through corners; small triangles are not
+//! marked, which leaves a floor lower than it could be but never wrong).
+
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use crate::render::core::vertex::ScreenVertex;
+
+/// Frames a band goes without the test after a frame where it hid nothing there, before trying again.
+const REST: u8 = 7;
+
+/// The test pays in a band where it hides at least one polygon in this many tried: a hidden polygon saves
+/// the walk of its edges and its chunks' depth tests, some ten times what trying one costs.
+const PAYS: u32 = 16;
+
+/// What the coarse depth says of a polygon about to be drawn.
+pub(crate) enum Verdict {
+    /// Every pixel would fail the depth test: skip it.
+    Hidden,
+    /// Draw it; with its box when the band is tested (for [`BandTest::drawn`]).
+    Draw(Option<Box2>),
+}
+
+/// One band's use of the coarse depth while its polygons are drawn, and its memory from frame to frame.
+///
+/// Where the test hides few polygons in a band (a view across open ground, where little is drawn behind
+/// what was), its cost is overhead, 3-4% of the mountain's and the circuit's frames: the band then rests
+/// [`REST`] frames before it is tried again. What a band remembers changes only what is tried, never a
+/// pixel.
+pub(crate) struct BandTest<'s> {
+    coarse: &'s mut CoarseDepth,
+    memory: Option<&'s AtomicU8>,
+    on: bool,
+    /// Polygons tried and hidden.
+    tried: u32,
+    hidden: u32,
+    band: (i32, i32),
+}
+
+impl<'s> BandTest<'s> {
+    /// Starts band rows `band` (frame rows) of a frame `width` wide, with what the band remembers
+    /// (`memory`): tested only when depth-tested and not resting.
+    pub(crate) fn begin(
+        coarse: &'s mut CoarseDepth,
+        memory: Option<&'s AtomicU8>,
+        depth_tested: bool,
+        band: (i32, i32),
+        width: usize,
+    ) -> Self {
+        let rest = memory.map_or(0, |m| m.load(Ordering::Relaxed));
+        let on = depth_tested && rest == 0;
+        if on {
+            coarse.begin(width, (band.1 - band.0).max(0) as usize);
+        } else if let Some(m) = memory {
+            m.store(rest.saturating_sub(1), Ordering::Relaxed);
+        }
+        Self { coarse, memory, on, tried: 0, hidden: 0, band }
+    }
+
+    /// The verdict on polygon `verts`.
+    #[inline]
+    pub(crate) fn before(&mut self, verts: &[ScreenVertex]) -> Verdict {
+        if !self.on {
+            return Verdict::Draw(None);
+        }
+        let Some((z, b)) = reach(verts, self.band, self.coarse.width) else { return Verdict::Draw(None) };
+        self.tried += 1;
+        if self.coarse.hidden(&b, z) {
+            self.hidden += 1;
+            return Verdict::Hidden;
+        }
+        Verdict::Draw(Some(b))
+    }
+
+    /// Records polygon `verts` of box `b` drawn, having written `written` pixels: the floors of the tiles
+    /// it covers rise when it is `solid`, writing every pixel that passes (no alpha cutoff, no screen door).
+    #[inline]
+    pub(crate) fn drawn(&mut self, verts: &[ScreenVertex], b: Option<Box2>, written: u64, solid: bool) {
+        if let Some(b) = b
+            && written > 0
+            && solid
+        {
+            self.coarse.cover(verts, self.band, &b);
+        }
+    }
+
+    /// Ends the band: it rests when tested and it hid fewer than one polygon in [`PAYS`] tried.
+    pub(crate) fn end(self) {
+        if let (true, Some(m)) = (self.on, self.memory) {
+            let paid = u64::from(self.hidden) * u64::from(PAYS) >= u64::from(self.tried);
+            m.store(if paid { 0 } else { REST }, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Rows of a tile.
+pub(crate) const TILE_ROWS: usize = 8;
+/// Columns of a tile.
+pub(crate) const TILE_COLUMNS: usize = 16;
+
+/// The pixels a polygon's samples can fall in on a band, as band rows and frame columns (end exclusive).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Box2 {
+    pub(crate) rows: (usize, usize),
+    pub(crate) columns: (usize, usize),
+}
+
+/// The raise of a polygon's greatest corner depth `z` (of corners whose depths are at most `largest` in
+/// magnitude) that bounds every depth the fill interpolates for its pixels: a 2^-10 part of that magnitude,
+/// where one rounding is 2^-24 of it and a pixel's depth takes fewer than ten.
+#[inline]
+fn margin(z: f32, largest: f32) -> f32 {
+    z + largest * (1.0 / 1024.0)
+}
+
+/// The greatest depth polygon `verts` can give a pixel and the box its pixels lie in on band rows
+/// `band` (frame rows) of a frame `width` wide; `None` when a corner's depth is NaN or infinite or the box
+/// is empty.
+#[inline]
+pub(crate) fn reach(verts: &[ScreenVertex], band: (i32, i32), width: usize) -> Option<(f32, Box2)> {
+    let first = verts.first()?;
+    let (mut x0, mut x1, mut y0, mut y1) = (first.x.0, first.x.0, first.y.0, first.y.0);
+    let (mut z, mut largest) = (f32::NEG_INFINITY, 0.0f32);
+    for v in verts {
+        (x0, x1) = (x0.min(v.x.0), x1.max(v.x.0));
+        (y0, y1) = (y0.min(v.y.0), y1.max(v.y.0));
+        let d = v.attrs[0];
+        if !d.is_finite() {
+            return None;
+        }
+        z = z.max(d);
+        largest = largest.max(d.abs());
+    }
+    // Whole pixels around the corners, one more each way (raw units are sixteenths).
+    let pixel = |raw: i32, grow: i32| i64::from(raw >> 4) + i64::from(grow);
+    let clamp = |v: i64, lo: i64, hi: i64| v.clamp(lo, hi);
+    let (c0, c1) = (clamp(pixel(x0, -1), 0, width as i64), clamp(pixel(x1, 2), 0, width as i64));
+    let (b0, b1) = (i64::from(band.0), i64::from(band.1));
+    let (r0, r1) = (clamp(pixel(y0, -1), b0, b1), clamp(pixel(y1, 2), b0, b1));
+    if c0 >= c1 || r0 >= r1 {
+        return None;
+    }
+    let rows = ((r0 - b0) as usize, (r1 - b0) as usize);
+    Some((margin(z, largest), Box2 { rows, columns: (c0 as usize, c1 as usize) }))
+}
+
+/// The floors of one band's tiles, reused band after band.
+#[derive(Debug, Default)]
+pub(crate) struct CoarseDepth {
+    width: usize,
+    rows: usize,
+    tiles_x: usize,
+    /// Each tile's floor, row of tiles after row of tiles.
+    floor: Vec<f32>,
+    /// The greatest floor: a polygon nearer than it somewhere is hidden by no tile, found without a look at
+    /// any (on a band where nothing has covered a tile yet, every polygon).
+    top: f32,
+}
+
+impl CoarseDepth {
+    /// Starts a band of `rows` rows `width` pixels wide whose depths are all `-inf`.
+    pub(crate) fn begin(&mut self, width: usize, rows: usize) {
+        self.width = width;
+        self.rows = rows;
+        self.tiles_x = width.div_ceil(TILE_COLUMNS);
+        let n = self.tiles_x * rows.div_ceil(TILE_ROWS);
+        self.floor.clear();
+        self.floor.resize(n, f32::NEG_INFINITY);
+        self.top = f32::NEG_INFINITY;
+    }
+
+    /// The tiles box `b` overlaps: rows of tiles and columns of tiles (end exclusive).
+    #[inline]
+    fn tiles(&self, b: &Box2) -> ((usize, usize), (usize, usize)) {
+        let ty = (b.rows.0 / TILE_ROWS, b.rows.1.div_ceil(TILE_ROWS));
+        let tx = (b.columns.0 / TILE_COLUMNS, b.columns.1.div_ceil(TILE_COLUMNS));
+        (ty, tx)
+    }
+
+    /// Whether every pixel in box `b` holds a depth at least `z` (by the floors): then a polygon of
+    /// greatest depth `z` inside the box passes the test nowhere.
+    #[inline]
+    pub(crate) fn hidden(&self, b: &Box2, z: f32) -> bool {
+        // `z` is finite (`reach`), and so is every floor raised.
+        if z > self.top {
+            return false;
+        }
+        let (ty, tx) = self.tiles(b);
+        for y in ty.0..ty.1 {
+            let Some(floors) = self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1) else { return false };
+            if !floors.iter().all(|&f| z <= f) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Raises the floors of the tiles polygon `verts` covers whole to its least depth (less a margin),
+    /// after it was drawn on band rows `band` (frame rows) with box `b`: every pixel of such a tile now holds
+    /// either the polygon's depth or a greater one that made it fail the test. Only for a convex polygon that
+    /// writes every pixel it covers and passes (no alpha cutoff, no screen door: the caller checks).
+    pub(crate) fn cover(&mut self, verts: &[ScreenVertex], band: (i32, i32), b: &Box2) {
+        // The tiles wholly inside the box, the only ones the polygon can cover.
+        let ty = (b.rows.0.div_ceil(TILE_ROWS), (b.rows.1 / TILE_ROWS + usize::from(b.rows.1 == self.rows)));
+        let tx =
+            (b.columns.0.div_ceil(TILE_COLUMNS), (b.columns.1 / TILE_COLUMNS + usize::from(b.columns.1 == self.width)));
+        let (ty, tx) = ((ty.0, ty.1.min(self.rows.div_ceil(TILE_ROWS))), (tx.0, tx.1.min(self.tiles_x)));
+        if ty.0 >= ty.1 || tx.0 >= tx.1 {
+            return;
+        }
+        let Some(least) = least_depth(verts) else { return };
+        // Nothing to raise unless some floor there is below the polygon's least depth.
+        let below = (ty.0..ty.1).any(|y| {
+            let row = self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1).unwrap_or(&[]);
+            row.iter().any(|&f| f < least)
+        });
+        if !below {
+            return;
+        }
+        let Some(shape) = Convex::of(verts) else { return };
+        for y in ty.0..ty.1 {
+            let r0 = f64::from(band.0) + (y * TILE_ROWS) as f64;
+            let r1 = f64::from(band.0) + ((y + 1) * TILE_ROWS).min(self.rows) as f64;
+            let Some((left, right)) = shape.columns((r0, r1)) else { continue };
+            // The tiles whose columns lie within `left..right`.
+            let x0 = (left / TILE_COLUMNS as f64).ceil().max(tx.0 as f64) as usize;
+            let x1 = (right / TILE_COLUMNS as f64).floor().min(tx.1 as f64) as usize;
+            if x0 >= x1 {
+                continue;
+            }
+            for floor in self.floor.get_mut(y * self.tiles_x + x0..y * self.tiles_x + x1).unwrap_or(&mut []) {
+                *floor = floor.max(least);
+            }
+            self.top = self.top.max(least);
+        }
+    }
+}
+
+/// The least depth polygon `verts` can give a pixel (its least corner depth less a margin), `None` when a
+/// corner's depth is NaN or infinite.
+fn least_depth(verts: &[ScreenVertex]) -> Option<f32> {
+    let (mut least, mut largest) = (f32::INFINITY, 0.0f32);
+    for v in verts {
+        let d = v.attrs[0];
+        if !d.is_finite() {
+            return None;
+        }
+        least = least.min(d);
+        largest = largest.max(d.abs());
+    }
+    Some(least - largest * (1.0 / 1024.0))
+}
+
+/// A convex polygon's edges as half-planes, in pixels, and a floor under its depths.
+struct Convex {
+    /// Per edge: a corner `(x, y)`, the edge's direction `(dx, dy)` oriented so that inside is where
+    /// `dx * (py - y) - dy * (px - x)` is positive, and the least value that keeps a point a safe distance
+    /// inside.
+    edges: [(f64, f64, f64, f64, f64); MAX_CORNERS],
+    count: usize,
+}
+
+/// The most corners [`Convex`] takes (more are never counted as covering).
+const MAX_CORNERS: usize = 8;
+
+/// How far inside every edge (in pixels) a tile's rectangle must lie to count as covered: more than the
+/// rotated grid's sample shifts (under half a pixel) and any rounding of the fill's edge walk.
+const INSIDE: f64 = 1.5;
+
+impl Convex {
+    /// The half-planes of `verts` if it is a convex polygon of at most [`MAX_CORNERS`] corners and a
+    /// non-zero area.
+    fn of(verts: &[ScreenVertex]) -> Option<Self> {
+        let n = verts.len();
+        if !(3..=MAX_CORNERS).contains(&n) {
+            return None;
+        }
+        let mut corners = [(0i64, 0i64); MAX_CORNERS + 2];
+        for (c, v) in corners.iter_mut().zip(verts.iter().chain(verts.iter().take(2))) {
+            *c = (i64::from(v.x.0), i64::from(v.y.0));
+        }
+        // Twice the area and every turn in raw units (exact in i64), to check convexity.
+        let (mut area, mut turns_pos, mut turns_neg) = (0i64, false, false);
+        for w in corners.get(..n + 2).unwrap_or(&[]).windows(3) {
+            let [(ax, ay), (bx, by), (cx, cy)] = [w[0], w[1], w[2]];
+            area += ax * by - bx * ay;
+            let turn = (bx - ax) * (cy - by) - (by - ay) * (cx - bx);
+            turns_pos |= turn > 0;
+            turns_neg |= turn < 0;
+        }
+        if area == 0 || (turns_pos && turns_neg) {
+            return None;
+        }
+        let sign = if area > 0 { 1.0 } else { -1.0 };
+        let mut edges = [(0.0, 0.0, 0.0, 0.0, 0.0); MAX_CORNERS];
+        for (e, w) in edges.iter_mut().zip(corners.get(..n + 1).unwrap_or(&[]).windows(2)) {
+            let [(ax, ay), (bx, by)] = [w[0], w[1]];
+            let px = |v: i64| v as f64 / 16.0;
+            let (dx, dy) = (px(bx - ax) * sign, px(by - ay) * sign);
+            *e = (px(ax), px(ay), dx, dy, INSIDE * (dx * dx + dy * dy).sqrt());
+        }
+        Some(Self { edges, count: n })
+    }
+
+    /// The columns `left..right` (pixels) between which a rectangle spanning rows `y` (pixels) lies inside
+    /// every edge by [`INSIDE`], if any.
+    fn columns(&self, y: (f64, f64)) -> Option<(f64, f64)> {
+        let (mut left, mut right) = (f64::NEG_INFINITY, f64::INFINITY);
+        for &(ex, ey, dx, dy, least) in self.edges.iter().take(self.count) {
+            // The edge's function `dx (py - ey) - dy (px - ex)` is linear; at its least over the rows (the
+            // bottom where dx < 0, else the top) it must reach `least` at every column of the rectangle.
+            let py = if dx < 0.0 { y.1 } else { y.0 };
+            let at = dx * (py - ey) - least;
+            let bound = ex + at / dy;
+            if dy > 0.0 && bound.is_finite() {
+                // Falling with px: the rectangle's right side bounds it, `px <= ex + at / dy`.
+                right = right.min(bound);
+            } else if dy < 0.0 && bound.is_finite() {
+                left = left.max(bound);
+            } else if dy != 0.0 || at < 0.0 {
+                return None;
+            }
+        }
+        (left < right).then_some((left, right))
+    }
+}
+
+#[cfg(test)]
+#[path = "occlusion_tests.rs"]
+mod tests;

@@ -1,0 +1,89 @@
+//! The coarse depth's floors, raised only under what a polygon covers whole, and a band's rest. (Frames
+//! with and without it are compared in the integration tests, `coarse_depth`.)
+
+use super::*;
+use crate::render::core::fixed::Fx28_4;
+use crate::render::core::vertex::ATTRS;
+
+/// A screen polygon with corners at `xy` (pixels) and depth `z` at every corner.
+fn polygon(xy: &[(f32, f32)], z: f32) -> Vec<ScreenVertex> {
+    xy.iter()
+        .map(|&(x, y)| {
+            let mut attrs = [0.0; ATTRS];
+            attrs[0] = z;
+            ScreenVertex {
+                x: Fx28_4::from_f32(x).expect("on the grid"),
+                y: Fx28_4::from_f32(y).expect("on the grid"),
+                attrs,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn floors_rise_only_under_what_a_polygon_covers_whole() {
+    let mut c = CoarseDepth::default();
+    let band = (100, 124);
+    c.begin(80, 24);
+    // A triangle over the band's left part: its right angle above and left of the band, the hypotenuse from
+    // (70, 90) to (-10, 170).
+    let tri = polygon(&[(-10.0, 90.0), (70.0, 90.0), (-10.0, 170.0)], 0.5);
+    let (_, b) = reach(&tri, band, 80).expect("in the band");
+    c.cover(&tri, band, &b);
+    // Tiles of 16 x 8: the first row of tiles (rows 100-108) is covered to column 70 - 18 = 52 at its
+    // bottom, less 1.5 pixels from the edge (2.1 columns): tiles 0-2 (columns 0-48). The second row
+    // (108-116) to column 44 less as much: tiles 0-1. The third (116-124) to 36: tiles 0-1 (0-32).
+    let raised: Vec<bool> = c.floor.iter().map(|&f| f > 0.0).collect();
+    let expected =
+        [[true, true, true, false, false], [true, true, false, false, false], [true, true, false, false, false]];
+    assert_eq!(raised, expected.concat(), "floors {:?}", c.floor);
+    assert!(c.floor[0] < 0.5 && c.floor[0] > 0.499, "floor {} not just under the depth", c.floor[0]);
+    // Behind it, within the covered tiles: hidden; a hair nearer than its floor, or reaching a tile it does
+    // not cover: not.
+    let behind = polygon(&[(2.0, 102.0), (30.0, 103.0), (4.0, 120.0)], 0.4);
+    let (z, b) = reach(&behind, band, 80).expect("in the band");
+    assert!(c.hidden(&b, z));
+    let (z, b) = reach(&polygon(&[(2.0, 102.0), (30.0, 103.0), (4.0, 120.0)], 0.49995), band, 80).expect("in");
+    assert!(!c.hidden(&b, z), "within the margin");
+    let (z, b) = reach(&polygon(&[(2.0, 102.0), (50.0, 103.0), (4.0, 120.0)], 0.4), band, 80).expect("in");
+    assert!(!c.hidden(&b, z), "past the covered tiles");
+    // A cut-out's corners (or any non-convex outline) cover nothing.
+    let mut d = CoarseDepth::default();
+    d.begin(80, 24);
+    let dart = polygon(&[(0.0, 90.0), (79.0, 90.0), (10.0, 110.0), (0.0, 130.0)], 0.5);
+    let (_, b) = reach(&dart, band, 80).expect("in the band");
+    d.cover(&dart, band, &b);
+    assert!(d.floor.iter().all(|&f| f == f32::NEG_INFINITY), "{:?}", d.floor);
+}
+
+#[test]
+fn a_band_that_hides_little_rests_and_is_tried_again() {
+    let memory = AtomicU8::new(0);
+    let mut coarse = CoarseDepth::default();
+    let band = (0, 16);
+    let far = polygon(&[(1.0, 1.0), (9.0, 1.0), (1.0, 9.0)], 0.1);
+    // A frame where nothing covers a tile: every polygon tried, none hidden.
+    let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
+    for _ in 0..20 {
+        assert!(matches!(t.before(&far), Verdict::Draw(Some(_))));
+    }
+    t.end();
+    assert_eq!(memory.load(Ordering::Relaxed), REST);
+    for rest in (0..REST).rev() {
+        let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
+        assert!(matches!(t.before(&far), Verdict::Draw(None)), "resting");
+        t.end();
+        assert_eq!(memory.load(Ordering::Relaxed), rest);
+    }
+    // Tried again: a wall over the band, then the far polygon behind it is hidden, and the band keeps on.
+    let wall = polygon(&[(-10.0, -10.0), (74.0, -10.0), (74.0, 26.0), (-10.0, 26.0)], 0.5);
+    let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
+    let Verdict::Draw(b) = t.before(&wall) else { panic!("the wall hidden") };
+    t.drawn(&wall, b, 1024, true);
+    assert!(matches!(t.before(&far), Verdict::Hidden));
+    t.end();
+    assert_eq!(memory.load(Ordering::Relaxed), 0);
+    // Not depth-tested: never tried.
+    let mut t = BandTest::begin(&mut coarse, Some(&memory), false, band, 64);
+    assert!(matches!(t.before(&far), Verdict::Draw(None)));
+}
