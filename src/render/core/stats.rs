@@ -39,7 +39,9 @@ pub struct Stats {
     pub pixels_shaded: u64,
     /// Pixels written to the frame.
     pub pixels_written: u64,
-    /// Pixels skipped by the depth test or coverage before shading.
+    /// Pixels skipped by the depth test or coverage before shading; not those of polygons the z-buffer's
+    /// coarse depth skipped whole ([`RenderOptions::coarse_depth`](crate::render::RenderOptions::coarse_depth)),
+    /// so with it the count depends on the thread count and on the frames before.
     pub pixels_rejected: u64,
     /// Milliseconds spent culling and transforming vertices.
     pub ms_transform: f64,

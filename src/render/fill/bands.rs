@@ -4,7 +4,7 @@
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::antialias::{self, Target};
-use super::occlusion::{BandTest, CoarseDepth, Verdict};
+use super::coarse_depth::{BandTest, CoarseDepth, Verdict};
 use super::polygon_spans::{PolygonSpans, walk_rows};
 use super::row::{BandPixels, FLAT, RowRun, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
@@ -127,8 +127,8 @@ pub(crate) struct FillContext<'a> {
     /// one ([`Resolve`](crate::render::core::band::Resolve)).
     pub(crate) resolve: Option<BandResolve>,
     /// What each band remembers of the coarse depth test from the frames before
-    /// ([`BandTest`](super::occlusion::BandTest)).
-    pub(crate) occlusion: &'a [AtomicU8],
+    /// ([`BandTest`](super::coarse_depth::BandTest)).
+    pub(crate) coarse_depth: &'a [AtomicU8],
 }
 
 impl<'a> FillContext<'a> {
@@ -241,16 +241,19 @@ impl<'a> FillContext<'a> {
             std::hint::black_box(touched);
         }
         let tested = self.visibility == Visibility::DepthTest && self.options.coarse_depth;
-        let mut occlusion = BandTest::begin(coarse, self.occlusion.get(index), tested, band_rows, w);
+        let mut occlusion = BandTest::begin(coarse, self.coarse_depth.get(index), tested, band_rows, w);
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
-            // A polygon drawn from its corners may be hidden whole (small triangles are not tried).
-            let corners = if p.small() { None } else { self.screens.of(p) };
-            let reach = match corners.map(|v| occlusion.before(v)) {
-                Some(Verdict::Hidden) => continue,
-                Some(Verdict::Draw(b)) => b,
-                None => None,
-            };
+            // A polygon drawn from its corners may be hidden whole (small triangles have none: not tried).
+            let mut reach = None;
+            if occlusion.on()
+                && let Some(v) = self.screens.of(p)
+            {
+                match occlusion.before(v) {
+                    Verdict::Hidden => continue,
+                    Verdict::Draw(b) => reach = b,
+                }
+            }
             let shading = self.shading(p);
             let prepared = shading.prepare();
             if let Some(tri) = self.screens.small(p) {

@@ -13,8 +13,8 @@
 
 pub(crate) mod antialias;
 pub(crate) mod bands;
+mod coarse_depth;
 pub(crate) mod coverage;
-mod occlusion;
 pub(crate) mod plane;
 mod polygon_spans;
 pub(crate) mod row;
@@ -32,6 +32,7 @@ pub(crate) mod span_lanes;
 pub(crate) mod texel;
 
 use std::ops::Range;
+use std::sync::atomic::AtomicU8;
 
 use rayon::iter::{IndexedParallelIterator, IntoParallelRefMutIterator, ParallelIterator};
 
@@ -45,8 +46,6 @@ use crate::render::core::options::{Method, RenderOptions};
 use crate::render::core::samples::SamplePattern;
 
 /// Orders of at least this many polygons are binned in pieces on several threads.
-use std::sync::atomic::AtomicU8;
-
 const PARALLEL_BINNING: usize = 1024;
 
 /// The fill's binning scratch, kept from frame to frame.
@@ -59,8 +58,8 @@ pub(crate) struct Fill {
     bins: Vec<Vec<Vec<u32>>>,
     /// Each band's time in the last frame drawn on several threads: the order bands are handed out in.
     costs: BandCosts,
-    /// What each band remembers of the coarse depth test ([`occlusion`]), for a layout of as many bands.
-    occlusion: Vec<AtomicU8>,
+    /// What each band remembers of the coarse depth test ([`coarse_depth`]), for a layout of as many bands.
+    coarse_depth: Vec<AtomicU8>,
 }
 
 /// What the geometry and ordering stages left for the fill.
@@ -92,8 +91,8 @@ impl Fill {
         let mut costs = std::mem::take(&mut self.costs);
         let chunk = self.bin(layout, polygons, ordered);
         let bands = layout.height.div_ceil(layout.rows_per_band.max(1));
-        if self.occlusion.len() != bands {
-            self.occlusion = (0..bands).map(|_| AtomicU8::new(0)).collect();
+        if self.coarse_depth.len() != bands {
+            self.coarse_depth = (0..bands).map(|_| AtomicU8::new(0)).collect();
         }
         let runs = self.runs(polygons, ordered, chunk);
         let ctx = FillContext {
@@ -112,7 +111,7 @@ impl Fill {
             pattern: options.antialias.coverage_samples().and_then(SamplePattern::standard),
             tall,
             resolve: resolve.as_ref().map(|r| r.band),
-            occlusion: &self.occlusion,
+            coarse_depth: &self.coarse_depth,
         };
         let (out, shape) = match resolve {
             Some(Resolve { out, rows, band }) => (Some(out), (band.width, rows)),

@@ -47,13 +47,29 @@ fn floors_rise_only_under_what_a_polygon_covers_whole() {
     assert!(!c.hidden(&b, z), "within the margin");
     let (z, b) = reach(&polygon(&[(2.0, 102.0), (50.0, 103.0), (4.0, 120.0)], 0.4), band, 80).expect("in");
     assert!(!c.hidden(&b, z), "past the covered tiles");
-    // A cut-out's corners (or any non-convex outline) cover nothing.
+    // A polygon whose depth varies is held an eighth of its range nearer: hidden at 0.3-0.45 (up to 0.469),
+    // not at 0.1-0.48 (up to 0.528, though its corners are all behind the floor).
+    let sloped = |near: f32, far: f32| {
+        let mut p = polygon(&[(2.0, 102.0), (30.0, 103.0), (4.0, 120.0)], far);
+        p[1].attrs[0] = near;
+        reach(&p, band, 80).expect("in the band")
+    };
+    let ((z, b), (z2, b2)) = (sloped(0.45, 0.3), sloped(0.48, 0.1));
+    assert!(c.hidden(&b, z) && !c.hidden(&b2, z2), "{z} {z2}");
+    // A non-convex outline covers nothing.
     let mut d = CoarseDepth::default();
     d.begin(80, 24);
     let dart = polygon(&[(0.0, 90.0), (79.0, 90.0), (10.0, 110.0), (0.0, 130.0)], 0.5);
     let (_, b) = reach(&dart, band, 80).expect("in the band");
     d.cover(&dart, band, &b);
+    // Nor does a polygon with a corner repeated, which would hide a turn from the convexity check.
+    let doubled = polygon(&[(-10.0, 90.0), (90.0, 90.0), (90.0, 90.0), (90.0, 140.0), (-10.0, 140.0)], 0.5);
+    let (_, b) = reach(&doubled, band, 80).expect("in the band");
+    d.cover(&doubled, band, &b);
     assert!(d.floor.iter().all(|&f| f == f32::NEG_INFINITY), "{:?}", d.floor);
+    let square = polygon(&[(-10.0, 90.0), (90.0, 90.0), (90.0, 140.0), (-10.0, 140.0)], 0.5);
+    d.cover(&square, band, &reach(&square, band, 80).expect("in the band").1);
+    assert!(d.floor.iter().all(|&f| f > 0.499), "{:?}", d.floor);
 }
 
 #[test]
