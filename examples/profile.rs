@@ -4,7 +4,8 @@
 //!
 //! `cargo run --release --example profile -- [threads,...] [width] [height] [rounds] [course,...]`
 //! (defaults: `1,2`, 1280x720, 3 rounds, every course). Prints a Markdown table per thread count (the means
-//! over the frames of each course) and, with `-v` anywhere, a line per frame. The fill's cost per pixel
+//! over the frames of each course) and, with `-v` anywhere, a line per frame; `--no-coarse-depth` anywhere
+//! draws without the z-buffer's coarse depth (`RenderOptions::coarse_depth`), to see what it saves. The fill's cost per pixel
 //! is the fill's wall time over the pixels it shaded: on one thread, the cost of a pixel on one core.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -28,7 +29,8 @@ struct Figures([f64; 7]);
 
 fn main() {
     let verbose = std::env::args().any(|a| a == "-v");
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "-v").collect();
+    let coarse_depth = !std::env::args().any(|a| a == "--no-coarse-depth");
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "-v" && a != "--no-coarse-depth").collect();
     let threads: Vec<usize> =
         args.first().map_or(vec![1, 2], |a| a.split(',').map(|t| t.parse().expect("thread count")).collect());
     let arg = |i: usize, default: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(default);
@@ -52,7 +54,7 @@ fn main() {
                 let camera = camera_for(&replay.world, View::ChaseNear);
                 let instances = scene.instances(&replay.world, None);
                 let list = scene.draw_list(&instances);
-                let o = RenderOptions { threads: t, ..RenderOptions::default() };
+                let o = RenderOptions { threads: t, coarse_depth, ..RenderOptions::default() };
                 let f = measure(rounds, || r.render(&mut frame, w, h, &camera, &list, &o).unwrap());
                 if verbose {
                     let [tot, tr, cl, or, fi, px, polys] = f.0;
