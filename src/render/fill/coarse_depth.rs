@@ -152,17 +152,11 @@ fn margin(least: f32, greatest: f32, largest: f32) -> f32 {
 #[inline]
 pub(crate) fn reach(verts: &[ScreenVertex], band: (i32, i32), width: usize) -> Option<(f32, Box2)> {
     let first = verts.first()?;
+    let (low, z, largest) = depths(verts)?;
     let (mut x0, mut x1, mut y0, mut y1) = (first.x.0, first.x.0, first.y.0, first.y.0);
-    let (mut z, mut low, mut largest) = (f32::NEG_INFINITY, f32::INFINITY, 0.0f32);
     for v in verts {
         (x0, x1) = (x0.min(v.x.0), x1.max(v.x.0));
         (y0, y1) = (y0.min(v.y.0), y1.max(v.y.0));
-        let d = v.attrs[0];
-        if !d.is_finite() {
-            return None;
-        }
-        (z, low) = (z.max(d), low.min(d));
-        largest = largest.max(d.abs());
     }
     // Whole pixels around the corners, one more each way (raw units are sixteenths).
     let pixel = |raw: i32, grow: i32| i64::from(raw >> 4) + i64::from(grow);
@@ -273,16 +267,23 @@ impl CoarseDepth {
 /// a 2^-10 part of the largest magnitude, far above the rounding: such a tile's rows are spans of at least
 /// 16 pixels, which extrapolate nothing), `None` when a corner's depth is NaN or infinite.
 fn least_depth(verts: &[ScreenVertex]) -> Option<f32> {
-    let (mut least, mut largest) = (f32::INFINITY, 0.0f32);
+    let (least, _, largest) = depths(verts)?;
+    Some(least - largest * (1.0 / 1024.0))
+}
+
+/// The least and greatest of polygon `verts`' corner depths and their largest magnitude; `None` when one
+/// is NaN or infinite.
+#[inline]
+fn depths(verts: &[ScreenVertex]) -> Option<(f32, f32, f32)> {
+    let (mut least, mut greatest, mut largest) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
     for v in verts {
         let d = v.attrs[0];
         if !d.is_finite() {
             return None;
         }
-        least = least.min(d);
-        largest = largest.max(d.abs());
+        (least, greatest, largest) = (least.min(d), greatest.max(d), largest.max(d.abs()));
     }
-    Some(least - largest * (1.0 / 1024.0))
+    Some((least, greatest, largest))
 }
 
 /// A convex polygon's edges as half-planes, in pixels.
