@@ -36,12 +36,14 @@ pub struct Stats {
     /// Polygons not submitted because a coarser model was chosen (against all-close).
     pub polygons_saved_by_lod: u64,
     /// Pixels whose colour was computed.
+    ///
+    /// None of the three pixel counts counts the polygons the z-buffer's coarse depth skipped whole
+    /// ([`RenderOptions::coarse_depth`](crate::render::RenderOptions::coarse_depth)), hidden by polygons
+    /// drawn before or after them: with it they depend on the thread count and on the frames before.
     pub pixels_shaded: u64,
     /// Pixels written to the frame.
     pub pixels_written: u64,
-    /// Pixels skipped by the depth test or coverage before shading; not those of polygons the z-buffer's
-    /// coarse depth skipped whole ([`RenderOptions::coarse_depth`](crate::render::RenderOptions::coarse_depth)),
-    /// so with it the count depends on the thread count and on the frames before.
+    /// Pixels skipped by the depth test or coverage before shading.
     pub pixels_rejected: u64,
     /// Milliseconds spent culling and transforming vertices.
     pub ms_transform: f64,

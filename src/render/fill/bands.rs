@@ -4,7 +4,7 @@
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::antialias::{self, Target};
-use super::coarse_depth::{BandTest, CoarseDepth, Verdict};
+use super::coarse_depth::{BandTest, CoarseDepth};
 use super::polygon_spans::{PolygonSpans, walk_rows};
 use super::row::{BandPixels, FLAT, RowRun, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
@@ -242,17 +242,18 @@ impl<'a> FillContext<'a> {
         }
         let tested = self.visibility == Visibility::DepthTest && self.options.coarse_depth;
         let mut occlusion = BandTest::begin(coarse, self.coarse_depth.get(index), tested, band_rows, w);
+        // Every floor first, from the whole bin's solid polygons: one is skipped behind a polygon drawn after
+        // it as well as before.
+        let solid = |p: &&DrawPolygon| p.alpha_cutoff().is_none() && p.door().is_none();
+        occlusion.cover_all(bin().filter(solid).filter_map(|p| self.screens.of(p)));
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
             // A polygon drawn from its corners may be hidden whole (small triangles have none: not tried).
-            let mut reach = None;
             if occlusion.on()
                 && let Some(v) = self.screens.of(p)
+                && occlusion.hidden(v)
             {
-                match occlusion.before(v) {
-                    Verdict::Hidden => continue,
-                    Verdict::Draw(b) => reach = b,
-                }
+                continue;
             }
             let shading = self.shading(p);
             let prepared = shading.prepare();
@@ -268,7 +269,6 @@ impl<'a> FillContext<'a> {
             }
             let Some(verts) = self.screens.of(p) else { continue };
             let c = self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, (&mut rows, &mut *runs));
-            occlusion.drawn(verts, reach, c.written, p.alpha_cutoff().is_none() && p.door().is_none());
             add(c);
         }
         occlusion.end();

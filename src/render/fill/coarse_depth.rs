@@ -2,29 +2,31 @@
 //! depths stored in it, so that a polygon nearer than no floor it overlaps is skipped whole, without
 //! walking its edges or testing its pixels.
 //!
-//! Why: on the city's frames half the depth-tested pixels fail the test (buildings drawn after what they
-//! hide), and most of those belong to polygons of which no pixel passes in the band; each of them still
-//! costs the walk of its edges and a depth test per chunk.
+//! Why: on the city's frames a third of the depth-tested pixels fail the test and many more are drawn over
+//! (buildings drawn after and before what they hide), most of them of polygons of which no pixel is left in
+//! the band at its end; each of them still costs the walk of its edges and a depth test per chunk.
 //!
-//! **Exactness.** A pixel is drawn only when its depth is strictly greater (nearer) than the stored one,
-//! and a stored depth only ever grows: it starts at `-inf` and a pixel is written only with a greater
-//! value. So a floor, once true, stays true however stale it is, and a polygon whose greatest depth is at
-//! most the floor of every tile its pixels can fall in would have failed the test at every pixel: skipping
-//! it changes no pixel, no depth and no colour (only the count of rejected pixels, which never counts it).
-//! A polygon's depth is affine on the screen, so over its pixels it is at most its corners' greatest; the
-//! fill's interpolation rounds, and a span narrower than a pixel extrapolates its edges' rounding by up to
-//! 64 times its width, so the bound is raised by a margin ([`margin`]) well above both. Its pixels lie in
-//! the box of its corners widened by a pixel each way (which holds the rotated grid's shifted samples too).
+//! **Floors** come from the band's whole bin before its first polygon is drawn: a convex polygon that
+//! writes every pixel it covers and passes (no alpha cutoff, no screen door) raises the floor of each tile
+//! it covers whole (by [`INSIDE`] pixels) to its least corner depth less a margin. Small triangles and
+//! cut-outs raise none, which leaves floors lower than they could be but never wrong.
+//!
+//! **Exactness.** A pixel is written only when its depth is strictly greater (nearer) than the stored
+//! one, so a band's final depth at a pixel is the greatest any polygon gives it, and its colour that of the
+//! first polygon to give it: a polygon below that greatest at each of its pixels changes neither, and
+//! skipping it changes no pixel, no depth and no colour. A tile's floor was raised by a polygon that covers
+//! it whole and writes every pixel it passes, and that polygon is drawn (its floor is below its own
+//! greatest depth, so it is never skipped itself), before or after any other: every pixel of the tile ends
+//! at a depth at least the floor. So a polygon whose greatest depth is at most the floor of every tile its
+//! pixels can fall in is below the final depth everywhere, and is skipped. Its depth is affine on the
+//! screen, so over its pixels it is at most its corners' greatest; the fill's interpolation rounds, and a
+//! span narrower than a pixel extrapolates its edges' rounding by up to 64 times its width, so the bound is
+//! raised by a margin ([`margin`]) well above both. Its pixels lie in the box of its corners widened by a
+//! pixel each way (which holds the rotated grid's shifted samples too).
 //! A NaN or infinite corner depth is never skipped.
 //!
-//! **Floors** are raised, never recomputed from the depths: a convex polygon that writes every pixel it
-//! covers and passes (no alpha cutoff, no screen door) leaves every pixel of a tile it covers whole (by
-//! [`INSIDE`] pixels) at its depth or a greater one, so the tile's floor may rise to its least corner depth
-//! less the margin. Small triangles and cut-outs raise none, which leaves floors lower than they could be
-//! but never wrong.
-//!
-//! `pixels_rejected` in the frame's statistics does not count the pixels of a polygon skipped whole, so it
-//! depends on the band layout (the thread count) and on which bands were tried.
+//! The frame's statistics do not count a polygon skipped whole (its pixels neither shaded, written nor
+//! rejected), so they depend on the band layout (the thread count) and on which bands were tried.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -37,14 +39,6 @@ const REST: u8 = 7;
 /// The test pays in a band where it hides at least one polygon in this many tried: a hidden polygon saves
 /// the walk of its edges and its chunks' depth tests, some ten times what trying one costs.
 const PAYS: u32 = 16;
-
-/// What the coarse depth says of a polygon about to be drawn.
-pub(crate) enum Verdict {
-    /// Every pixel would fail the depth test: skip it.
-    Hidden,
-    /// Draw it; with its box when the band is tested (for [`BandTest::drawn`]).
-    Draw(Option<Box2>),
-}
 
 /// One band's use of the coarse depth while its polygons are drawn, and its memory from frame to frame.
 ///
@@ -88,31 +82,27 @@ impl<'s> BandTest<'s> {
         self.on
     }
 
-    /// The verdict on polygon `verts`.
-    #[inline]
-    pub(crate) fn before(&mut self, verts: &[ScreenVertex]) -> Verdict {
+    /// Raises the floors by `polygons` (their corners), the band's polygons that write every pixel they
+    /// cover and pass (no alpha cutoff, no screen door), before any polygon of the band is drawn.
+    pub(crate) fn cover_all<'v>(&mut self, polygons: impl Iterator<Item = &'v [ScreenVertex]>) {
         if !self.on {
-            return Verdict::Draw(None);
+            return;
         }
-        let Some((z, b)) = reach(verts, self.band, self.coarse.width) else { return Verdict::Draw(None) };
-        self.tried += 1;
-        if self.coarse.hidden(&b, z) {
-            self.hidden += 1;
-            return Verdict::Hidden;
+        for verts in polygons {
+            if let Some((_, b)) = reach(verts, self.band, self.coarse.width) {
+                self.coarse.cover(verts, self.band, &b);
+            }
         }
-        Verdict::Draw(Some(b))
     }
 
-    /// Records polygon `verts` of box `b` drawn, having written `written` pixels: the floors of the tiles
-    /// it covers rise when it is `solid`, writing every pixel that passes (no alpha cutoff, no screen door).
+    /// Whether polygon `verts` is hidden whole, by the floors of every tile under it: skip it.
     #[inline]
-    pub(crate) fn drawn(&mut self, verts: &[ScreenVertex], b: Option<Box2>, written: u64, solid: bool) {
-        if let Some(b) = b
-            && written > 0
-            && solid
-        {
-            self.coarse.cover(verts, self.band, &b);
-        }
+    pub(crate) fn hidden(&mut self, verts: &[ScreenVertex]) -> bool {
+        let Some((z, b)) = reach(verts, self.band, self.coarse.width).filter(|_| self.on) else { return false };
+        self.tried += 1;
+        let hidden = self.coarse.hidden(&b, z);
+        self.hidden += u32::from(hidden);
+        hidden
     }
 
     /// Ends the band: it rests when tested and it hid fewer than one polygon in [`PAYS`] tried.
@@ -222,10 +212,10 @@ impl CoarseDepth {
         true
     }
 
-    /// Raises the floors of the tiles polygon `verts` covers whole to its least depth (less a margin),
-    /// after it was drawn on band rows `band` (frame rows) with box `b`: every pixel of such a tile now holds
-    /// either the polygon's depth or a greater one that made it fail the test. Only for a convex polygon that
-    /// writes every pixel it covers and passes (no alpha cutoff, no screen door: the caller checks).
+    /// Raises the floors of the tiles polygon `verts` covers whole to its least depth (less a margin), for
+    /// a polygon of band rows `band` (frame rows) with box `b` that will be drawn: every pixel of such a tile
+    /// will end at the polygon's depth or a greater one. Only for a convex polygon that writes every pixel it
+    /// covers and passes (no alpha cutoff, no screen door: the caller checks).
     pub(crate) fn cover(&mut self, verts: &[ScreenVertex], band: (i32, i32), b: &Box2) {
         // The tiles wholly inside the box, the only ones the polygon can cover.
         let ty = (b.rows.0.div_ceil(TILE_ROWS), (b.rows.1 / TILE_ROWS + usize::from(b.rows.1 == self.rows)));
