@@ -249,11 +249,13 @@ impl<'a> FillContext<'a> {
         let mut polys = bin().peekable();
         while let Some(p) = polys.next() {
             // A polygon drawn from its corners may be hidden whole (small triangles have none: not tried).
+            // Drawn on the band's rows, less those at its top and bottom where every tile under it hides it.
+            let mut drawn_rows = band_rows;
             if occlusion.on()
                 && let Some(v) = self.screens.of(p)
-                && occlusion.hidden(v)
             {
-                continue;
+                let Some(r) = occlusion.rows(v) else { continue };
+                drawn_rows = r;
             }
             let shading = self.shading(p);
             let prepared = shading.prepare();
@@ -268,7 +270,7 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            let c = self.fill_corners((verts, p.winding()), (&shading, &prepared), band_rows, (&mut rows, &mut *runs));
+            let c = self.fill_corners((verts, p.winding()), (&shading, &prepared), drawn_rows, (&mut rows, &mut *runs));
             add(c);
         }
         occlusion.end();

@@ -95,14 +95,19 @@ impl<'s> BandTest<'s> {
         }
     }
 
-    /// Whether polygon `verts` is hidden whole, by the floors of every tile under it: skip it.
+    /// The frame rows polygon `verts` is drawn on: the band's, less the rows of tiles at its top and
+    /// bottom whose floors hide it wherever it can fall in them; `None` when they hide it whole: skip it.
     #[inline]
-    pub(crate) fn hidden(&mut self, verts: &[ScreenVertex]) -> bool {
-        let Some((z, b)) = reach(verts, self.band, self.coarse.width).filter(|_| self.on) else { return false };
+    pub(crate) fn rows(&mut self, verts: &[ScreenVertex]) -> Option<(i32, i32)> {
+        let Some((z, b)) = reach(verts, self.band, self.coarse.width).filter(|_| self.on) else {
+            return Some(self.band);
+        };
         self.tried += 1;
-        let hidden = self.coarse.hidden(&b, z);
-        self.hidden += u32::from(hidden);
-        hidden
+        let Some((r0, r1)) = self.coarse.unhidden_rows(&b, z) else {
+            self.hidden += 1;
+            return None;
+        };
+        Some(((self.band.0 + r0 as i32).max(self.band.0), (self.band.0 + r1 as i32).min(self.band.1)))
     }
 
     /// Ends the band: it rests when tested and it hid fewer than one polygon in [`PAYS`] tried.
@@ -194,22 +199,30 @@ impl CoarseDepth {
         (ty, tx)
     }
 
-    /// Whether every pixel in box `b` holds a depth at least `z` (by the floors): then a polygon of
-    /// greatest depth `z` inside the box passes the test nowhere.
+    /// The band rows `r0..r1` outside of which every pixel in box `b` holds a depth at least `z` (by the
+    /// floors), rows of tiles at a time; `None` when every pixel in the box does: then a polygon of greatest
+    /// depth `z` inside the box passes the test nowhere, and one drawn on rows `r0..r1` nowhere else.
     #[inline]
-    pub(crate) fn hidden(&self, b: &Box2, z: f32) -> bool {
+    pub(crate) fn unhidden_rows(&self, b: &Box2, z: f32) -> Option<(usize, usize)> {
+        let whole = Some((0, self.rows));
         // `z` is finite (`reach`), and so is every floor raised.
         if z > self.top {
-            return false;
+            return whole;
         }
         let (ty, tx) = self.tiles(b);
-        for y in ty.0..ty.1 {
-            let Some(floors) = self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1) else { return false };
-            if !floors.iter().all(|&f| z <= f) {
-                return false;
-            }
-        }
-        true
+        let hides = |y: usize| {
+            self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1).is_some_and(|f| f.iter().all(|&f| z <= f))
+        };
+        let first = (ty.0..ty.1).find(|&y| !hides(y))?;
+        let last = (first..ty.1).rfind(|&y| !hides(y)).unwrap_or(first);
+        Some((first * TILE_ROWS, ((last + 1) * TILE_ROWS).min(self.rows)))
+    }
+
+    /// Whether every pixel in box `b` holds a depth at least `z` (by the floors): then a polygon of greatest
+    /// depth `z` inside the box passes the test nowhere.
+    #[cfg(test)]
+    pub(crate) fn hidden(&self, b: &Box2, z: f32) -> bool {
+        self.unhidden_rows(b, z).is_none()
     }
 
     /// Raises the floors of the tiles polygon `verts` covers whole to its least depth (less a margin), for

@@ -82,7 +82,7 @@ fn a_band_that_hides_little_rests_and_is_tried_again() {
     // A frame where nothing covers a tile: every polygon tried, none hidden.
     let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
     for _ in 0..20 {
-        assert!(!t.hidden(&far));
+        assert!(t.rows(&far).is_some());
     }
     t.end();
     assert_eq!(memory.load(Ordering::Relaxed), REST);
@@ -90,7 +90,7 @@ fn a_band_that_hides_little_rests_and_is_tried_again() {
         let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
         assert!(!t.on());
         t.cover_all([wall.as_slice()].into_iter());
-        assert!(!t.hidden(&far), "resting");
+        assert_eq!(t.rows(&far), Some(band), "resting");
         t.end();
         assert_eq!(memory.load(Ordering::Relaxed), rest);
     }
@@ -98,12 +98,34 @@ fn a_band_that_hides_little_rests_and_is_tried_again() {
     // the two the bin holds first, never the wall itself; the band keeps on.
     let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
     t.cover_all([wall.as_slice()].into_iter());
-    assert!(t.hidden(&far));
-    assert!(!t.hidden(&wall));
+    assert_eq!(t.rows(&far), None);
+    assert_eq!(t.rows(&wall), Some(band));
     t.end();
     assert_eq!(memory.load(Ordering::Relaxed), 0);
     // Not depth-tested: never tried.
     let mut t = BandTest::begin(&mut coarse, Some(&memory), false, band, 64);
     t.cover_all([wall.as_slice()].into_iter());
-    assert!(!t.hidden(&far));
+    assert!(t.rows(&far).is_some());
+}
+
+#[test]
+fn a_polygon_is_drawn_only_on_the_rows_of_tiles_that_do_not_hide_it() {
+    let mut coarse = CoarseDepth::default();
+    let band = (32, 64);
+    // A wall over the band's first two rows of tiles (frame rows 32..48), the whole width.
+    let wall = polygon(&[(-10.0, 20.0), (74.0, 20.0), (74.0, 49.6), (-10.0, 49.6)], 0.5);
+    let mut t = BandTest::begin(&mut coarse, None, true, band, 64);
+    t.cover_all([wall.as_slice()].into_iter());
+    // Behind the wall and below it: drawn on the last two rows of tiles only.
+    let far = polygon(&[(4.0, 30.0), (40.0, 30.0), (40.0, 60.0), (4.0, 60.0)], 0.1);
+    assert_eq!(t.rows(&far), Some((48, 64)));
+    // Behind it and inside its tiles: hidden whole; in front of it: every row.
+    assert_eq!(t.rows(&polygon(&[(4.0, 33.0), (40.0, 33.0), (40.0, 45.0)], 0.1)), None);
+    assert_eq!(t.rows(&polygon(&[(4.0, 30.0), (40.0, 30.0), (40.0, 60.0)], 0.9)), Some(band));
+    // A wall over the middle rows of tiles only hides nothing of a polygon across all four.
+    let mut coarse = CoarseDepth::default();
+    let middle = polygon(&[(-10.0, 38.0), (74.0, 38.0), (74.0, 58.0), (-10.0, 58.0)], 0.5);
+    let mut t = BandTest::begin(&mut coarse, None, true, band, 64);
+    t.cover_all([middle.as_slice()].into_iter());
+    assert_eq!(t.rows(&far), Some(band));
 }
