@@ -839,8 +839,10 @@ fn many_small_objects_are_drawn_alike_by_every_thread_count() {
                     let mut frame = vec![0u32; w * h];
                     let s =
                         r.render(&mut frame, w, h, &camera, &list, &RenderOptions { threads, ..opts(method) }).unwrap();
-                    let counts =
-                        [s.objects_culled, s.polygons_drawn, s.lod_close, s.lod_mid, s.lod_long, s.pixels_written];
+                    // The z-buffer's pixel counts leave out what its coarse depth skipped, which depends on
+                    // the bands (`Stats::pixels_shaded`); its frames must still be the same.
+                    let written = if method == Method::ZBuffer { 0 } else { s.pixels_written };
+                    let counts = [s.objects_culled, s.polygons_drawn, s.lod_close, s.lod_mid, s.lod_long, written];
                     (frame, counts)
                 })
                 .collect();

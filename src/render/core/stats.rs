@@ -37,9 +37,10 @@ pub struct Stats {
     pub polygons_saved_by_lod: u64,
     /// Pixels whose colour was computed.
     ///
-    /// None of the three pixel counts counts the polygons the z-buffer's coarse depth skipped whole
-    /// ([`RenderOptions::coarse_depth`](crate::render::RenderOptions::coarse_depth)), hidden by polygons
-    /// drawn before or after them: with it they depend on the thread count and on the frames before.
+    /// None of the three pixel counts counts what the z-buffer's coarse depth skipped
+    /// ([`RenderOptions::coarse_depth`](crate::render::RenderOptions::coarse_depth)): polygons hidden whole
+    /// by polygons drawn before or after them, and a polygon's pixels in tiles that hide it. With it they
+    /// depend on the thread count and on the frames before.
     pub pixels_shaded: u64,
     /// Pixels written to the frame.
     pub pixels_written: u64,

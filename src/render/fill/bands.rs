@@ -4,7 +4,7 @@
 //! polygon's vertices, a row's pixels do not depend on which band drew it.
 
 use super::antialias::{self, Target};
-use super::coarse_depth::{BandTest, CoarseDepth};
+use super::coarse_depth::{BandTest, Behind, CoarseDepth};
 use super::polygon_spans::{PolygonSpans, walk_rows};
 use super::row::{BandPixels, FLAT, RowRun, Run, SpanCounts, Visibility};
 use super::samples::SampleStore;
@@ -250,12 +250,12 @@ impl<'a> FillContext<'a> {
         while let Some(p) = polys.next() {
             // A polygon drawn from its corners may be hidden whole (small triangles have none: not tried).
             // Drawn on the band's rows, less those at its top and bottom where every tile under it hides it.
-            let mut drawn_rows = band_rows;
+            let (mut drawn_rows, mut behind) = (band_rows, None);
             if occlusion.on()
                 && let Some(v) = self.screens.of(p)
             {
                 let Some(r) = occlusion.rows(v) else { continue };
-                drawn_rows = r;
+                (drawn_rows, behind) = r;
             }
             let shading = self.shading(p);
             let prepared = shading.prepare();
@@ -270,30 +270,42 @@ impl<'a> FillContext<'a> {
                 continue;
             }
             let Some(verts) = self.screens.of(p) else { continue };
-            let c = self.fill_corners((verts, p.winding()), (&shading, &prepared), drawn_rows, (&mut rows, &mut *runs));
+            let c = self.fill_corners(
+                (verts, p.winding()),
+                (&shading, &prepared),
+                (drawn_rows, behind),
+                (&mut rows, &mut *runs),
+            );
             add(c);
         }
         occlusion.end();
         total
     }
 
-    /// Draws a polygon with corners `verts` on the band's rows `band_rows`: a fast path from the polygon's
-    /// own level by one loop chosen for all its spans, any other a span at a time.
+    /// Draws a polygon with corners `verts` on the band's rows `band_rows`, skipping what the coarse depth's
+    /// floors it may lie behind hide (`behind`): a fast path from the polygon's own level by one loop chosen
+    /// for all its spans, any other a span at a time.
     fn fill_corners(
         &self,
         (verts, winding): (&[ScreenVertex], Winding),
         (shading, prepared): (&Shading<'_>, &Prepared<'_>),
-        band_rows: (i32, i32),
+        (band_rows, behind): ((i32, i32), Option<Behind<'_>>),
         (rows, runs): (&mut BandPixels<'_>, &mut Vec<RowRun>),
     ) -> SpanCounts {
         let width = self.width as i32;
         let tall = self.tall.then_some(ROW_SHIFTS);
         if let Some((source, alpha)) = prepared.fast().filter(|_| shading.mip != MipMode::Span) {
-            let spans = PolygonSpans { verts, winding, band: band_rows, width, tall, rows, runs };
+            let spans = PolygonSpans { verts, winding, band: band_rows, width, tall, rows, runs, behind };
             return dispatch(source, alpha, self.visibility, spans);
         }
         let mut total = SpanCounts::default();
-        let draw = |span: &Span| total += draw_prepared(span, shading, prepared, &mut rows.row(span.y));
+        let draw = |span: &Span| {
+            let hidden =
+                behind.is_some_and(|b| b.columns(span.y, (span.x0.max(0) as usize, span.x1.max(0) as usize)).is_none());
+            if !hidden {
+                total += draw_prepared(span, shading, prepared, &mut rows.row(span.y));
+            }
+        };
         match prepared.fast() {
             None => walk_rows::<ATTRS>((verts, winding), band_rows, width, tall, draw),
             // Each attribute is interpolated on its own, so fewer of them change none of the others' bits.

@@ -11,22 +11,27 @@
 //! it covers whole (by [`INSIDE`] pixels) to its least corner depth less a margin. Small triangles and
 //! cut-outs raise none, which leaves floors lower than they could be but never wrong.
 //!
+//! **What is skipped**, a tile at a time: a polygon whose tiles all hide it, whole; the rows of tiles at its
+//! top and bottom that hide it ([`BandTest::rows`]); and, when some tile between them hides it too, each
+//! span's pixels in such tiles ([`Behind::columns`]): a span whole, else the chunks before and after.
+//!
 //! **Exactness.** A pixel is written only when its depth is strictly greater (nearer) than the stored
 //! one, so a band's final depth at a pixel is the greatest any polygon gives it, and its colour that of the
 //! first polygon to give it: a polygon below that greatest at each of its pixels changes neither, and
 //! skipping it changes no pixel, no depth and no colour. A tile's floor was raised by a polygon that covers
-//! it whole and writes every pixel it passes, and that polygon is drawn (its floor is below its own
-//! greatest depth, so it is never skipped itself), before or after any other: every pixel of the tile ends
-//! at a depth at least the floor. So a polygon whose greatest depth is at most the floor of every tile its
-//! pixels can fall in is below the final depth everywhere, and is skipped. Its depth is affine on the
+//! it whole and writes every pixel it passes, and that polygon is drawn over the whole tile (the floor it
+//! raised is below its own greatest depth, so neither it nor its pixels there are ever skipped), before or
+//! after any other: every pixel of the tile ends at a depth at least the floor. So a polygon whose greatest depth is at most the floor of every tile its
+//! pixels can fall in is below the final depth everywhere, and is skipped (and so, at a pixel in a tile
+//! whose floor is at least that depth, is the pixel). Its depth is affine on the
 //! screen, so over its pixels it is at most its corners' greatest; the fill's interpolation rounds, and a
 //! span narrower than a pixel extrapolates its edges' rounding by up to 64 times its width, so the bound is
 //! raised by a margin ([`margin`]) well above both. Its pixels lie in the box of its corners widened by a
 //! pixel each way (which holds the rotated grid's shifted samples too).
 //! A NaN or infinite corner depth is never skipped.
 //!
-//! The frame's statistics do not count a polygon skipped whole (its pixels neither shaded, written nor
-//! rejected), so they depend on the band layout (the thread count) and on which bands were tried.
+//! The frame's statistics do not count what is skipped (its pixels neither shaded, written nor rejected),
+//! so they depend on the band layout (the thread count) and on which bands were tried.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -96,18 +101,21 @@ impl<'s> BandTest<'s> {
     }
 
     /// The frame rows polygon `verts` is drawn on: the band's, less the rows of tiles at its top and
-    /// bottom whose floors hide it wherever it can fall in them; `None` when they hide it whole: skip it.
+    /// bottom whose floors hide it wherever it can fall in them, and the floors it lies behind in some tile
+    /// between them (none when it lies behind none); `None` when they hide it whole: skip it.
     #[inline]
-    pub(crate) fn rows(&mut self, verts: &[ScreenVertex]) -> Option<(i32, i32)> {
+    pub(crate) fn rows(&mut self, verts: &[ScreenVertex]) -> Option<((i32, i32), Option<Behind<'_>>)> {
         let Some((z, b)) = reach(verts, self.band, self.coarse.width).filter(|_| self.on) else {
-            return Some(self.band);
+            return Some((self.band, None));
         };
         self.tried += 1;
-        let Some((r0, r1)) = self.coarse.unhidden_rows(&b, z) else {
+        let Some(((r0, r1), partly)) = self.coarse.unhidden_rows(&b, z) else {
             self.hidden += 1;
             return None;
         };
-        Some(((self.band.0 + r0 as i32).max(self.band.0), (self.band.0 + r1 as i32).min(self.band.1)))
+        let rows = ((self.band.0 + r0 as i32).max(self.band.0), (self.band.0 + r1 as i32).min(self.band.1));
+        let c = &*self.coarse;
+        Some((rows, partly.then_some(Behind { floor: &c.floor, tiles_x: c.tiles_x, band0: self.band.0, z })))
     }
 
     /// Ends the band: it rests when tested and it hid fewer than one polygon in [`PAYS`] tried.
@@ -116,6 +124,39 @@ impl<'s> BandTest<'s> {
             let paid = u64::from(self.hidden) * u64::from(PAYS) >= u64::from(self.tried);
             m.store(if paid { 0 } else { REST }, Ordering::Relaxed);
         }
+    }
+}
+
+/// The floors a polygon drawn on a band may lie behind, with its greatest depth: which columns of a row
+/// its pixels may pass the depth test in.
+#[derive(Clone, Copy)]
+pub(crate) struct Behind<'c> {
+    floor: &'c [f32],
+    tiles_x: usize,
+    /// The band's first frame row.
+    band0: i32,
+    /// The greatest depth the polygon gives a pixel ([`reach`]).
+    z: f32,
+}
+
+impl<'c> Behind<'c> {
+    /// Floors `floor` of a band starting at frame row `band0`, `tiles_x` tiles a row, for a polygon of
+    /// greatest depth `z`.
+    #[cfg(test)]
+    pub(crate) fn of(floor: &'c [f32], tiles_x: usize, band0: i32, z: f32) -> Self {
+        Self { floor, tiles_x, band0, z }
+    }
+
+    /// The columns `from..to` of the polygon's span `x0..x1` on frame row `y` outside of which every tile
+    /// hides it, a tile at a time; `None` when every tile under the span does: it passes the test nowhere.
+    #[inline]
+    pub(crate) fn columns(&self, y: i32, (x0, x1): (usize, usize)) -> Option<(usize, usize)> {
+        let ty = (y - self.band0).max(0) as usize / TILE_ROWS;
+        let (t0, t1) = (x0 / TILE_COLUMNS, x1.saturating_sub(1) / TILE_COLUMNS + 1);
+        let Some(row) = self.floor.get(ty * self.tiles_x + t0..ty * self.tiles_x + t1) else { return Some((x0, x1)) };
+        let first = row.iter().position(|&f| self.z > f)?;
+        let last = row.iter().rposition(|&f| self.z > f).unwrap_or(first);
+        Some((x0.max((t0 + first) * TILE_COLUMNS), x1.min((t0 + last + 1) * TILE_COLUMNS)))
     }
 }
 
@@ -200,22 +241,25 @@ impl CoarseDepth {
     }
 
     /// The band rows `r0..r1` outside of which every pixel in box `b` holds a depth at least `z` (by the
-    /// floors), rows of tiles at a time; `None` when every pixel in the box does: then a polygon of greatest
-    /// depth `z` inside the box passes the test nowhere, and one drawn on rows `r0..r1` nowhere else.
+    /// floors), rows of tiles at a time, and whether some tile between them does too; `None` when every
+    /// pixel in the box does: then a polygon of greatest depth `z` inside the box passes the test nowhere,
+    /// and one drawn on rows `r0..r1` nowhere else.
     #[inline]
-    pub(crate) fn unhidden_rows(&self, b: &Box2, z: f32) -> Option<(usize, usize)> {
-        let whole = Some((0, self.rows));
+    pub(crate) fn unhidden_rows(&self, b: &Box2, z: f32) -> Option<((usize, usize), bool)> {
         // `z` is finite (`reach`), and so is every floor raised.
         if z > self.top {
-            return whole;
+            return Some(((0, self.rows), false));
         }
         let (ty, tx) = self.tiles(b);
+        let floors = |y: usize| self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1).unwrap_or(&[]);
         let hides = |y: usize| {
-            self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1).is_some_and(|f| f.iter().all(|&f| z <= f))
+            let row = floors(y);
+            !row.is_empty() && row.iter().all(|&f| z <= f)
         };
         let first = (ty.0..ty.1).find(|&y| !hides(y))?;
         let last = (first..ty.1).rfind(|&y| !hides(y)).unwrap_or(first);
-        Some((first * TILE_ROWS, ((last + 1) * TILE_ROWS).min(self.rows)))
+        let partly = (first..=last).any(|y| floors(y).iter().any(|&f| z <= f));
+        Some(((first * TILE_ROWS, ((last + 1) * TILE_ROWS).min(self.rows)), partly))
     }
 
     /// Whether every pixel in box `b` holds a depth at least `z` (by the floors): then a polygon of greatest

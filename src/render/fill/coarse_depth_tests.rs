@@ -90,7 +90,7 @@ fn a_band_that_hides_little_rests_and_is_tried_again() {
         let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
         assert!(!t.on());
         t.cover_all([wall.as_slice()].into_iter());
-        assert_eq!(t.rows(&far), Some(band), "resting");
+        assert_eq!(t.rows(&far).map(|r| r.0), Some(band), "resting");
         t.end();
         assert_eq!(memory.load(Ordering::Relaxed), rest);
     }
@@ -98,8 +98,8 @@ fn a_band_that_hides_little_rests_and_is_tried_again() {
     // the two the bin holds first, never the wall itself; the band keeps on.
     let mut t = BandTest::begin(&mut coarse, Some(&memory), true, band, 64);
     t.cover_all([wall.as_slice()].into_iter());
-    assert_eq!(t.rows(&far), None);
-    assert_eq!(t.rows(&wall), Some(band));
+    assert_eq!(t.rows(&far).map(|r| r.0), None);
+    assert_eq!(t.rows(&wall).map(|r| r.0), Some(band));
     t.end();
     assert_eq!(memory.load(Ordering::Relaxed), 0);
     // Not depth-tested: never tried.
@@ -118,14 +118,20 @@ fn a_polygon_is_drawn_only_on_the_rows_of_tiles_that_do_not_hide_it() {
     t.cover_all([wall.as_slice()].into_iter());
     // Behind the wall and below it: drawn on the last two rows of tiles only.
     let far = polygon(&[(4.0, 30.0), (40.0, 30.0), (40.0, 60.0), (4.0, 60.0)], 0.1);
-    assert_eq!(t.rows(&far), Some((48, 64)));
+    assert!(matches!(t.rows(&far), Some(((48, 64), None))), "behind no tile of the rows drawn");
     // Behind it and inside its tiles: hidden whole; in front of it: every row.
-    assert_eq!(t.rows(&polygon(&[(4.0, 33.0), (40.0, 33.0), (40.0, 45.0)], 0.1)), None);
-    assert_eq!(t.rows(&polygon(&[(4.0, 30.0), (40.0, 30.0), (40.0, 60.0)], 0.9)), Some(band));
-    // A wall over the middle rows of tiles only hides nothing of a polygon across all four.
+    assert!(t.rows(&polygon(&[(4.0, 33.0), (40.0, 33.0), (40.0, 45.0)], 0.1)).is_none());
+    let near = polygon(&[(4.0, 30.0), (40.0, 30.0), (40.0, 60.0)], 0.9);
+    assert!(matches!(t.rows(&near), Some((rows, None)) if rows == band), "in front of every floor");
+    // A wall over the left two tiles of the middle rows of tiles hides no row of a polygon across all
+    // four, only its spans' pixels in those tiles.
     let mut coarse = CoarseDepth::default();
-    let middle = polygon(&[(-10.0, 38.0), (74.0, 38.0), (74.0, 58.0), (-10.0, 58.0)], 0.5);
+    let left = polygon(&[(-10.0, 38.0), (33.6, 38.0), (33.6, 58.0), (-10.0, 58.0)], 0.5);
     let mut t = BandTest::begin(&mut coarse, None, true, band, 64);
-    t.cover_all([middle.as_slice()].into_iter());
-    assert_eq!(t.rows(&far), Some(band));
+    t.cover_all([left.as_slice()].into_iter());
+    let Some((rows, Some(behind))) = t.rows(&far) else { panic!("behind the left tiles") };
+    assert_eq!(rows, band);
+    assert_eq!(behind.columns(45, (4, 40)), Some((32, 40)));
+    assert_eq!(behind.columns(45, (4, 30)), None);
+    assert_eq!(behind.columns(35, (4, 40)), Some((4, 40)), "above the wall");
 }

@@ -8,13 +8,16 @@
 //! on from one row's last chunk to the next row's first (spans of 1-3 pixels too: there they cost no more
 //! than the per-pixel loop the loop a span leaves them to, and those of 2-3 pixels less), and longer spans
 //! take the chunk loop a span at once, whose set-up stays in registers. Rows are disjoint, so drawing them
-//! out of order changes no pixel.
+//! out of order changes no pixel. A polygon partly behind the band's coarse depth skips its spans' pixels
+//! in the tiles whose floors hide it ([`Behind`]): a span whole, or the chunks before and after (a short
+//! span only after, as the loop across rows starts each span at its first pixel).
 
+use super::coarse_depth::Behind;
 use super::row::{BandPixels, FLAT, SpanCounts};
 #[cfg(target_arch = "x86_64")]
 use super::row::{LANES, OVERWRITE, RowRun, Setup, corners_in_range};
 use super::scanline::{Span, fill_spans_wound};
-use super::span_lanes::{Fill, Paint, span_run};
+use super::span_lanes::{Fill, Paint, span_run_within};
 use crate::render::core::vertex::{ScreenVertex, Winding};
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;
@@ -39,11 +42,18 @@ pub(super) struct PolygonSpans<'v, 'r, 'b> {
     pub(super) rows: &'r mut BandPixels<'b>,
     /// Where the short spans are collected (the thread's, reused polygon after polygon).
     pub(super) runs: &'r mut Vec<RowRun>,
+    /// The coarse depth's floors the polygon may lie behind: its pixels in tiles that hide it are skipped.
+    pub(super) behind: Option<Behind<'r>>,
 }
 
 impl Fill for PolygonSpans<'_, '_, '_> {
     fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-        let PolygonSpans { verts, winding, band, width, tall, rows, runs } = self;
+        let PolygonSpans { verts, winding, band, width, tall, rows, runs, behind } = self;
+        // The columns of a span not hidden by the floors, `None` when none is.
+        let within = |span: &Span| match &behind {
+            Some(b) => b.columns(span.y, (span.x0.max(0) as usize, span.x1.max(0) as usize)),
+            None => Some((0, usize::MAX)),
+        };
         #[cfg(not(target_arch = "x86_64"))]
         let _ = runs;
         let mut total = SpanCounts::default();
@@ -61,14 +71,16 @@ impl Fill for PolygonSpans<'_, '_, '_> {
             let known = SRC != FLAT && corners_in_range(verts, size);
             runs.clear();
             walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
+                let Some(columns) = within(span) else { return };
                 let n = span.x1 - span.x0;
                 if n > SHORT {
-                    total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), known);
+                    total += span_run_within::<VIS, SRC>(span, paint, &mut rows.row(span.y), known, columns);
                     return;
                 }
-                // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`.
+                // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`; a short
+                // one is cut at its end only.
                 let setup = Setup::of_span(span, size);
-                let (x0, x1) = (span.x0.max(0) as usize, span.x1.max(0) as usize);
+                let (x0, x1) = (span.x0.max(0) as usize, (span.x1.max(0) as usize).min(columns.1));
                 let in_range = SRC != FLAT && (known || setup.texels_in_range(x1.saturating_sub(x0 + 1)));
                 runs.push(RowRun { y: span.y as usize, x0, x1, in_range, setup });
             });
@@ -76,7 +88,9 @@ impl Fill for PolygonSpans<'_, '_, '_> {
             return total + across.unpack();
         }
         walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
-            total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), false)
+            if let Some(columns) = within(span) {
+                total += span_run_within::<VIS, SRC>(span, paint, &mut rows.row(span.y), false, columns);
+            }
         });
         total
     }
@@ -121,6 +135,7 @@ mod tests {
     use crate::render::core::test_rng::Lcg;
     use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
     use crate::render::core::vertex::{ATTRS, slot};
+    use crate::render::fill::coarse_depth::{TILE_COLUMNS, TILE_ROWS};
     use crate::render::fill::row::Visibility;
     use crate::render::fill::span_lanes::{Source, dispatch};
     use crate::render::fill::texel::Tex;
@@ -133,7 +148,7 @@ mod tests {
         (source, alpha, vis): (Source<'_>, Option<(f32, f32)>, Visibility),
         start: (&[u32], &[f32], &[u64]),
         (band, width, tall): ((i32, i32), usize, Option<[i32; 4]>),
-        portable: bool,
+        (portable, behind): (bool, Option<Behind<'_>>),
     ) -> (Vec<u32>, Vec<u32>, Vec<u64>, SpanCounts) {
         let (mut color, mut depth, mut coverage) = (start.0.to_vec(), start.1.to_vec(), start.2.to_vec());
         let words = width.div_ceil(64);
@@ -154,6 +169,7 @@ mod tests {
             tall,
             rows: &mut rows,
             runs: &mut runs,
+            behind,
         };
         force_portable(portable);
         let counts = dispatch(source, alpha, vis, spans);
@@ -248,14 +264,58 @@ mod tests {
                 for vis in [Visibility::Overwrite, Visibility::DepthTest, Visibility::Coverage] {
                     let start = (&color[..], &depth[..], &coverage[..]);
                     let paint = (source, alpha, vis);
-                    let fast = draw((&verts, winding), paint, start, (band, width, tall), false);
-                    let slow = draw((&verts, winding), paint, start, (band, width, tall), true);
+                    let fast = draw((&verts, winding), paint, start, (band, width, tall), (false, None));
+                    let slow = draw((&verts, winding), paint, start, (band, width, tall), (true, None));
                     assert_eq!(fast, slow, "case {case}, {vis:?}, {verts:?} in rows {band:?} of {width}");
                     cases += 1;
                 }
             }
         }
         assert!(short_spans > 5000 && cases > 10_000, "{short_spans} short spans, {cases} cases");
+    }
+
+    #[test]
+    fn pixels_in_tiles_the_floors_hide_are_skipped_and_the_rest_drawn_as_without_them() {
+        let mut rng = Lcg(29);
+        let unit = |rng: &mut Lcg| rng.next() as f32 / u32::MAX as f32;
+        let (width, band) = (100usize, (24, 56));
+        let height = (band.1 - band.0) as usize;
+        let Ok(tex) = Texture::new(16, 8, (0..128).map(|_| rng.next()).collect()) else { panic!("texture") };
+        let nearest = Tex::polygon(&tex, Sampler::default(), Filter::Nearest, 0.0);
+        let (mut skipped, mut drawn) = (0, 0);
+        for case in 0..400 {
+            let size = [6.0, 14.0, 40.0, 90.0][rng.below(4) as usize];
+            let (cx, cy) = (unit(&mut rng) * width as f32, band.0 as f32 + unit(&mut rng) * height as f32);
+            let n = 3 + rng.below(2) as usize;
+            let verts = random_polygon(&mut rng, (cx, cy, size), n, false);
+            let Some(winding) = Winding::of(&verts) else { continue };
+            let tall = (rng.below(2) == 0).then_some(ROW_SHIFTS);
+            // Floors of 4 rows of 7 tiles, some of them hiding the polygon (at or above its `z`).
+            let z = 0.5;
+            let floor: Vec<f32> = (0..28).map(|_| if rng.below(2) == 0 { z } else { f32::NEG_INFINITY }).collect();
+            let behind = Behind::of(&floor, 7, band.0, z);
+            let (color, depth) =
+                ((0..width * height).map(|_| rng.next()).collect::<Vec<_>>(), vec![-1.0; width * height]);
+            let source = [Source::Flat(rng.next()), Source::Texel(nearest)][rng.below(2) as usize];
+            let start = (&color[..], &depth[..], &[][..]);
+            let paint = (source, None, Visibility::DepthTest);
+            let whole = draw((&verts, winding), paint, start, (band, width, tall), (false, None));
+            for portable in [false, true] {
+                let cut = draw((&verts, winding), paint, start, (band, width, tall), (portable, Some(behind)));
+                for i in 0..width * height {
+                    let (x, y) = (i % width, i / width);
+                    // Where a tile hides it, a pixel is left as it was, or (before a short span's first
+                    // tile that does not) drawn as without the floors.
+                    let hides = floor[y / TILE_ROWS * 7 + x / TILE_COLUMNS] >= z;
+                    let (was, now) = ((color[i], depth[i].to_bits()), (cut.0[i], cut.1[i]));
+                    let ok = now == (whole.0[i], whole.1[i]) || hides && now == was;
+                    assert!(ok, "case {case}, pixel ({x}, {y}): {now:?}, {was:?} before, {verts:?}");
+                    (skipped, drawn) =
+                        (skipped + usize::from(now == was && now != (whole.0[i], whole.1[i])), drawn + 1);
+                }
+            }
+        }
+        assert!(skipped > 1_000 && drawn > 10 * skipped, "{skipped} of {drawn} pixels skipped");
     }
 
     /// True when every span the walk gives `verts` on rows `0..rows` of a frame `width` wide passes its own

@@ -148,6 +148,9 @@ pub const LANES: usize = 8;
 pub(crate) struct Run {
     /// First pixel.
     pub(crate) x0: usize,
+    /// First pixel drawn (at least `x0`: the pixels before it are known to fail the depth test), where the
+    /// attributes are still those of the pixels from `x0`.
+    pub(crate) from: usize,
     /// End pixel (exclusive).
     pub(crate) x1: usize,
     /// Depth, `1/w`, `s/w`, `t/w` at the centre of `x0`.

@@ -81,7 +81,8 @@ impl SmallTriangle {
                 for ((a, dx), dy_) in a0.iter_mut().zip(&dadx).zip(&dady).take(N) {
                     *a += dy_ * dy + k * dx;
                 }
-                f(y, &Run { x0: x + first as usize, x1: x + end as usize, a0, da: dadx, in_range: false });
+                let x0 = x + first as usize;
+                f(y, &Run { x0, from: x0, x1: x + end as usize, a0, da: dadx, in_range: false });
             }
             for e in &mut edges {
                 e.at_row += e.step_y;

@@ -436,14 +436,14 @@ macro_rules! tint_x8 {
 mod chunk;
 use chunk::{ChunkPixels, ChunkSpan};
 
-/// Draws span pixels `x0..x1` eight at a time and returns where it stopped (`x1` unless the row is shorter
-/// than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
+/// Draws span pixels `from..x1` (the span's attributes counted from `x0`) eight at a time and returns where
+/// it stopped (`x1` unless the row is shorter than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
 /// row's end, and lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable
 /// loop's visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for MASK;
 /// `in_range` says the caller has found the span's texel coordinates in range (else the loop checks).
 pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
     _: Avx2,
-    span: (usize, usize),
+    span: (usize, usize, usize),
     s: &Setup,
     tex: Option<&Tex<'_>>,
     colors: &(u32, [u32; 3], Option<(f32, f32)>),
@@ -460,7 +460,7 @@ pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
 /// [`chunks`]'s body, compiled for AVX2: the span's set-up stays in registers from chunk to chunk.
 #[target_feature(enable = "avx2")]
 fn chunks_avx2<const VIS: u8, const SRC: u8>(
-    (x0, x1): (usize, usize),
+    (x0, from, x1): (usize, usize, usize),
     s: &Setup,
     tex: Option<&Tex<'_>>,
     &(flat, tint, alpha): &(u32, [u32; 3], Option<(f32, f32)>),
@@ -470,7 +470,7 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let mut counts = PackedCounts::default();
     let width = row.color.len();
     let in_range = SRC != FLAT && (known_in_range || s.texels_in_range(x1.saturating_sub(x0 + 1)));
-    let mut x = x0;
+    let mut x = from;
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.
     let end = x1.min(width);

@@ -73,6 +73,19 @@ pub(crate) fn span_run<const VIS: u8, const SRC: u8>(
     row: &mut Row<'_>,
     in_range: bool,
 ) -> SpanCounts {
+    span_run_within::<VIS, SRC>(span, paint, row, in_range, (0, usize::MAX))
+}
+
+/// [`span_run`] drawing only the span's pixels in columns `from..to`, those outside known to fail the depth
+/// test; the pixels drawn get the attributes they get in the whole span.
+#[inline(always)]
+pub(crate) fn span_run_within<const VIS: u8, const SRC: u8>(
+    span: &Span,
+    paint: &Paint<'_>,
+    row: &mut Row<'_>,
+    in_range: bool,
+    (from, to): (usize, usize),
+) -> SpanCounts {
     // One colour over everything: a plain fill (a memset) beats any per-pixel loop.
     if SRC == FLAT && VIS == OVERWRITE {
         let n = span.x1.saturating_sub(span.x0).max(0) as u64;
@@ -95,7 +108,8 @@ pub(crate) fn span_run<const VIS: u8, const SRC: u8>(
             *a += skip * d;
         }
     }
-    let run = Run { x0: span.x0.max(0) as usize, x1: span.x1.max(0) as usize, a0: start, da, in_range };
+    let x0 = span.x0.max(0) as usize;
+    let run = Run { x0, from: x0.max(from), x1: (span.x1.max(0) as usize).min(to), a0: start, da, in_range };
     walk::<VIS, SRC>(&run, paint, row)
 }
 
@@ -213,24 +227,24 @@ pub(crate) fn walk<const VIS: u8, const SRC: u8>(run: &Run, paint: &Paint<'_>, r
     let Paint { tex, colors } = *paint;
     let (w, h) = tex.map_or((0.0, 0.0), |t| (t.texture.width() as f32, t.texture.height() as f32));
     let setup = Setup::new(run.a0, run.da, (w, h));
-    let (x0, x1) = (run.x0, run.x1);
+    let (x0, from, x1) = (run.x0, run.from, run.x1);
     // Both loops count in registers: the chunk loop returns its counts packed in a word, the per-pixel loop
     // keeps them in locals (counting through memory costs a store-forwarding stall per span).
     let mut counts = SpanCounts::default();
     let (mut shaded, mut written, mut rejected) = (0u64, 0u64, 0u64);
-    let mut x = x0;
+    let mut x = from;
     #[cfg(target_arch = "x86_64")]
     // Spans of half a chunk or more take the chunk loop (one division for all lanes, no branch per pixel);
     // shorter ones (1-3 pixels, as small polygons give) are cheaper one pixel at a time for a nearest texel
     // from one level. A costly texel (filtered, or a level measured per pixel) is worth a chunk of lanes
     // however short the span, where the row holds a chunk.
     let costly = tex.is_some_and(|t| t.costly()) && row.color.len() >= LANES;
-    if (x1.saturating_sub(x0) >= LANES / 2 || costly && x1 > x0)
+    if (x1.saturating_sub(from) >= LANES / 2 || costly && x1 > from)
         && let Some(avx2) = simd::avx2()
     {
         let (next, packed) = crate::render::fill::span_avx2::chunks::<VIS, SRC>(
             avx2,
-            (x0, x1),
+            (x0, from, x1),
             &setup,
             paint.tex.as_ref(),
             &paint.colors,
