@@ -17,17 +17,20 @@
 //!
 //! **Exactness.** A pixel is written only when its depth is strictly greater (nearer) than the stored
 //! one, so a band's final depth at a pixel is the greatest any polygon gives it, and its colour that of the
-//! first polygon to give it: a polygon below that greatest at each of its pixels changes neither, and
-//! skipping it changes no pixel, no depth and no colour. A tile's floor was raised by a polygon that covers
-//! it whole and writes every pixel it passes, and that polygon is drawn over the whole tile (the floor it
-//! raised is below its own greatest depth, so neither it nor its pixels there are ever skipped), before or
-//! after any other: every pixel of the tile ends at a depth at least the floor. So a polygon whose greatest depth is at most the floor of every tile its
-//! pixels can fall in is below the final depth everywhere, and is skipped (and so, at a pixel in a tile
-//! whose floor is at least that depth, is the pixel). Its depth is affine on the
-//! screen, so over its pixels it is at most its corners' greatest; the fill's interpolation rounds, and a
-//! span narrower than a pixel extrapolates its edges' rounding by up to 64 times its width, so the bound is
-//! raised by a margin ([`margin`]) well above both. Its pixels lie in the box of its corners widened by a
-//! pixel each way (which holds the rotated grid's shifted samples too).
+//! first polygon to give it: a polygon strictly below that greatest at each of its pixels changes neither,
+//! and skipping it changes no pixel, no depth and no colour. A tile's floor was raised by a polygon that
+//! covers it whole and writes every pixel it passes, and every pixel of the tile ends at a depth at least
+//! the floor, because that polygon is drawn over the whole tile, before or after any other: it is skipped,
+//! whole or there, only where a floor is strictly above its greatest depth, and the floor it raised is at
+//! most that (equal only for a polygon whose corners are all at depth 0). So a polygon whose greatest depth
+//! is strictly below the floor of every tile its pixels can fall in is strictly below the final depth
+//! everywhere, and is skipped (and so is its pixel in a tile whose floor is strictly above that depth). Its
+//! depth is affine on the screen, so over its pixels it is at most its corners' greatest; the fill's
+//! interpolation rounds, and a span narrower than a pixel extrapolates its edges' rounding by up to 64
+//! times its width, so the bound is raised by a margin ([`margin`]) well above both. Its pixels lie in the
+//! box of its corners widened by a pixel each way (which holds the rotated grid's shifted samples too).
+//! Floors come only from corner depths under 2^64 in magnitude, whose slopes the fill's arithmetic holds
+//! without overflow (a pixel given an infinite or NaN depth is never written).
 //! A NaN or infinite corner depth is never skipped.
 //!
 //! The frame's statistics do not count what is skipped (its pixels neither shaded, written nor rejected),
@@ -154,8 +157,8 @@ impl<'c> Behind<'c> {
         let ty = (y - self.band0).max(0) as usize / TILE_ROWS;
         let (t0, t1) = (x0 / TILE_COLUMNS, x1.saturating_sub(1) / TILE_COLUMNS + 1);
         let Some(row) = self.floor.get(ty * self.tiles_x + t0..ty * self.tiles_x + t1) else { return Some((x0, x1)) };
-        let first = row.iter().position(|&f| self.z > f)?;
-        let last = row.iter().rposition(|&f| self.z > f).unwrap_or(first);
+        let first = row.iter().position(|&f| self.z >= f)?;
+        let last = row.iter().rposition(|&f| self.z >= f).unwrap_or(first);
         Some((x0.max((t0 + first) * TILE_COLUMNS), x1.min((t0 + last + 1) * TILE_COLUMNS)))
     }
 }
@@ -240,29 +243,29 @@ impl CoarseDepth {
         (ty, tx)
     }
 
-    /// The band rows `r0..r1` outside of which every pixel in box `b` holds a depth at least `z` (by the
+    /// The band rows `r0..r1` outside of which every pixel in box `b` holds a depth above `z` (by the
     /// floors), rows of tiles at a time, and whether some tile between them does too; `None` when every
     /// pixel in the box does: then a polygon of greatest depth `z` inside the box passes the test nowhere,
     /// and one drawn on rows `r0..r1` nowhere else.
     #[inline]
     pub(crate) fn unhidden_rows(&self, b: &Box2, z: f32) -> Option<((usize, usize), bool)> {
         // `z` is finite (`reach`), and so is every floor raised.
-        if z > self.top {
+        if z >= self.top {
             return Some(((0, self.rows), false));
         }
         let (ty, tx) = self.tiles(b);
         let floors = |y: usize| self.floor.get(y * self.tiles_x + tx.0..y * self.tiles_x + tx.1).unwrap_or(&[]);
         let hides = |y: usize| {
             let row = floors(y);
-            !row.is_empty() && row.iter().all(|&f| z <= f)
+            !row.is_empty() && row.iter().all(|&f| z < f)
         };
         let first = (ty.0..ty.1).find(|&y| !hides(y))?;
         let last = (first..ty.1).rfind(|&y| !hides(y)).unwrap_or(first);
-        let partly = (first..=last).any(|y| floors(y).iter().any(|&f| z <= f));
+        let partly = (first..=last).any(|y| floors(y).iter().any(|&f| z < f));
         Some(((first * TILE_ROWS, ((last + 1) * TILE_ROWS).min(self.rows)), partly))
     }
 
-    /// Whether every pixel in box `b` holds a depth at least `z` (by the floors): then a polygon of greatest
+    /// Whether every pixel in box `b` holds a depth above `z` (by the floors): then a polygon of greatest
     /// depth `z` inside the box passes the test nowhere.
     #[cfg(test)]
     pub(crate) fn hidden(&self, b: &Box2, z: f32) -> bool {
@@ -312,10 +315,11 @@ impl CoarseDepth {
 
 /// The least depth polygon `verts` can give a pixel of a tile it covers whole (its least corner depth less
 /// a 2^-10 part of the largest magnitude, far above the rounding: such a tile's rows are spans of at least
-/// 16 pixels, which extrapolate nothing), `None` when a corner's depth is NaN or infinite.
+/// 16 pixels, which extrapolate nothing), `None` when a corner's depth is NaN, infinite or 2^64 or more.
 fn least_depth(verts: &[ScreenVertex]) -> Option<f32> {
     let (least, _, largest) = depths(verts)?;
-    Some(least - largest * (1.0 / 1024.0))
+    // Beyond 2^64 the fill's slopes could overflow, leaving pixels with no finite depth, never written.
+    (largest < 1.8e19).then(|| least - largest * (1.0 / 1024.0))
 }
 
 /// The least and greatest of polygon `verts`' corner depths and their largest magnitude; `None` when one

@@ -135,3 +135,22 @@ fn a_polygon_is_drawn_only_on_the_rows_of_tiles_that_do_not_hide_it() {
     assert_eq!(behind.columns(45, (4, 30)), None);
     assert_eq!(behind.columns(35, (4, 40)), Some((4, 40)), "above the wall");
 }
+
+#[test]
+fn a_polygon_at_depth_zero_never_hides_itself_or_its_like() {
+    // Its floor (0, less nothing) equals its greatest depth (0, plus nothing): strictly above is needed.
+    let mut coarse = CoarseDepth::default();
+    let band = (0, 32);
+    let flat = polygon(&[(-10.0, -10.0), (74.0, -10.0), (74.0, 40.0), (-10.0, 40.0)], 0.0);
+    let mut t = BandTest::begin(&mut coarse, None, true, band, 64);
+    t.cover_all([flat.as_slice(), flat.as_slice()].into_iter());
+    assert!(matches!(t.rows(&flat), Some((rows, None)) if rows == band));
+    // Behind it, strictly: hidden.
+    assert!(t.rows(&polygon(&[(4.0, 4.0), (40.0, 4.0), (40.0, 20.0)], -0.5)).is_none());
+    // Corners too large for the fill's slopes raise no floor.
+    let mut coarse = CoarseDepth::default();
+    let huge = polygon(&[(-10.0, -10.0), (74.0, -10.0), (74.0, 40.0), (-10.0, 40.0)], 3e38);
+    let mut t = BandTest::begin(&mut coarse, None, true, band, 64);
+    t.cover_all([huge.as_slice()].into_iter());
+    assert!(t.rows(&polygon(&[(4.0, 4.0), (40.0, 4.0), (40.0, 20.0)], 1.0)).is_some());
+}

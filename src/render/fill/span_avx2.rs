@@ -437,8 +437,9 @@ mod chunk;
 use chunk::{ChunkPixels, ChunkSpan};
 
 /// Draws span pixels `from..x1` (the span's attributes counted from `x0`) eight at a time and returns where
-/// it stopped (`x1` unless the row is shorter than a chunk) and its counts. The last chunk is moved back to end inside the row where it would pass the
-/// row's end, and lanes outside the span (or already drawn) are masked off. `VIS` and `SRC` are the portable
+/// it stopped (`x1` unless the row is shorter than a chunk) and its counts. The last chunk is moved back to
+/// end inside the row where it would pass the row's end, and lanes outside the span (or already drawn) are
+/// masked off. `VIS` and `SRC` are the portable
 /// loop's visibility and source codes; `alpha` is the polygon's alpha and the mask cutoff for MASK;
 /// `in_range` says the caller has found the span's texel coordinates in range (else the loop checks).
 pub(crate) fn chunks<const VIS: u8, const SRC: u8>(
