@@ -17,7 +17,7 @@ use super::row::{BandPixels, FLAT, SpanCounts};
 #[cfg(target_arch = "x86_64")]
 use super::row::{LANES, OVERWRITE, RowRun, Setup, corners_in_range};
 use super::scanline::{Span, fill_spans_wound};
-use super::span_lanes::{Fill, Paint, span_run_within};
+use super::span_lanes::{Fill, Paint, span_run};
 use crate::render::core::vertex::{ScreenVertex, Winding};
 #[cfg(target_arch = "x86_64")]
 use crate::render::simd;
@@ -74,7 +74,7 @@ impl Fill for PolygonSpans<'_, '_, '_> {
                 let Some(columns) = within(span) else { return };
                 let n = span.x1 - span.x0;
                 if n > SHORT {
-                    total += span_run_within::<VIS, SRC>(span, paint, &mut rows.row(span.y), known, columns);
+                    total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), known, columns);
                     return;
                 }
                 // Spans from the walk lie inside the row (`x0 >= 0`), so their attributes are at `x0`; a short
@@ -89,7 +89,7 @@ impl Fill for PolygonSpans<'_, '_, '_> {
         }
         walk_source::<SRC>(corners, band, width, tall, |span: &Span| {
             if let Some(columns) = within(span) {
-                total += span_run_within::<VIS, SRC>(span, paint, &mut rows.row(span.y), false, columns);
+                total += span_run::<VIS, SRC>(span, paint, &mut rows.row(span.y), false, columns);
             }
         });
         total

@@ -58,28 +58,18 @@ pub(crate) fn draw(
     impl Fill for OneSpan<'_, '_, '_> {
         #[inline(always)]
         fn fill<const VIS: u8, const SRC: u8>(self, paint: &Paint<'_>) -> SpanCounts {
-            span_run::<VIS, SRC>(self.0, paint, self.1, false)
+            span_run::<VIS, SRC>(self.0, paint, self.1, false, (0, usize::MAX))
         }
     }
     dispatch(source, alpha, vis, OneSpan(span, row))
 }
 
 /// Draws a span with the loop for visibility `VIS` and source `SRC` (as [`dispatch`] chose them): what
-/// [`draw`] does once the loop is chosen, for a caller drawing many spans with one choice.
+/// [`draw`] does once the loop is chosen, for a caller drawing many spans with one choice. Only the span's
+/// pixels in columns `from..to` are drawn (`(0, usize::MAX)` for all), those outside known to fail the
+/// depth test; the pixels drawn get the attributes they get in the whole span.
 #[inline(always)]
 pub(crate) fn span_run<const VIS: u8, const SRC: u8>(
-    span: &Span,
-    paint: &Paint<'_>,
-    row: &mut Row<'_>,
-    in_range: bool,
-) -> SpanCounts {
-    span_run_within::<VIS, SRC>(span, paint, row, in_range, (0, usize::MAX))
-}
-
-/// [`span_run`] drawing only the span's pixels in columns `from..to`, those outside known to fail the depth
-/// test; the pixels drawn get the attributes they get in the whole span.
-#[inline(always)]
-pub(crate) fn span_run_within<const VIS: u8, const SRC: u8>(
     span: &Span,
     paint: &Paint<'_>,
     row: &mut Row<'_>,
