@@ -56,6 +56,23 @@ fn main() {
                 let list = scene.draw_list(&instances);
                 let o = RenderOptions { threads: t, coarse_depth, ..RenderOptions::default() };
                 let f = measure(rounds, || r.render(&mut frame, w, h, &camera, &list, &o).unwrap());
+                if std::env::var_os("PROFILE_COUNTS").is_some() {
+                    let s = r.render(&mut frame, w, h, &camera, &list, &o).unwrap();
+                    println!(
+                        "  {course} {tick}: objects {} culled {}, polygons in {} in culled {} outside {} backface {} degenerate {} drawn {}, lod {}/{}/{}",
+                        s.objects_in,
+                        s.objects_culled,
+                        s.polygons_in,
+                        s.polygons_in_culled_objects,
+                        s.polygons_outside,
+                        s.polygons_backface,
+                        s.polygons_degenerate,
+                        s.polygons_drawn,
+                        s.lod_close,
+                        s.lod_mid,
+                        s.lod_long
+                    );
+                }
                 if verbose {
                     let [tot, tr, cl, or, fi, px, polys] = f.0;
                     println!(

@@ -77,35 +77,9 @@ macro_rules! coordinates_x8 {
     }};
 }
 
-/// The nearest texels of one texture (one mip level) at texture coordinates `u`, `v` on eight lanes.
-macro_rules! texels_x8 {
-    ($u:expr, $v:expr, $tex:expr, $sampler:expr, $in_range:expr) => {{
-        let (u, v, tex, sampler): (__m256, __m256, &Texture, Sampler) = ($u, $v, $tex, $sampler);
-        let fx = _mm256_mul_ps(u, _mm256_set1_ps(tex.width() as f32));
-        let fy = _mm256_mul_ps(v, _mm256_set1_ps(tex.height() as f32));
-        let (xi, yi) = if $in_range {
-            (floor_in_range_x8!(fx), floor_in_range_x8!(fy))
-        } else {
-            (floor_i32x8!(fx), floor_i32x8!(fy))
-        };
-        let texels = tex.texels();
-        let wrapped = wrap_x8!(xi, tex.width(), sampler.wrap_s).zip(wrap_x8!(yi, tex.height(), sampler.wrap_t));
-        let out: [u32; LANES] = match wrapped {
-            Some((wx, wy)) => {
-                // Both are in `0..size` now and `width * height` texels exist, so the index is in range
-                // (the lookup is still checked: a check that never fails costs little beside the load).
-                let row_start = _mm256_mullo_epi32(wy, _mm256_set1_epi32(tex.width() as i32));
-                let idx: [u32; LANES] = bytemuck::cast(_mm256_add_epi32(row_start, wx));
-                std::array::from_fn(|l| texels.get(idx[l] as usize).copied().unwrap_or(0))
-            }
-            None => {
-                let (xs, ys): ([i32; LANES], [i32; LANES]) = (bytemuck::cast(xi), bytemuck::cast(yi));
-                std::array::from_fn(|l| tex.texel(xs[l], ys[l], sampler))
-            }
-        };
-        bytemuck::cast::<[u32; LANES], __m256i>(out)
-    }};
-}
+/// The nearest texels' indices and texels on eight lanes.
+#[macro_use]
+mod nearest;
 
 /// The mip level nearest the level of detail at eight pixels, as `Tex::texel_at` chooses it for one:
 /// `TexGradients::lod_at`, `lod_from_squares` (with `f32::max`'s NaN rule and `log2_approx`'s quartic)
@@ -471,6 +445,9 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let mut counts = PackedCounts::default();
     let width = row.color.len();
     let in_range = SRC != FLAT && (known_in_range || s.texels_in_range(x1.saturating_sub(x0 + 1)));
+    if let Some(done) = depth_first::span::<VIS, SRC>((x0, from, x1), (s, in_range), tex, (tint, alpha), row) {
+        return done;
+    }
     let mut x = from;
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.
@@ -486,6 +463,8 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     (x.min(x1), counts)
 }
 
+/// Long spans of nearest texels behind a depth test, depth first.
+mod depth_first;
 /// Eight pixels from anywhere in a band shaded by the macros above.
 pub(crate) mod points;
 
