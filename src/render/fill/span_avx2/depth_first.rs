@@ -17,8 +17,9 @@
 //!
 //! The short spans a polygon draws across rows ([`rows`](super::rows)) keep the one-pass loop: drawn depth
 //! first too they gained nothing beside the long spans' gain (`render` of the exported frames, 1280x720,
-//! 1 thread, best of 9 alternated rounds: the mountain 0.99x, its trees alone 1.00x, the city 0.96x
-//! against 0.97x). So do alpha-masked polygons, whose depths wait for their texels: the trees took 1.09x.
+//! 1 thread, best of 7 alternated rounds: the city 0.910x against 0.915x, the mountain 0.964x against
+//! 0.968x, its trees alone 1.02x against 1.01x). So do alpha-masked polygons, whose depths wait for their
+//! texels: the trees took 1.09x.
 
 use crate::render::simd::x86::span::*;
 
