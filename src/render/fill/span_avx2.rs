@@ -445,15 +445,15 @@ fn chunks_avx2<const VIS: u8, const SRC: u8>(
     let mut counts = PackedCounts::default();
     let width = row.color.len();
     let in_range = SRC != FLAT && (known_in_range || s.texels_in_range(x1.saturating_sub(x0 + 1)));
-    if let Some(done) = depth_first::span::<VIS, SRC>((x0, from, x1), (s, in_range), tex, (tint, alpha), row) {
-        return done;
-    }
     let mut x = from;
     // A span passing the row's end (never one from the fill) stops at it: the last chunk would otherwise
     // be moved back to end inside the row again and again.
     let end = x1.min(width);
     // Spans are clipped to the row by the fill, so the counts fit their 21 bits.
     debug_assert!(end.saturating_sub(x0) < 1 << PackedCounts::BITS, "a span of {} pixels", end - x0);
+    if let Some(done) = depth_first::span::<VIS, SRC>((x0, from, x1), (s, in_range), tex, (tint, alpha), row) {
+        return done;
+    }
     // A row narrower than a chunk is left to the per-pixel loop.
     'span: while x < end && width >= LANES {
         let span = ChunkSpan { x0, x1, s, in_range };

@@ -3,7 +3,8 @@
 //!
 //! Why: in the one-pass chunk loop each chunk is one chain (the divide, the texel coordinates, eight loads
 //! that wait for them, the colour that waits for the loads), long enough that the CPU overlaps little of
-//! one chunk with the next: drawing a frame's chunks without the texel loads took half the time. Here the
+//! one chunk with the next: a full-screen textured quad took half the time with its texel loads left
+//! out. Here the
 //! first pass is arithmetic alone and the second gathers its texels from the columns and rows it kept in a
 //! small buffer, so the reads of a chunk no longer wait on its own arithmetic and the chunks of a pass
 //! overlap.
@@ -28,15 +29,16 @@ use crate::render::fill::row::{DEPTH_TEST, FLAT, LANES, PackedCounts, Row, Setup
 use crate::render::fill::texel::Tex;
 use crate::render::simd::x86::{gather_texels, load8, store8};
 
-/// Chunks of a block: their positions, masks and texels' columns and rows wait between the passes in a buffer of this
-/// many (1 KiB).
+/// Chunks of a block: their positions, masks and texels' columns and rows wait between the passes in a
+/// buffer of this many (1.5 KiB).
 const BLOCK: usize = 16;
 
 /// Draws span pixels `from..x1` (attributes counted from `x0`) of `row` as `chunks_avx2` draws them, and
 /// returns where it stopped (`x1` unless the row is too short for a chunk) and its counts, when the span is
 /// one drawn here: a depth test, nearest texels of one level, no alpha mask and source `SRC` texel or
-/// tinted, the texture's wrap modes folded in lanes (the one-pass loop reads the others a lane at a time);
-/// `None`, having drawn nothing, for any other.
+/// tinted, the texture's wrap modes folded in lanes (not mirrored, nor repeated at a size that is no power
+/// of two: the one-pass loop reads those a lane at a time), its level at most 65,536 texels a side and
+/// within one gather's reach; `None`, having drawn nothing, for any other.
 #[target_feature(enable = "avx2")]
 pub(crate) fn span<const VIS: u8, const SRC: u8>(
     (x0, from, x1): (usize, usize, usize),
@@ -59,8 +61,6 @@ pub(crate) fn span<const VIS: u8, const SRC: u8>(
     if !fits || wrap_x8!(zero, tw, sampler.wrap_s).is_none() || wrap_x8!(zero, th, sampler.wrap_t).is_none() {
         return None;
     }
-    #[cfg(test)]
-    SPANS.with(|n| n.set(n.get() + 1));
     let width = row.color.len();
     let (mut x, end) = (from, x1.min(width));
     let mut counts = PackedCounts::default();
@@ -111,6 +111,8 @@ pub(crate) fn span<const VIS: u8, const SRC: u8>(
         // Then the texels, read from their indices, and the colours.
         write_colors::<SRC>(&block[..kept], texture, tint, row.color);
     }
+    #[cfg(test)]
+    PIXELS.with(|n| n.set(n.get() + counts.unpack().shaded + counts.unpack().rejected));
     Some((x.min(x1), counts))
 }
 
@@ -148,8 +150,8 @@ fn write_colors<const SRC: u8>(
 
 #[cfg(test)]
 thread_local! {
-    /// Spans drawn depth first on this thread.
-    pub(super) static SPANS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    /// Pixels drawn or rejected depth first on this thread.
+    pub(super) static PIXELS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 #[cfg(test)]
