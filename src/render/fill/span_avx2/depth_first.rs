@@ -20,7 +20,8 @@
 //! first too they gained nothing beside the long spans' gain (`render` of the exported frames, 1280x720,
 //! 1 thread, best of 7 alternated rounds: the city 0.910x against 0.915x, the mountain 0.964x against
 //! 0.968x, its trees alone 1.02x against 1.01x). So do alpha-masked polygons, whose depths wait for their
-//! texels: the trees took 1.09x.
+//! texels: drawn depth first (their depths written in the second pass) the mountain's frames took 1.04x
+//! and its trees alone 1.05x.
 
 use crate::render::simd::x86::span::*;
 
