@@ -20,7 +20,7 @@ pub struct PictureArgs {
     #[arg(long, value_name = "PRESET")]
     pub quality: Option<QualityChoice>,
     /// Texture filtering: nearest, bilinear, min-bilinear (nearest on a polygon whose texture is magnified,
-    /// bilinear on one whose texture is minified; levels per polygon), area (min-bilinear with a magnified
+    /// bilinear on one whose texture is minified, unless it is a cut-out; levels per polygon), area (min-bilinear with a magnified
     /// texture's texels weighed by how much of the pixel covers each, measured at every pixel), trilinear (bilinear in the two mip
     /// levels around the level of detail, blended; bilinear with --mip off), or aniso2, aniso4, aniso8, aniso16 (up to N box probes along
     /// the footprint's long axis, levels chosen at every pixel whatever --mip says). Default: nearest (play's race: the settings

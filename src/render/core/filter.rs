@@ -14,13 +14,14 @@ pub enum Filter {
     /// magnification with `LINEAR_MIPMAP_NEAREST` minification, decided once per polygon. Magnified
     /// texels stay the sharp squares the reference integrates, where bilinear ones would blur them; minified
     /// ones are reconstructed between the level's texel centres, where the nearest one would snap to a
-    /// texel that the pixel's footprint only partly covers. Its level is chosen per polygon.
+    /// texel that the pixel's footprint only partly covers. Its level is chosen per polygon. A minified
+    /// cut-out (alpha-masked) polygon keeps nearest texels ([`Filter::for_surface`]).
     MinBilinear,
     /// `min-bilinear` whose magnified texels are box-filtered over the pixel's footprint instead of
     /// taken nearest: across each texel edge the two texels are weighed by how much of the footprint each
     /// covers (the footprint's extent in texels measured at every pixel), so a texel stays a sharp square
     /// inside and its edge is the integral the reference converges to, where nearest steps at the sample.
-    /// Minified polygons are drawn as `min-bilinear` draws them.
+    /// Minified polygons are drawn bilinear, as `min-bilinear` draws them (cut-outs too).
     Area,
     /// Bilinear in the two mip levels around the level of detail, blended by its fraction (bilinear in
     /// level 0 when mip-maps are off).
@@ -72,6 +73,24 @@ impl Filter {
         match self {
             Filter::MinBilinear | Filter::Area if lod > 0.0 => Filter::Bilinear,
             Filter::MinBilinear => Filter::Nearest,
+            f => f,
+        }
+    }
+
+    /// The filter a polygon whose level of detail is `lod` is drawn with, when it is a cut-out (alpha-masked)
+    /// if `cut_out`: [`Self::for_polygon`], except that `min-bilinear` keeps nearest texels on a minified
+    /// cut-out (`area` keeps bilinear ones: with nearest its FLIP and shimmer were worse on every course, by
+    /// 0.0002-0.0006 and 0.06-0.36, for 0.94x the time on the mountain and none saved elsewhere).
+    ///
+    /// Why: a cut-out's bilinear texels are blended before its alpha is tested, and its spans are short
+    /// (a tree's card, a rail), so the four texels a pixel cost most there and buy least. On the mountain,
+    /// whose trees are cut-outs, `ultra` with `min-bilinear`, LOD bias 1.5 and mip bias -1 took 3.70x the
+    /// default's time with them bilinear and 3.20x with them nearest, at FLIP 0.0147 and 0.0148
+    /// (docs/performance.md, "Bilinear where the texture is minified").
+    #[must_use]
+    pub fn for_surface(self, lod: f32, cut_out: bool) -> Filter {
+        match self.for_polygon(lod) {
+            Filter::Bilinear if cut_out && self == Filter::MinBilinear => Filter::Nearest,
             f => f,
         }
     }
@@ -163,6 +182,19 @@ mod tests {
         assert_eq!(Filter::Area.for_polygon(1.0 / 16.0), Filter::Bilinear);
         assert_eq!(Filter::Area.for_polygon(0.0), Filter::Area);
         assert_eq!(Filter::Area.for_polygon(f32::NAN), Filter::Area);
+        // A minified cut-out keeps nearest texels under `min-bilinear`; nothing else changes for a cut-out.
+        for f in Filter::ALL {
+            for lod in [0.0, 1.0 / 16.0, 3.0, f32::NAN] {
+                let want = match (f, f.for_polygon(lod)) {
+                    (Filter::MinBilinear, Filter::Bilinear) => Filter::Nearest,
+                    (_, g) => g,
+                };
+                assert_eq!(f.for_surface(lod, true), want, "{f} at {lod}");
+                assert_eq!(f.for_surface(lod, false), f.for_polygon(lod), "{f} at {lod}");
+            }
+        }
+        assert_eq!(Filter::MinBilinear.for_surface(3.0, true), Filter::Nearest);
+        assert_eq!(Filter::Area.for_surface(3.0, true), Filter::Bilinear);
         for f in Filter::ALL.into_iter().filter(|&f| !matches!(f, Filter::MinBilinear | Filter::Area)) {
             assert_eq!(f.for_polygon(3.0), f);
             assert_eq!(f.for_polygon(0.0), f);

@@ -236,11 +236,12 @@ impl FastPathRule {
 
     /// Whether a textured triangle whose material's small triangles take the fast fill
     /// ([`small_triangles`](Self::small_triangles)) is drawn with nearest texels at its level of detail
-    /// `lod` (in steps of 1/[`LOD_STEPS`](super::mip::LOD_STEPS)), and so is a small triangle too: always,
-    /// except a minified one with [`Filter::MinBilinear`], which stays a polygon and is drawn bilinear.
+    /// `lod` (in steps of 1/[`LOD_STEPS`](super::mip::LOD_STEPS)), a cut-out when `cut_out`, and so is a
+    /// small triangle too: always, except a minified one with [`Filter::MinBilinear`] that is no cut-out,
+    /// which stays a polygon and is drawn bilinear ([`Filter::for_surface`]).
     #[inline(always)]
-    pub(crate) fn small_textured_at(&self, lod: u8) -> bool {
-        self.filter.for_polygon(f32::from(lod)) == Filter::Nearest
+    pub(crate) fn small_textured_at(&self, lod: u8, cut_out: bool) -> bool {
+        self.filter.for_surface(f32::from(lod), cut_out) == Filter::Nearest
     }
 }
 

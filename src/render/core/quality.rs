@@ -18,6 +18,12 @@ use super::texture::Filter;
 /// city's by at most 0.0001 (docs/performance.md, "Quality presets"); `low` keeps the renderer's default.
 const FINER: f32 = -0.5;
 
+/// The top step's mip bias: a level finer than the nearest, under its bilinear texels on minified polygons
+/// (with four samples a pixel a bilinear texel's blend widens each sample, and the finer level keeps the
+/// detail the samples then average: FLIP 0.0150 against 0.0151 at -0.5 on the city, 0.0118 against 0.0120
+/// on the circuit).
+const FINEST: f32 = -1.0;
+
 /// A named step of the picture ladder, cheapest first.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Quality {
@@ -35,7 +41,11 @@ pub enum Quality {
     /// which would leave this step off the front.
     High,
     /// As `high` with the four samples on a rotated grid (four rows and four columns of them, where 2x2 has
-    /// two of each): the most accurate and steadiest picture within 3.5x the bottom step's time.
+    /// two of each), `min-bilinear` texels a level finer still (mip bias -1) and finer models kept farther
+    /// (LOD bias 1.5): the most accurate and steadiest picture within 3.5x the bottom step's time. On a
+    /// rotated grid a minified texture's four samples a pixel are too few for nearest texels, which snap to
+    /// texels the pixel only partly covers; bilinear ones, interpolated, come within the reference's
+    /// FLIP 0.015 on every course (docs/performance.md, "Quality presets").
     Ultra,
 }
 
@@ -63,7 +73,7 @@ impl Quality {
             Quality::Low => (nearest, polygon, Antialias::Off, false, 0.0, 0.0),
             Quality::Medium => (mixed, polygon, Antialias::Off, true, 1.0, FINER),
             Quality::High => (nearest, polygon, Antialias::Supersample2x2, true, 1.0, FINER),
-            Quality::Ultra => (nearest, polygon, Antialias::RotatedGrid, true, 1.0, FINER),
+            Quality::Ultra => (Filter::MinBilinear, polygon, Antialias::RotatedGrid, true, 1.5, FINEST),
         }
     }
 
@@ -137,13 +147,16 @@ mod tests {
         assert_eq!((high.threads, high.buckets), (3, 64));
         assert_eq!((high.lod_bias, high.antialias, high.lod_fade), (1.0, Antialias::Supersample2x2, true));
         let ultra = Quality::Ultra.apply(kept);
-        assert_eq!((ultra.lod_bias, ultra.antialias, ultra.lod_fade), (1.0, Antialias::RotatedGrid, true));
-        // Above the bottom step, the finer of the two nearest mip levels; the bottom keeps the default's.
+        assert_eq!((ultra.lod_bias, ultra.antialias, ultra.lod_fade), (1.5, Antialias::RotatedGrid, true));
+        assert_eq!((ultra.filter, ultra.mip_bias), (Filter::MinBilinear, -1.0));
+        // Above the bottom step, the finer of the two nearest mip levels, and the top one a level finer; the
+        // bottom keeps the default's.
         let biases = Quality::ALL.map(|q| q.apply(kept).mip_bias);
-        assert_eq!(biases, [0.0, -0.5, -0.5, -0.5]);
-        // One step, `medium`, filters its texels (`area`: bilinear where minified, box-filtered where magnified).
-        let (nearest, mixed) = (Filter::Nearest, Filter::Area);
-        assert_eq!(Quality::ALL.map(|q| q.apply(kept).filter), [nearest, mixed, nearest, nearest]);
+        assert_eq!(biases, [0.0, -0.5, -0.5, -1.0]);
+        // `medium` filters its texels (`area`: bilinear where minified, box-filtered where magnified), and
+        // `ultra` (`min-bilinear`: bilinear where minified, nearest where magnified).
+        let (nearest, mixed, min) = (Filter::Nearest, Filter::Area, Filter::MinBilinear);
+        assert_eq!(Quality::ALL.map(|q| q.apply(kept).filter), [nearest, mixed, nearest, min]);
         let mut custom = ultra;
         custom.mip_bias = 0.0;
         assert_eq!(Quality::of(&custom), None, "a picture with another mip bias is no preset");

@@ -160,7 +160,7 @@ impl<'a> FillContext<'a> {
         let texture = p.texture().and_then(|t| self.list.textures.get(t as usize));
         let mip = self.options.mip.with_filter(self.options.filter);
         let measured = matches!(mip, MipMode::Span | MipMode::Pixel);
-        let filter = self.options.filter.for_polygon(p.lod());
+        let filter = self.options.filter.for_surface(p.lod(), p.alpha_cutoff().is_some());
         // The planes a pixel's level of detail is measured by, from the polygon's corners (the same in every
         // band that draws it).
         let gradients = match self.screens.of(p) {

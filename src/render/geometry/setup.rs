@@ -404,7 +404,7 @@ impl ObjectSetup<'_> {
         };
         let (textured, constant) = (texture.is_some(), g.constant_color.is_some());
         let fast = self.fast_path.small_triangles(textured, constant, alpha_cutoff.is_some(), !self.door.is_none())
-            && (!textured || self.fast_path.small_textured_at(paint.lod));
+            && (!textured || self.fast_path.small_textured_at(paint.lod, alpha_cutoff.is_some()));
         // A small triangle with a fast path is set up here, in place of its screen vertices; a flat colour
         // needs only the depth plane (the fill draws a textureless small triangle as flat, see `bands`).
         let small = |corners: &[ScreenVertex], area: i64| match (fast && !self.antialiased, texture) {

@@ -35,7 +35,7 @@ impl ObjectSetup<'_> {
         let Some(color) = self.flat_color(&ids, material) else { return false };
         let corners = self.corners(&ids);
         let lod = Self::small_lod(m, || corners);
-        if m.texture.is_some() && !self.fast_path.small_textured_at(lod) {
+        if m.texture.is_some() && !self.fast_path.small_textured_at(lod, m.alpha_cutoff.is_some()) {
             return false;
         }
         let t = match m.texture {
