@@ -21,8 +21,10 @@ use crate::render::simd::Avx2;
 /// Vertices per step.
 const LANES: usize = 8;
 
-/// Transforms whole groups of eight of `vs` into `out` and returns how many it did (the caller does the
-/// rest one at a time).
+/// Transforms `vs` into `out` (as many as the shorter holds) and returns how many it did: all of them, the
+/// last few (fewer than eight) as a group padded with vertices at the origin whose records are dropped.
+/// The padded group is worth it: a mountain frame draws thousands of trees and rocks of a few vertices
+/// each, and one at a time their vertices took as long as all the groups of eight.
 pub(crate) fn run(_: Avx2, t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
     // SAFETY: an `Avx2` token exists only when the CPU has AVX2 (`simd::avx2`), all `run_avx2` needs.
     #[allow(unsafe_code)]
@@ -35,7 +37,17 @@ pub(crate) fn run(_: Avx2, t: &VertexTransform, out: &mut [SetupVertex], vs: &[V
 /// [`run`]'s body, compiled for AVX2.
 #[target_feature(enable = "avx2")]
 fn run_avx2(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usize {
-    let n = out.len().min(vs.len()) / LANES * LANES;
+    let all = out.len().min(vs.len());
+    let n = all / LANES * LANES;
+    // The last group, padded: its records are written here and copied out after the loop.
+    let origin = Vertex::new(glam::Vec3::ZERO, glam::Vec2::ZERO);
+    let mut last_in = [origin; LANES];
+    let mut last_out = [SetupVertex::default(); LANES];
+    let rest = all - n;
+    if let (Some(to), Some(from)) = (last_in.get_mut(..rest), vs.get(n..all)) {
+        to.copy_from_slice(from);
+    }
+    let padded = (rest > 0).then_some((&mut last_out[..], &last_in[..]));
     let m = &t.clip_from_model;
     let d = t.depth_row;
     let s = _mm256_set1_ps;
@@ -57,7 +69,7 @@ fn run_avx2(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usiz
         let down = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(frac, s(-0.5)));
         (_mm256_add_epi32(_mm256_sub_epi32(t, up), down), ok)
     };
-    for (outs, ins) in out[..n].chunks_exact_mut(LANES).zip(vs[..n].chunks_exact(LANES)) {
+    for (outs, ins) in out[..n].chunks_exact_mut(LANES).zip(vs[..n].chunks_exact(LANES)).chain(padded) {
         let lane = |f: fn(&Vertex) -> f32| bytemuck::cast::<[f32; LANES], __m256>(std::array::from_fn(|l| f(&ins[l])));
         let (x, y, z) = (lane(|v| v.position.x), lane(|v| v.position.y), lane(|v| v.position.z));
         let row = |a: f32, b: f32, c: f32, w: f32| {
@@ -143,5 +155,8 @@ fn run_avx2(t: &VertexTransform, out: &mut [SetupVertex], vs: &[Vertex]) -> usiz
             record[4..].copy_from_slice(&tail[t..t + 2]);
         }
     }
-    n
+    if let (Some(to), Some(from)) = (out.get_mut(n..all), last_out.get(..rest)) {
+        to.copy_from_slice(from);
+    }
+    all
 }
