@@ -9,6 +9,11 @@
 //! small buffer, so the reads of a chunk no longer wait on its own arithmetic and the chunks of a pass
 //! overlap.
 //!
+//! Where a span's texels lie along a texture row, at most a texel a pixel (a magnified texture, as most of
+//! `ultra`'s nearest texels are), the second pass reads a chunk's eight from one row with one load and a
+//! permute instead of a gather, whenever they fall within eight columns ([`one_row_direction`] says which
+//! spans try, so that others never pay for the check).
+//!
 //! Bilinear texels (the minified polygons of `min-bilinear`, `area` and the presets above `low`) take
 //! the same two passes: the first keeps each lane's two columns, two rows and two weights, the second
 //! gathers the four texels and blends them.
@@ -32,7 +37,7 @@ use crate::render::simd::x86::span::*;
 use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
 use crate::render::fill::row::{DEPTH_TEST, FLAT, LANES, PackedCounts, Row, Setup, TINTED};
 use crate::render::fill::texel::Tex;
-use crate::render::simd::x86::{gather_texels, load8, store8};
+use crate::render::simd::x86::{ONE_ROW_WIDTH, gather_texels, load8, one_row_texels, store8};
 
 /// Chunks of a block: their positions, masks and texels' columns and rows (and weights, bilinear) wait
 /// between the passes in a buffer of this many (1.5 KiB nearest, 2.5 KiB bilinear).
@@ -153,6 +158,7 @@ fn nearest<const SRC: u8>(
     row: &mut Row<'_>,
 ) -> (usize, PackedCounts) {
     let (tw, th) = (texture.width(), texture.height());
+    let one_row = in_range.then(|| one_row_direction(s, range, (tw, th))).flatten();
     two_passes!(
         range,
         s,
@@ -166,8 +172,29 @@ fn nearest<const SRC: u8>(
                 _ => None,
             }
         },
-        |block, color| write_nearest::<SRC>(block, texture, tint, color)
+        |block, color| write_nearest::<SRC>(block, (texture, one_row), tint, color)
     )
+}
+
+/// Whether the texels of a span (pixels `from..x1` with attributes counted from `x0`, set up by `s`) lie
+/// on one row eight pixels at a time, mostly, in a level `(tw, th)` texels in size: `Some(ascending)`
+/// when along the span the column changes by at most one texel a pixel (rising when `ascending`) and the
+/// row by at most 1/32 of a texel, so that [`one_row_texels`] nearly always takes the eight; `None`
+/// otherwise, and the gathers are not kept waiting on a check that would fail.
+///
+/// `u = (s0 + k ds) / (q0 + k dq)` changes by `(ds q0 - s0 dq) / q^2` a pixel, so (with `q` linear and
+/// positive at both ends of the span, so between them) most where `q` is least, at one end.
+fn one_row_direction(s: &Setup, (x0, from, x1): (usize, usize, usize), (tw, th): (u32, u32)) -> Option<bool> {
+    let q_at = |x: usize| s.q0 + (x as f32 - x0 as f32) * s.dq;
+    let q = q_at(from).min(q_at(x1));
+    // Not positive or NaN: no bound (and no claim).
+    if q.is_nan() || q <= 0.0 || tw >= ONE_ROW_WIDTH {
+        return None;
+    }
+    let per_q2 = 1.0 / (q * q);
+    let du = (s.ds * s.q0 - s.s0 * s.dq) * tw as f32 * per_q2;
+    let dv = (s.dt * s.q0 - s.t0 * s.dq) * th as f32 * per_q2;
+    (du.abs() <= 1.0 && dv.abs() <= 1.0 / 32.0).then_some(du >= 0.0)
 }
 
 /// [`span`]'s loop for bilinear texels of `texture`, a level `span` checked: the first pass keeps each lane's
@@ -224,12 +251,18 @@ macro_rules! paint_over {
 #[target_feature(enable = "avx2")]
 fn write_nearest<const SRC: u8>(
     block: &[(usize, __m256i, __m256i)],
-    texture: &Texture,
+    (texture, one_row): (&Texture, Option<bool>),
     tint: [u32; 3],
     color: &mut [u32],
 ) {
     let (texels, size) = (texture.texels(), (texture.width(), texture.height()));
     for &(c, pass, texel) in block {
+        if let Some(texel) = one_row.and_then(|ascending| one_row_texels(texels, size.0, texel, ascending)) {
+            #[cfg(test)]
+            ONE_ROW.with(|n| n.set(n.get() + 1));
+            paint_over!(SRC, color, c, pass, texel, tint);
+            continue;
+        }
         let (x, y) = (_mm256_and_si256(texel, _mm256_set1_epi32(0xffff)), _mm256_srli_epi32::<16>(texel));
         // `span` checked the level fits a gather, the one thing `gather_texels` refuses.
         let Some(texel) = gather_texels(texels, size, x, y) else {
@@ -263,6 +296,8 @@ fn write_bilinear<const SRC: u8>(
 thread_local! {
     /// Pixels drawn or rejected depth first on this thread.
     pub(super) static PIXELS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    /// Chunks whose texels were read from one row on this thread.
+    pub(super) static ONE_ROW: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! Spans drawn depth first against the per-pixel loop, bit for bit.
 
-use super::PIXELS;
+use super::{ONE_ROW, PIXELS};
 use crate::render::core::test_rng::Lcg;
 use crate::render::core::texture::{Filter, Sampler, Texture, Wrap};
 use crate::render::core::vertex::{ATTRS, slot};
@@ -51,6 +51,7 @@ fn long_spans_drawn_depth_first_match_the_per_pixel_loop_bit_for_bit() {
     let mut rng = Lcg(31);
     let wraps = [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat];
     PIXELS.with(|n| n.set(0));
+    ONE_ROW.with(|n| n.set(0));
     let (mut expected, mut at_most) = (0u64, 0u64);
     for case in 0..1500 {
         // Rows up to several blocks of chunks long, most of them no multiple of a chunk (the last chunk is
@@ -81,6 +82,12 @@ fn long_spans_drawn_depth_first_match_the_per_pixel_loop_bit_for_bit() {
         if case % 50 == 49 {
             a0[slot::S] = f32::NAN;
         }
+        // A quarter of the spans along a texture's row (the row fixed, the column changing at most a texel a
+        // pixel), whose chunks read their texels from one row where they can.
+        if case % 4 == 1 {
+            (da[slot::Q], da[slot::T]) = (0.0, 0.0);
+            da[slot::S] = (rng.unit() - 0.5) * 1.8 * a0[slot::Q] / tw as f32;
+        }
         let span = Span { y: 0, x0, x1, a0, da };
         let color: Vec<u32> = (0..width).map(|_| rng.next()).collect();
         // Depths in front and behind, in runs, so that chunks pass whole, in part and not at all; one row in
@@ -104,10 +111,12 @@ fn long_spans_drawn_depth_first_match_the_per_pixel_loop_bit_for_bit() {
             let slow = run((&span, from), (source, alpha), (&color, &depth), true);
             let what = format!("case {case}: span {x0}..{x1} from {from} of {width}, {tw}x{th} {sampler:?} {filter:?}");
             assert_eq!(fast, slow, "{what}, alpha {alpha:?}");
-            // The spans the chunk loop takes (half a chunk or more), on the path's textures, without alpha.
+            // The spans the chunk loop takes (half a chunk or more; any length for filtered texels, where the
+            // row holds a chunk), on the path's textures, without alpha.
             let level = (t.texture.width(), t.texture.height());
             let one_level = filter != Filter::Trilinear;
-            let taken = alpha.is_none() && one_level && folded(level, sampler) && x1 as usize - from >= 4;
+            let long = x1 as usize - from >= 4 || filter != Filter::Nearest && width >= 8 && x1 as usize > from;
+            let taken = alpha.is_none() && one_level && folded(level, sampler) && long;
             let n = if taken { (x1 as usize - from) as u64 } else { 0 };
             (expected, at_most) = if short { (expected, at_most + n) } else { (expected + n, at_most + n) };
         }
@@ -115,4 +124,7 @@ fn long_spans_drawn_depth_first_match_the_per_pixel_loop_bit_for_bit() {
     // Every pixel of the spans the path takes went through it, all but the short depth rows' whole.
     let pixels = PIXELS.with(std::cell::Cell::get);
     assert!((expected..=at_most).contains(&pixels) && expected > 50_000, "{pixels} pixels, {expected}..={at_most}");
+    // And the spans along a row read most of their chunks from it.
+    let one_row = ONE_ROW.with(std::cell::Cell::get);
+    assert!(one_row > 150, "{one_row} chunks read from one row");
 }
